@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// Fixed-size Eigen aliases, the status every per-pair call returns, and the per-scalar
+/// constants (one traits struct, as Sophus' `Constants<Scalar>`).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cmath>
+#include <limits>
+
+namespace pce {
+
+template <class Scalar> using Vec3 = Eigen::Matrix<Scalar, 3, 1>;
+template <class Scalar> using Vec9 = Eigen::Matrix<Scalar, 9, 1>;
+template <class Scalar> using Vec12 = Eigen::Matrix<Scalar, 12, 1>;
+template <class Scalar> using Mat3 = Eigen::Matrix<Scalar, 3, 3>;
+template <class Scalar> using Mat9 = Eigen::Matrix<Scalar, 9, 9>;
+template <class Scalar> using Mat12 = Eigen::Matrix<Scalar, 12, 12>;
+/// Coefficients of the reduced frame in the four vertices: `c_k = sum_j P(k, j) x_j`.
+template <class Scalar> using Mat34 = Eigen::Matrix<Scalar, 3, 4>;
+
+/// Outcome of a per-pair evaluation. On anything but `ok` nothing is written to the
+/// caller's outputs.
+enum class Status {
+  ok = 0,
+  invalid_input,  ///< a coordinate or parameter is NaN, Inf or beyond `Constants::max_coordinate`
+  degenerate,     ///< the frame does not exist: zero-area triangle, parallel or zero-length edges
+  out_of_domain,  ///< the penalty is undefined at this length (log barrier at L <= 0)
+  overflow,       ///< a result is not representable in the scalar type
+};
+
+/// Machine-readable name of a status, as `pce-probe` prints it.
+inline const char* to_string(Status s) {
+  switch (s) {
+    case Status::ok: return "ok";
+    case Status::invalid_input: return "invalid_input";
+    case Status::degenerate: return "degenerate";
+    case Status::out_of_domain: return "out_of_domain";
+    case Status::overflow: return "overflow";
+  }
+  return "unknown";
+}
+
+/// Per-scalar constants. Specialise for a custom scalar if the defaults do not fit.
+template <class Scalar> struct Constants {
+  /// Unit roundoff-sized epsilon of the type.
+  static Scalar epsilon() { return std::numeric_limits<Scalar>::epsilon(); }
+  /// Largest accepted |coordinate|: inputs beyond it are `invalid_input` ("absurd
+  /// magnitude"). Chosen so that squared differences of coordinates stay finite.
+  static Scalar max_coordinate() {
+    using std::sqrt;
+    return sqrt((std::numeric_limits<Scalar>::max)()) / Scalar(16);
+  }
+};
+
+namespace detail {
+
+template <class Scalar> inline bool is_finite(const Scalar& v) {
+  using std::isfinite;
+  return isfinite(v);
+}
+
+template <class Derived> inline bool all_finite(const Eigen::MatrixBase<Derived>& m) {
+  for (Eigen::Index j = 0; j < m.cols(); ++j)
+    for (Eigen::Index i = 0; i < m.rows(); ++i)
+      if (!is_finite(m(i, j))) return false;
+  return true;
+}
+
+/// +1 for v >= 0 (including +0 and -0), -1 otherwise: the side convention at l = 0.
+template <class Scalar> inline Scalar sign_nonneg(const Scalar& v) {
+  return v < Scalar(0) ? Scalar(-1) : Scalar(1);
+}
+
+}  // namespace detail
+}  // namespace pce

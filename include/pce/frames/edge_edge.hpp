@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// Edge-edge pair `x = (ea0, ea1, eb0, eb1)`: edge vectors `e0 = ea1 − ea0`,
+/// `e1 = eb1 − eb0`, `e2 = eb0 − ea0`, so the signed length is `l = (eb0 − ea0)·n̂` with
+/// `n = (ea1 − ea0) × (eb1 − eb0)` (`docs/conventions.md`), the distance between the two
+/// infinite lines with a sign. Same vertex roles as the paper's supplement (v0..v3).
+#pragma once
+
+#include <pce/frames/frame.hpp>
+
+namespace pce {
+
+/// Tag type for the edge-edge pair kind.
+struct EdgeEdge {
+  static constexpr const char* name = "edge_edge";
+
+  /// Builds the reduced frame of `x = (ea0, ea1, eb0, eb1)`; `invalid_input` for
+  /// non-finite or absurd coordinates, `degenerate` for parallel or zero-length edges; on
+  /// failure `f` is untouched.
+  template <class Scalar> static Status frame(const Vec12<Scalar>& x, Frame<Scalar>& f) {
+    const Status s = detail::check_coordinates(x);
+    if (s != Status::ok) return s;
+    const Vec3<Scalar> a0 = x.template segment<3>(0), a1 = x.template segment<3>(3),
+                       b0 = x.template segment<3>(6), b1 = x.template segment<3>(9);
+    Mat34<Scalar> D;
+    D << Scalar(-1), Scalar(1), Scalar(0), Scalar(0),  //
+        Scalar(0), Scalar(0), Scalar(-1), Scalar(1),   //
+        Scalar(-1), Scalar(0), Scalar(1), Scalar(0);
+    Frame<Scalar> tmp;
+    const Status r = detail::make_frame<Scalar>(a1 - a0, b1 - b0, b0 - a0, D, tmp);
+    if (r == Status::ok) f = tmp;
+    return r;
+  }
+};
+
+/// Reduced frame of an edge-edge pair; see `EdgeEdge::frame`.
+template <class Scalar> Status edge_edge_frame(const Vec12<Scalar>& x, Frame<Scalar>& f) {
+  return EdgeEdge::frame(x, f);
+}
+
+}  // namespace pce

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// Vertex-face pair `x = (p, t0, t1, t2)`: edge vectors `e0 = t1 − t0`, `e1 = t2 − t0`,
+/// `e2 = p − t0`, so the signed length is `l = (p − t0)·n̂` with
+/// `n = (t1 − t0) × (t2 − t0)`: positive on the side the triangle's right-hand normal
+/// points to (`docs/conventions.md`). The paper (supplement Sec. 1) bases the frame at its
+/// v2 instead; the length and every derivative are the same function of the 12 coordinates.
+#pragma once
+
+#include <pce/frames/frame.hpp>
+
+namespace pce {
+
+/// Tag type for the vertex-face pair kind.
+struct VertexFace {
+  static constexpr const char* name = "vertex_face";
+
+  /// Builds the reduced frame of `x = (p, t0, t1, t2)`; `invalid_input` for non-finite or
+  /// absurd coordinates, `degenerate` for a zero-area triangle; on failure `f` is untouched.
+  template <class Scalar> static Status frame(const Vec12<Scalar>& x, Frame<Scalar>& f) {
+    const Status s = detail::check_coordinates(x);
+    if (s != Status::ok) return s;
+    const Vec3<Scalar> p = x.template segment<3>(0), a = x.template segment<3>(3),
+                       b = x.template segment<3>(6), c = x.template segment<3>(9);
+    Mat34<Scalar> D;
+    D << Scalar(0), Scalar(-1), Scalar(1), Scalar(0),  //
+        Scalar(0), Scalar(-1), Scalar(0), Scalar(1),   //
+        Scalar(1), Scalar(-1), Scalar(0), Scalar(0);
+    Frame<Scalar> tmp;
+    const Status r = detail::make_frame<Scalar>(b - a, c - a, p - a, D, tmp);
+    if (r == Status::ok) f = tmp;
+    return r;
+  }
+};
+
+/// Reduced frame of a vertex-face pair; see `VertexFace::frame`.
+template <class Scalar> Status vertex_face_frame(const Vec12<Scalar>& x, Frame<Scalar>& f) {
+  return VertexFace::frame(x, f);
+}
+
+}  // namespace pce
