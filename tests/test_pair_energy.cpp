@@ -1,0 +1,281 @@
+// SPDX-License-Identifier: MIT
+// Conformance suite for energy/pair_energy.hpp: one set of checks run on every
+// pair × length × penalty × scalar combination, at random well-shaped configurations over
+// several scales and offsets. For each configuration:
+//   - central finite differences (several step sizes) of value -> gradient -> Hessian
+//     (double and long double; float is checked against the high-precision reference);
+//   - agreement with the same templated code instantiated in 50-digit binary floating point;
+//   - closed-form eigenpairs: residual ‖Hq − λq‖, orthonormality, reconstruction QΛQᵀ,
+//     ascending order, agreement with a numerical eigensolver;
+//   - every projection strategy: PSD, symmetric, and equal to an independent dense
+//     construction of what docs/math.md says it is;
+//   - invariance under rigid motions (double).
+#include "support/conformance.hpp"
+#include "support/high_precision.hpp"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <sstream>
+#include <tuple>
+
+namespace {
+
+using namespace pce_test;
+using HP = HighPrecision;
+
+enum class ScalarKind { float_, double_, long_double };
+const char* name(ScalarKind s) {
+  return s == ScalarKind::float_ ? "float" : s == ScalarKind::double_ ? "double" : "long_double";
+}
+
+struct Combo {
+  PairKind pair;
+  LengthKind length;
+  PenaltyKind penalty;
+  ScalarKind scalar;
+};
+
+std::string combo_name(const testing::TestParamInfo<Combo>& info) {
+  std::ostringstream s;
+  s << name(info.param.pair) << "_" << name(info.param.length) << "_" << name(info.param.penalty) << "_"
+    << name(info.param.scalar);
+  return s.str();
+}
+
+/// Tolerances per scalar: multiples of the unit roundoff, for well-shaped configurations.
+template <class S> struct Tol {
+  static double eps() { return static_cast<double>(std::numeric_limits<S>::epsilon()); }
+  static double reference() { return 2e3 * eps(); }  // vs 50-digit evaluation of the same code
+  static double algebra() { return 200 * eps(); }    // eigen residuals, reconstructions
+};
+
+/// Draws one active configuration and penalty for a combination.
+struct Case {
+  Configuration config;
+  PenaltySpec penalty;
+};
+
+Case draw_case(const Combo& c, double scale, double offset, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> U(0, 1);
+  const double mag = scale * (0.05 + 0.9 * U(rng));
+  double sign = U(rng) < 0.5 ? -1.0 : 1.0;
+  const double side = c.length == LengthKind::signed_negative ? -1.0 : 1.0;
+  if (c.penalty == PenaltyKind::log_barrier && c.length != LengthKind::unsigned_) sign = side;  // keep L > 0
+  const double l = sign * mag;
+  const double L = c.length == LengthKind::unsigned_ ? mag : side * l;
+  PenaltySpec p{c.penalty, 0.5 + 5 * U(rng), 0, 0, 0, 0};
+  p.eps = L + scale * (0.2 + U(rng));          // active, with a margin for finite differences
+  p.delta = U(rng) < 0.25 ? 0.0 : scale * scale * U(rng);
+  p.dhat = L * (1.3 + 2 * U(rng));
+  p.width = scale * (0.5 + U(rng));
+  return {random_configuration(c.pair, l, scale, offset, rng), p};
+}
+
+/// Independent dense construction of a strategy from the numerical eigensystem of the
+/// 9×9 frame Hessian: Jᵀ f(Hc) J.
+template <class S, class F> pce::Mat12<S> dense_filtered(const pce::PairEnergy<S>& e, F f) {
+  const pce::Mat9<S> Hc = pce::energy_frame_hessian(e).dense();
+  Eigen::SelfAdjointEigenSolver<pce::Mat9<S>> es(Hc);
+  pce::Vec9<S> lam = es.eigenvalues();
+  for (int i = 0; i < 9; ++i) lam[i] = f(lam[i]);
+  const pce::Mat9<S> Hf = es.eigenvectors() * lam.asDiagonal() * es.eigenvectors().transpose();
+  const Eigen::Matrix<S, 9, 12> J = pce::frame_jacobian(e.frame);
+  return J.transpose() * Hf * J;
+}
+
+class Conformance : public testing::TestWithParam<Combo> {};
+
+template <class Pair, class S, class Length, class Penalty>
+void check_case(const Combo& combo, const Case& cs, const Length& len, const Penalty& pen) {
+  SCOPED_TRACE(testing::Message() << "x = " << cs.config.x.transpose() << ", scale " << cs.config.scale);
+  const pce::Vec12<S> x = cast12<S>(cs.config.x);
+  pce::PairEnergy<S> e;
+  ASSERT_EQ(pce::pair_energy<Pair>(x, len, pen, e), pce::Status::ok);
+  const pce::Vec12<S> g = pce::energy_gradient(e);
+  const pce::Mat12<S> H = pce::energy_hessian(e);
+  const double Hn = max_abs(H);
+
+  // --- 1. High-precision reference: the same code in 50 digits, at the same (rounded) input.
+  {
+    pce::PairEnergy<HP> r;
+    ASSERT_EQ(pce::pair_energy<Pair>(cast12<HP>(x), len, pen, r), pce::Status::ok);
+    const double tol = Tol<S>::reference();
+    EXPECT_LT(std::fabs(static_cast<double>(HP(e.length) - r.length)) / static_cast<double>(abs(r.length)), tol);
+    EXPECT_LT(std::fabs(static_cast<double>(HP(e.psi.value) - r.psi.value)) /
+                  std::max(1e-300, std::fabs(static_cast<double>(r.psi.value))),
+              tol);
+    EXPECT_LT(rel_error(g, pce::energy_gradient(r)), tol) << "gradient vs high precision";
+    EXPECT_LT(rel_error(H, pce::energy_hessian(r)), tol) << "Hessian vs high precision";
+    EXPECT_LT(rel_error(pce::projected_hessian(e, pce::Projection::analytic),
+                        pce::projected_hessian(r, pce::Projection::analytic)),
+              tol)
+        << "analytic projection vs high precision";
+    EXPECT_LT(rel_error(pce::energy_eigensystem(e).values, pce::energy_eigensystem(r).values), tol)
+        << "eigenvalues vs high precision";
+  }
+
+  // --- 2. Finite differences at several step sizes (best step counts), double and long double.
+  if constexpr (!std::is_same_v<S, float>) {
+    const auto value = [&](const pce::Vec12<S>& y) {
+      pce::PairEnergy<S> ey;
+      EXPECT_EQ(pce::pair_energy<Pair>(y, len, pen, ey), pce::Status::ok);
+      return ey.psi.value;
+    };
+    const auto gradient = [&](const pce::Vec12<S>& y) {
+      pce::PairEnergy<S> ey;
+      EXPECT_EQ(pce::pair_energy<Pair>(y, len, pen, ey), pce::Status::ok);
+      return pce::energy_gradient(ey);
+    };
+    const bool ld = std::is_same_v<S, long double>;
+    const double steps[3] = {ld ? 1e-4 : 1e-3, ld ? 1e-5 : 1e-4, ld ? 1e-6 : 1e-5};
+    double eg = 1e300, eh = 1e300;
+    for (double h : steps) {
+      const S hs = S(h * cs.config.scale);
+      eg = std::min(eg, rel_error(fd_gradient<S>(value, x, hs), g));
+      eh = std::min(eh, rel_error(fd_jacobian<S>(gradient, x, hs), H));
+    }
+    const double tol = ld ? 1e-8 : 1e-6;
+    EXPECT_LT(eg, tol) << "gradient vs finite differences";
+    EXPECT_LT(eh, tol) << "Hessian vs finite differences";
+  }
+
+  // --- 3. The exact Hessian is Jᵀ Hc J with the frame Jacobian (dense check of `pullback`).
+  const pce::Mat9<S> Hc = pce::energy_frame_hessian(e).dense();
+  {
+    const Eigen::Matrix<S, 9, 12> J = pce::frame_jacobian(e.frame);
+    EXPECT_LT(rel_error(H, (J.transpose() * Hc * J).eval()), Tol<S>::algebra());
+    EXPECT_LT(rel_error(H, H.transpose().eval()), Tol<S>::algebra()) << "exact Hessian symmetric";
+  }
+
+  // --- 4. Closed-form eigensystem of the frame Hessian.
+  {
+    const pce::FrameEigensystem<S> es = pce::energy_eigensystem(e);
+    const double Hcn = std::max(max_abs(Hc), 1e-300);
+    const double tol = Tol<S>::algebra();
+    for (int i = 0; i < 9; ++i) {
+      const pce::Vec9<S> res = Hc * es.vectors.col(i) - es.values[i] * es.vectors.col(i);
+      EXPECT_LT(max_abs(res) / Hcn, tol) << "eigenpair residual " << i;
+      if (i > 0) {
+        EXPECT_LE(es.values[i - 1], es.values[i]) << "eigenvalues ascending";
+      }
+    }
+    EXPECT_LT(max_abs((es.vectors.transpose() * es.vectors - pce::Mat9<S>::Identity()).eval()), tol)
+        << "orthonormal eigenvectors";
+    EXPECT_LT(max_abs((es.vectors * es.values.asDiagonal() * es.vectors.transpose() - Hc).eval()) / Hcn, tol)
+        << "reconstruction QΛQᵀ";
+    Eigen::SelfAdjointEigenSolver<pce::Mat9<S>> num(Hc);
+    EXPECT_LT(max_abs((num.eigenvalues() - es.values).eval()) / Hcn, tol)
+        << "closed-form vs numerical eigenvalues";
+  }
+
+  // --- 5. Projection strategies.
+  {
+    const double tol = 50 * Tol<S>::eps();
+    const auto clamp = [](S v) { return v > S(0) ? v : S(0); };
+    const auto flip = [](S v) { return v < S(0) ? S(-v) : v; };
+    const pce::Mat12<S> Pa = pce::projected_hessian(e, pce::Projection::analytic);
+    const pce::Mat12<S> Pb = pce::projected_hessian(e, pce::Projection::abs);
+    const pce::Mat12<S> Pg = pce::projected_hessian(e, pce::Projection::gauss_newton);
+    const pce::Mat12<S> Pn = pce::projected_hessian(e, pce::Projection::numerical);
+    EXPECT_EQ(pce::projected_hessian(e, pce::Projection::none), H);
+    const pce::Mat12<S>* all[4] = {&Pa, &Pb, &Pg, &Pn};
+    const char* names[4] = {"analytic", "abs", "gauss_newton", "numerical"};
+    for (int i = 0; i < 4; ++i) {
+      const double n = std::max(max_abs(*all[i]), Hn);
+      EXPECT_GE(min_eigenvalue(*all[i]), -tol * n * 12) << names[i] << " is PSD";
+      EXPECT_LT(max_abs((*all[i] - all[i]->transpose()).eval()), tol * n) << names[i] << " symmetric";
+    }
+    const double Hd = std::max(Hn, 1e-300);
+    EXPECT_LT(rel_error(Pa, dense_filtered(e, clamp)), Tol<S>::reference())
+        << "analytic = Jᵀ clamp(Hc) J";
+    EXPECT_LT(rel_error(Pb, dense_filtered(e, flip)), Tol<S>::reference())
+        << "abs = Jᵀ |Hc| J";
+    const pce::Vec12<S> gL = pce::pullback(e.frame, pce::length_gradient(e.frame, len));
+    const S c2 = e.psi.second > S(0) ? e.psi.second : S(0);
+    EXPECT_LT(rel_error(Pg, (c2 * gL * gL.transpose()).eval(), Hd), Tol<S>::algebra()) << "GN = ψ″⁺ ∇L∇Lᵀ";
+    // analytic ⪰ exact, abs ⪰ analytic, numerical ⪰ exact (each difference is Jᵀ(PSD)J).
+    EXPECT_GE(min_eigenvalue((Pa - H).eval()), -tol * Hd * 12) << "analytic - exact is PSD";
+    EXPECT_GE(min_eigenvalue((Pb - Pa).eval()), -tol * Hd * 12) << "abs - analytic is PSD";
+    EXPECT_GE(min_eigenvalue((Pn - H).eval()), -tol * Hd * 12) << "numerical - exact is PSD";
+    // The nearest PSD matrix is a fixed point of the projection.
+    EXPECT_LT(rel_error(pce::project_psd(Pn), Pn, Hd), 100 * tol) << "numerical projection idempotent";
+  }
+
+  // --- 6. evaluate() returns what the separate calls return.
+  {
+    pce::PairResult<S> out;
+    ASSERT_EQ(pce::evaluate<Pair>(x, len, pen, pce::Projection::analytic, out), pce::Status::ok);
+    EXPECT_EQ(out.value, e.psi.value);
+    EXPECT_EQ(out.length, e.length);
+    EXPECT_EQ(out.gradient, g);
+    EXPECT_EQ(out.hessian, H);
+    EXPECT_EQ(out.projected_hessian, pce::projected_hessian(e, pce::Projection::analytic));
+  }
+
+  // --- 7. Rigid motions: E(Rx + t) = E(x), ∇E and ∇²E rotate with R (double only).
+  if constexpr (std::is_same_v<S, double>) {
+    std::mt19937_64 rng(7);
+    const Eigen::Matrix3d R = random_rotation(rng);
+    const Eigen::Vector3d t = Eigen::Vector3d(0.3, -0.7, 0.2) * cs.config.scale * 3;
+    pce::Vec12<double> y;
+    Eigen::Matrix<double, 12, 12> B = Eigen::Matrix<double, 12, 12>::Zero();
+    for (int j = 0; j < 4; ++j) {
+      y.segment<3>(3 * j) = R * x.template segment<3>(3 * j) + t;
+      B.block<3, 3>(3 * j, 3 * j) = R;
+    }
+    pce::PairEnergy<double> ey;
+    ASSERT_EQ(pce::pair_energy<Pair>(y, len, pen, ey), pce::Status::ok);
+    const double tol = 1e-9;
+    EXPECT_NEAR(ey.psi.value, e.psi.value, tol * std::fabs(e.psi.value)) << "value invariant";
+    EXPECT_LT(rel_error(pce::energy_gradient(ey), (B * g).eval()), tol) << "gradient rotates";
+    EXPECT_LT(rel_error(pce::energy_hessian(ey), (B * H * B.transpose()).eval()), tol) << "Hessian rotates";
+    const pce::Mat12<double> Pa = pce::projected_hessian(e, pce::Projection::analytic);
+    EXPECT_LT(rel_error(pce::projected_hessian(ey, pce::Projection::analytic), (B * Pa * B.transpose()).eval()), tol)
+        << "analytic projection rotates";
+  }
+  (void)combo;
+}
+
+TEST_P(Conformance, RandomConfigurations) {
+  const Combo c = GetParam();
+  std::mt19937_64 rng(1234 + 97 * static_cast<int>(c.pair) + 31 * static_cast<int>(c.length) +
+                      7 * static_cast<int>(c.penalty));
+  const double scales[3] = {1e-2, 1.0, 1e2};
+  const double offsets[2] = {0.0, 20.0};  // in units of the scale
+  const int per = 8;
+  for (double scale : scales)
+    for (double off : offsets)
+      for (int k = 0; k < per; ++k) {
+        const Case cs = draw_case(c, scale, off * scale, rng);
+        with_pair(c.pair, [&](auto pair) {
+          using Pair = decltype(pair);
+          with_length(c.length, [&](const auto& len) {
+            with_penalty(cs.penalty, [&](const auto& pen) {
+              switch (c.scalar) {
+                case ScalarKind::float_: check_case<Pair, float>(c, cs, len, pen); break;
+                case ScalarKind::double_: check_case<Pair, double>(c, cs, len, pen); break;
+                case ScalarKind::long_double: check_case<Pair, long double>(c, cs, len, pen); break;
+              }
+              return 0;
+            });
+            return 0;
+          });
+          return 0;
+        });
+        if (HasFatalFailure()) return;
+      }
+}
+
+std::vector<Combo> all_combos() {
+  std::vector<Combo> v;
+  for (PairKind p : {PairKind::vertex_face, PairKind::edge_edge})
+    for (LengthKind l : {LengthKind::signed_positive, LengthKind::signed_negative, LengthKind::unsigned_})
+      for (PenaltyKind q : {PenaltyKind::quadratic, PenaltyKind::cubic, PenaltyKind::log_barrier, PenaltyKind::custom})
+        for (ScalarKind s : {ScalarKind::float_, ScalarKind::double_, ScalarKind::long_double}) v.push_back({p, l, q, s});
+  return v;
+}
+
+INSTANTIATE_TEST_SUITE_P(AllCombinations, Conformance, testing::ValuesIn(all_combos()), combo_name);
+
+}  // namespace
