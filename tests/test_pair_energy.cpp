@@ -279,3 +279,79 @@ std::vector<Combo> all_combos() {
 INSTANTIATE_TEST_SUITE_P(AllCombinations, Conformance, testing::ValuesIn(all_combos()), combo_name);
 
 }  // namespace
+
+namespace {
+
+// Statuses of energy/pair_energy.hpp: every non-ok outcome writes nothing.
+template <class S> class PairEnergyStatus : public testing::Test {};
+using StatusScalars = testing::Types<float, double, long double>;
+TYPED_TEST_SUITE(PairEnergyStatus, StatusScalars);
+
+template <class S> pce::Vec12<S> simple_vf(double z) {
+  pce::Vec12<double> x;
+  x << 0.2, 0.3, z, 0, 0, 0, 1, 0, 0, 0, 1, 0;
+  return pce_test::cast12<S>(x);
+}
+
+/// A user penalty whose ψ″ is not representable.
+struct Exploding {
+  template <class S> pce::PenaltyDerivatives<S> evaluate(S) const {
+    return {S(1), S(1), std::numeric_limits<S>::infinity()};
+  }
+};
+
+template <class S, class Length, class Penalty>
+pce::Status status_of(const pce::Vec12<S>& x, const Length& len, const Penalty& pen) {
+  pce::PairResult<S> out;
+  out.value = S(-7);
+  out.gradient.setConstant(S(-7));
+  const pce::Status s = pce::evaluate<pce::VertexFace>(x, len, pen, pce::Projection::analytic, out);
+  if (s != pce::Status::ok) {
+    EXPECT_EQ(out.value, S(-7)) << "written on " << pce::to_string(s);
+    EXPECT_EQ(out.gradient, pce::Vec12<S>::Constant(S(-7))) << "written on " << pce::to_string(s);
+  }
+  return s;
+}
+
+TYPED_TEST(PairEnergyStatus, EveryFailureIsExplicitAndWritesNothing) {
+  using S = TypeParam;
+  const pce::LogBarrierPenalty bar{1.0, 0.5};
+  const pce::QuadraticPenalty quad{1.0, 0.5};
+  EXPECT_EQ(status_of(simple_vf<S>(0.1), pce::SignedLength{}, bar), pce::Status::ok);
+  // The log barrier is undefined at L <= 0: below the face, on it, and for the other side.
+  EXPECT_EQ(status_of(simple_vf<S>(-0.1), pce::SignedLength{}, bar), pce::Status::out_of_domain);
+  EXPECT_EQ(status_of(simple_vf<S>(0.0), pce::SignedLength{}, bar), pce::Status::out_of_domain);
+  EXPECT_EQ(status_of(simple_vf<S>(0.0), pce::UnsignedLength{}, bar), pce::Status::out_of_domain);
+  EXPECT_EQ(status_of(simple_vf<S>(0.1), pce::SignedLength{pce::Side::negative}, bar), pce::Status::out_of_domain);
+  EXPECT_EQ(status_of(simple_vf<S>(-0.1), pce::SignedLength{pce::Side::negative}, bar), pce::Status::ok);
+  // Bad coordinates and parameters.
+  pce::Vec12<S> x = simple_vf<S>(0.1);
+  x[4] = std::numeric_limits<S>::quiet_NaN();
+  EXPECT_EQ(status_of(x, pce::SignedLength{}, quad), pce::Status::invalid_input);
+  EXPECT_EQ(status_of(simple_vf<S>(0.1), pce::SignedLength{}, pce::LogBarrierPenalty{1.0, -1.0}),
+            pce::Status::invalid_input);
+  EXPECT_EQ(status_of(simple_vf<S>(0.1), pce::SignedLength{}, pce::QuadraticPenalty{-1.0, 0.5}),
+            pce::Status::invalid_input);
+  // A degenerate triangle.
+  pce::Vec12<double> d;
+  d << 0.2, 0.3, 0.1, 0, 0, 0, 1, 0, 0, 2, 0, 0;
+  EXPECT_EQ(status_of(pce_test::cast12<S>(d), pce::SignedLength{}, quad), pce::Status::degenerate);
+  // A result beyond the scalar's range is `overflow`, never inf.
+  if constexpr (!std::is_same_v<S, long double>) {
+    EXPECT_EQ(status_of(simple_vf<S>(0.1), pce::SignedLength{}, pce::QuadraticPenalty{1e308, 1e300}),
+              pce::Status::overflow);
+  }
+  EXPECT_EQ(status_of(simple_vf<S>(0.1), pce::SignedLength{}, Exploding{}), pce::Status::overflow);
+}
+
+TEST(PairEnergyNames, StatusAndProjectionNames) {
+  EXPECT_STREQ(pce::to_string(pce::Status::ok), "ok");
+  EXPECT_STREQ(pce::to_string(pce::Status::invalid_input), "invalid_input");
+  EXPECT_STREQ(pce::to_string(pce::Status::degenerate), "degenerate");
+  EXPECT_STREQ(pce::to_string(pce::Status::out_of_domain), "out_of_domain");
+  EXPECT_STREQ(pce::to_string(pce::Status::overflow), "overflow");
+  EXPECT_STREQ(pce::to_string(pce::Projection::analytic), "analytic");
+  EXPECT_STREQ(pce::to_string(pce::Projection::gauss_newton), "gauss_newton");
+}
+
+}  // namespace

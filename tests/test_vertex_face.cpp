@@ -1,2 +1,88 @@
+// SPDX-License-Identifier: MIT
+// Tests for frames/vertex_face.hpp: the contract's sign and ordering conventions
+// (docs/conventions.md), the projection point, and status on bad or degenerate input.
+#include "support/conformance.hpp"
+#include "support/scalars.hpp"
+
 #include <gtest/gtest.h>
-TEST(Placeholder, Empty) {}
+
+#include <limits>
+
+namespace {
+using namespace pce_test;
+
+template <class S> class VertexFace : public testing::Test {};
+TYPED_TEST_SUITE(VertexFace, Scalars);
+
+template <class S> pce::Vec12<S> vf(const Eigen::Vector3d& p, const Eigen::Vector3d& t0, const Eigen::Vector3d& t1,
+                                    const Eigen::Vector3d& t2) {
+  pce::Vec12<double> x;
+  x << p, t0, t1, t2;
+  return cast12<S>(x);
+}
+
+TYPED_TEST(VertexFace, PositiveOnTheRightHandNormalSide) {
+  using S = TypeParam;
+  // Counter-clockwise in the xy-plane seen from +z: n = (t1 − t0) × (t2 − t0) = +z.
+  const Eigen::Vector3d t0(0, 0, 0), t1(1, 0, 0), t2(0, 1, 0);
+  pce::Frame<S> f;
+  ASSERT_EQ(pce::vertex_face_frame(vf<S>({0.2, 0.3, 0.5}, t0, t1, t2), f), pce::Status::ok);
+  EXPECT_NEAR(double(f.l), 0.5, 1e-6);
+  EXPECT_NEAR(double(f.n.z()), 1.0, 1e-6);
+  ASSERT_EQ(pce::vertex_face_frame(vf<S>({0.2, 0.3, -0.5}, t0, t1, t2), f), pce::Status::ok);
+  EXPECT_NEAR(double(f.l), -0.5, 1e-6);
+  // Swapping t1 and t2 reverses the normal and the sign.
+  ASSERT_EQ(pce::vertex_face_frame(vf<S>({0.2, 0.3, 0.5}, t0, t2, t1), f), pce::Status::ok);
+  EXPECT_NEAR(double(f.l), -0.5, 1e-6);
+  // Plane distance, not closest-feature distance: far outside the triangle, same l.
+  ASSERT_EQ(pce::vertex_face_frame(vf<S>({7, -9, 0.5}, t0, t1, t2), f), pce::Status::ok);
+  EXPECT_NEAR(double(f.l), 0.5, 1e-5);
+}
+
+TYPED_TEST(VertexFace, LengthEqualsDirectFormula) {
+  using S = TypeParam;
+  std::mt19937_64 rng(21);
+  for (int i = 0; i < 100; ++i) {
+    const pce::Vec12<S> x = cast12<S>(random_configuration(PairKind::vertex_face, 0.7 * (i % 3 - 1), 1, 2, rng).x);
+    const Eigen::Matrix<S, 3, 1> p = x.template segment<3>(0), t0 = x.template segment<3>(3),
+                                 t1 = x.template segment<3>(6), t2 = x.template segment<3>(9);
+    const Eigen::Matrix<S, 3, 1> n = (t1 - t0).cross(t2 - t0).normalized();
+    pce::Frame<S> f;
+    ASSERT_EQ(pce::vertex_face_frame(x, f), pce::Status::ok);
+    EXPECT_NEAR(double(f.l), double((p - t0).dot(n)), ulps<S>(64) * 4);
+    // Row 2 of P is p minus its projection onto the plane with barycentrics (1−β−γ, β, γ).
+    EXPECT_EQ(f.P(2, 0), S(1));
+    EXPECT_NEAR(double(f.P(2, 1) + f.P(2, 2) + f.P(2, 3)), -1.0, ulps<S>(16));
+    const Eigen::Matrix<S, 3, 1> q = -(f.P(2, 1) * t0 + f.P(2, 2) * t1 + f.P(2, 3) * t2);
+    EXPECT_LT(max_abs(((p - q) - f.l * n).eval()), ulps<S>(64) * 8);
+  }
+}
+
+TYPED_TEST(VertexFace, DegenerateTrianglesAreReportedAndNothingIsWritten) {
+  using S = TypeParam;
+  pce::Frame<S> f;
+  f.l = S(42);
+  const Eigen::Vector3d p(0.1, 0.2, 0.3);
+  EXPECT_EQ(pce::vertex_face_frame(vf<S>(p, {0, 0, 0}, {1, 1, 1}, {2, 2, 2}), f), pce::Status::degenerate);
+  EXPECT_EQ(pce::vertex_face_frame(vf<S>(p, {0, 0, 0}, {0, 0, 0}, {1, 0, 0}), f), pce::Status::degenerate);
+  EXPECT_EQ(pce::vertex_face_frame(vf<S>(p, {1, 2, 3}, {1, 2, 3}, {1, 2, 3}), f), pce::Status::degenerate);
+  EXPECT_EQ(f.l, S(42));
+}
+
+TYPED_TEST(VertexFace, NonFiniteAndAbsurdInputIsInvalid) {
+  using S = TypeParam;
+  const pce::Vec12<S> good = vf<S>({0.2, 0.3, 0.5}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  const S bad[3] = {std::numeric_limits<S>::quiet_NaN(), std::numeric_limits<S>::infinity(),
+                    S(2) * pce::Constants<S>::max_coordinate()};
+  for (int i = 0; i < 12; ++i)
+    for (S b : bad) {
+      pce::Vec12<S> x = good;
+      x[i] = b;
+      pce::Frame<S> f;
+      f.l = S(42);
+      EXPECT_EQ(pce::vertex_face_frame(x, f), pce::Status::invalid_input) << "coordinate " << i;
+      EXPECT_EQ(f.l, S(42));
+    }
+}
+
+}  // namespace

@@ -26,10 +26,7 @@ struct EdgeEdge {
     D << Scalar(-1), Scalar(1), Scalar(0), Scalar(0),  //
         Scalar(0), Scalar(0), Scalar(-1), Scalar(1),   //
         Scalar(-1), Scalar(0), Scalar(1), Scalar(0);
-    Frame<Scalar> tmp;
-    const Status r = detail::make_frame<Scalar>(a1 - a0, b1 - b0, b0 - a0, D, tmp);
-    if (r == Status::ok) f = tmp;
-    return r;
+    return detail::make_frame<Scalar>(a1 - a0, b1 - b0, b0 - a0, D, f);
   }
 };
 

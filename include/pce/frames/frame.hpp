@@ -107,7 +107,8 @@ namespace detail {
 /// as combinations of the four vertices). Uses the stable forms of
 /// `docs/stability.md`: an exact power-of-two rescaling, β and γ from `m = e0 × e1`
 /// rather than the Gram determinant, and `l = e2⊥·n̂` rather than `e2·n̂`.
-/// Returns `degenerate` when `e0 × e1` vanishes (in the rescaled coordinates).
+/// Returns `degenerate` when `e0 × e1` vanishes (in the rescaled coordinates); `f` is
+/// written only on `ok`.
 template <class Scalar>
 Status make_frame(const Vec3<Scalar>& e0, const Vec3<Scalar>& e1, const Vec3<Scalar>& e2,
                   const Mat34<Scalar>& D, Frame<Scalar>& f) {

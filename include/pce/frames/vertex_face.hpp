@@ -26,10 +26,7 @@ struct VertexFace {
     D << Scalar(0), Scalar(-1), Scalar(1), Scalar(0),  //
         Scalar(0), Scalar(-1), Scalar(0), Scalar(1),   //
         Scalar(1), Scalar(-1), Scalar(0), Scalar(0);
-    Frame<Scalar> tmp;
-    const Status r = detail::make_frame<Scalar>(b - a, c - a, p - a, D, tmp);
-    if (r == Status::ok) f = tmp;
-    return r;
+    return detail::make_frame<Scalar>(b - a, c - a, p - a, D, f);
   }
 };
 

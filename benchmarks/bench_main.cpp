@@ -1,0 +1,220 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// `pce-bench` driver: registers the vertex-face and edge-edge benchmarks, runs them all
+/// with Google Benchmark's usual flags, and afterwards prints a ratio summary built from
+/// the same run (a reporter that records each benchmark's real time per pair and forwards
+/// everything to the normal console or JSON reporter). No timing is asserted: the exit
+/// code says only whether the run itself worked.
+#include "bench_common.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <map>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace {
+
+/// Time per pair in ns (real and CPU), by benchmark name (`vertex_face/analytic/double`).
+struct Times {
+  double real = 0, cpu = 0;
+};
+
+struct Collected {
+  std::map<std::string, Times> median;               // median aggregate, with repetitions
+  std::map<std::string, std::vector<Times>> single;  // plain runs (one per repetition)
+  double worst_real_over_cpu = 0;                    // well above 1: the machine was busy
+  std::string worst_name;
+
+  /// The median aggregate when there is one, else the mean of the plain runs.
+  bool get(const std::string& name, bool cpu, double& ns) const {
+    if (auto it = median.find(name); it != median.end()) {
+      ns = cpu ? it->second.cpu : it->second.real;
+      return true;
+    }
+    auto it = single.find(name);
+    if (it == single.end() || it->second.empty()) return false;
+    double sum = 0;
+    for (const Times& t : it->second) sum += cpu ? t.cpu : t.real;
+    ns = sum / static_cast<double>(it->second.size());
+    return true;
+  }
+};
+
+/// Wraps one of Google Benchmark's reporters: records, then forwards unchanged.
+template <class Base> class CollectingReporter : public Base {
+ public:
+  template <class... A> explicit CollectingReporter(Collected& out, A... a) : Base(a...), out_(out) {}
+
+  void ReportRuns(const std::vector<benchmark::BenchmarkReporter::Run>& runs) override {
+    using Run = benchmark::BenchmarkReporter::Run;
+    for (const Run& r : runs) {
+      if (r.error_occurred) continue;
+      const double to_ns = 1e9 / benchmark::GetTimeUnitMultiplier(r.time_unit);
+      const Times t{r.GetAdjustedRealTime() * to_ns, r.GetAdjustedCPUTime() * to_ns};
+      const std::string& name = r.run_name.function_name;
+      if (r.run_type == Run::RT_Iteration) {
+        out_.single[name].push_back(t);
+        if (t.cpu > 0 && t.real / t.cpu > out_.worst_real_over_cpu) {
+          out_.worst_real_over_cpu = t.real / t.cpu;
+          out_.worst_name = name;
+        }
+      } else if (r.aggregate_name == "median") {
+        out_.median[name] = t;
+      }
+    }
+    Base::ReportRuns(runs);
+  }
+
+ private:
+  Collected& out_;
+};
+
+/// Last value of `--flag=value` in argv (Google Benchmark's own rule), or `fallback`.
+std::string flag_value(const std::vector<char*>& args, const char* flag, const std::string& fallback) {
+  const std::string prefix = std::string("--") + flag;
+  std::string v = fallback;
+  for (const char* a : args) {
+    if (a == nullptr) continue;
+    const std::string s(a);
+    if (s == prefix)
+      v = "true";
+    else if (s.rfind(prefix + "=", 0) == 0)
+      v = s.substr(prefix.size() + 1);
+  }
+  return v;
+}
+
+bool truthy(const std::string& v) {
+  return v == "true" || v == "yes" || v == "1" || v == "on" || v == "t" || v == "y" || v == "TRUE" || v == "Yes";
+}
+
+void print_ratios(std::ostream& os, const Collected& c, bool cpu) {
+  const char* pairs[] = {"vertex_face", "edge_edge"};
+  const char* scalars[] = {"double", "float"};
+  char line[512];
+  os << "\nRatio summary (" << (cpu ? "CPU" : "real")
+     << " time per pair, this run; the product requirement, for double:\n"
+        "analytic/exact_hessian <= 1.25 and analytic/numerical <= 1/15 = 0.0667; not asserted)\n";
+  std::snprintf(line, sizeof line, "%-12s %-7s %9s %9s %9s %11s %11s %9s %9s %9s  %s\n", "pair", "scalar",
+                "exact ns", "analyt ns", "numer ns", "analytic/", "analytic/", "abs/", "gn/", "numer/",
+                "requirement");
+  os << line;
+  std::snprintf(line, sizeof line, "%-12s %-7s %9s %9s %9s %11s %11s %9s %9s %9s\n", "", "", "", "", "",
+                "exact", "numerical", "exact", "exact", "analytic");
+  os << line;
+  for (const char* p : pairs)
+    for (const char* s : scalars) {
+      const auto name = [&](const char* q) { return std::string(p) + "/" + q + "/" + s; };
+      double ex = 0, an = 0, nu = 0, ab = 0, gn = 0;
+      const bool has_ex = c.get(name("exact_hessian"), cpu, ex), has_an = c.get(name("analytic"), cpu, an),
+                 has_nu = c.get(name("numerical"), cpu, nu), has_ab = c.get(name("abs"), cpu, ab),
+                 has_gn = c.get(name("gauss_newton"), cpu, gn);
+      if (!has_ex && !has_an && !has_nu && !has_ab && !has_gn) continue;  // filtered out
+      const auto num = [](bool ok, double v, const char* fmt) {
+        char b[32];
+        if (ok)
+          std::snprintf(b, sizeof b, fmt, v);
+        else
+          std::snprintf(b, sizeof b, "n/a");
+        return std::string(b);
+      };
+      std::string req = "-";
+      if (std::strcmp(s, "double") == 0 && has_ex && has_an && has_nu) {
+        const bool ok1 = an <= 1.25 * ex, ok2 = an * 15.0 <= nu;
+        req = (ok1 && ok2) ? "met" : std::string("MISSED (") + (ok1 ? "" : "analytic/exact") +
+                                         (!ok1 && !ok2 ? ", " : "") + (ok2 ? "" : "analytic/numerical") + ")";
+      }
+      std::snprintf(line, sizeof line, "%-12s %-7s %9s %9s %9s %11s %11s %9s %9s %9s  %s\n", p, s,
+                    num(has_ex, ex, "%.2f").c_str(), num(has_an, an, "%.2f").c_str(), num(has_nu, nu, "%.1f").c_str(),
+                    num(has_an && has_ex, an / ex, "%.3f").c_str(), num(has_an && has_nu, an / nu, "%.4f").c_str(),
+                    num(has_ab && has_ex, ab / ex, "%.3f").c_str(), num(has_gn && has_ex, gn / ex, "%.3f").c_str(),
+                    num(has_an && has_nu, nu / an, "%.1fx").c_str(), req.c_str());
+      os << line;
+    }
+  os.flush();
+}
+
+/// The real-time table; when real time exceeded CPU time noticeably (other processes
+/// took the CPU), also the CPU-time table, which is then the better estimate.
+void print_summary(std::ostream& os, const Collected& c) {
+  print_ratios(os, c, false);
+  if (c.worst_real_over_cpu > 1.1) {
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "note: real time exceeded CPU time by up to %.0f%% (%s): the machine was busy and the\n"
+                  "      real-time ratios are unreliable; rerun on a quiet machine, or add\n"
+                  "      --benchmark_repetitions=5 (the summary then uses medians). CPU-time ratios:\n",
+                  100.0 * (c.worst_real_over_cpu - 1.0), c.worst_name.c_str());
+    os << line;
+    print_ratios(os, c, true);
+  }
+}
+
+void print_pool(const char* kind, const pce_bench::PoolStats& st) {
+  std::fprintf(stderr,
+               "pce-bench: %-11s pool: %zu active pairs (%zu draws); every exact Hessian has %d..%d negative "
+               "eigenvalues, min eig/max|eig| <= %.2e (float and double)\n",
+               kind, pce_bench::kPoolSize, st.draws, st.min_negative, st.max_negative, st.worst_ratio);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<char*> args(argv, argv + argc);
+  // Default: a short minimum time per benchmark so the whole run stays well under a
+  // minute on a small machine. Any --benchmark_min_time on the command line wins.
+  static char default_min_time[] = "--benchmark_min_time=0.2";
+  bool has_min_time = false;
+  for (int i = 1; i < argc; ++i)
+    if (std::strncmp(argv[i], "--benchmark_min_time", 20) == 0) has_min_time = true;
+  if (!has_min_time) args.push_back(default_min_time);
+  const std::string format = flag_value(args, "benchmark_format", "console");
+  const std::string color = flag_value(args, "benchmark_color", "auto");
+  const bool tabular = truthy(flag_value(args, "benchmark_counters_tabular", "false"));
+  args.push_back(nullptr);
+
+  int n = static_cast<int>(args.size()) - 1;
+  benchmark::Initialize(&n, args.data());
+  if (benchmark::ReportUnrecognizedArguments(n, args.data())) return 1;
+
+#ifndef NDEBUG
+  std::fprintf(stderr, "pce-bench: WARNING: built without NDEBUG (not a Release build); timings are not "
+                       "meaningful\n");
+#endif
+  std::fprintf(stderr,
+               "pce-bench: log barrier k=1, dhat=%g on the signed length, L uniform in [%g, %g]*dhat, seed %llu\n",
+               pce_bench::kDhat, pce_bench::kLMin, pce_bench::kLMax,
+               static_cast<unsigned long long>(pce_bench::kSeed));
+  print_pool("vertex_face", pce_bench::register_vertex_face_benchmarks());
+  print_pool("edge_edge", pce_bench::register_edge_edge_benchmarks());
+
+  Collected collected;
+  if (format == "json") {
+    // stdout stays valid JSON: the ratio summary goes to stderr.
+    CollectingReporter<benchmark::JSONReporter> rep(collected);
+    benchmark::RunSpecifiedBenchmarks(&rep);
+    print_summary(std::cerr, collected);
+  } else if (format == "console") {
+    const bool use_color = color == "auto" ? ::isatty(STDOUT_FILENO) != 0 : truthy(color);
+    int opts = benchmark::ConsoleReporter::OO_None;
+    if (use_color) opts |= benchmark::ConsoleReporter::OO_Color;
+    if (tabular) opts |= benchmark::ConsoleReporter::OO_Tabular;
+    CollectingReporter<benchmark::ConsoleReporter> rep(collected,
+                                                       static_cast<benchmark::ConsoleReporter::OutputOptions>(opts));
+    benchmark::RunSpecifiedBenchmarks(&rep);
+    print_summary(std::cout, collected);
+  } else {
+    std::fprintf(stderr, "pce-bench: no ratio summary for --benchmark_format=%s (console and json only)\n",
+                 format.c_str());
+    benchmark::RunSpecifiedBenchmarks();
+  }
+  benchmark::Shutdown();
+  return 0;
+}

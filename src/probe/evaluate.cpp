@@ -1,0 +1,181 @@
+// SPDX-License-Identifier: MIT
+// pce-probe: dispatch of a request to `pce::evaluate<Pair>` for the requested pair, length,
+// penalty and scalar type; conversion of the result to double; messages for non-ok statuses.
+#include "evaluate.hpp"
+
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <type_traits>
+#include <variant>
+
+namespace pce_probe {
+
+namespace {
+
+/// The request's coordinates rounded to `Scalar` (exact for double and long double).
+template <class Scalar> pce::Vec12<Scalar> to_scalar(const std::array<double, 12>& x) {
+  pce::Vec12<Scalar> out;
+  for (int i = 0; i < 12; ++i) out[i] = static_cast<Scalar>(x[static_cast<std::size_t>(i)]);
+  return out;
+}
+
+/// Converts `v` to double into `out`; false if the result is not finite (a long double
+/// beyond the double range).
+template <class Scalar> bool store(const Scalar& v, double& out) {
+  out = static_cast<double>(v);
+  return std::isfinite(out);
+}
+
+template <class Scalar, int N> bool store_vector(const Eigen::Matrix<Scalar, N, 1>& v, std::array<double, N>& out) {
+  bool ok = true;
+  for (int i = 0; i < N; ++i) ok = store(v[i], out[static_cast<std::size_t>(i)]) && ok;
+  return ok;
+}
+
+/// Row-major copy of a 12×12 matrix.
+template <class Scalar> bool store_matrix(const pce::Mat12<Scalar>& m, std::array<double, 144>& out) {
+  bool ok = true;
+  for (int r = 0; r < 12; ++r)
+    for (int c = 0; c < 12; ++c) ok = store(m(r, c), out[static_cast<std::size_t>(12 * r + c)]) && ok;
+  return ok;
+}
+
+/// All outputs as doubles; false if any of them does not fit.
+template <class Scalar> bool to_evaluation(const pce::PairResult<Scalar>& r, Evaluation& e) {
+  bool ok = store(r.length, e.length);
+  ok = store(r.value, e.value) && ok;
+  ok = store_vector<Scalar, 12>(r.gradient, e.gradient) && ok;
+  ok = store_matrix(r.hessian, e.hessian) && ok;
+  ok = store_matrix(r.projected_hessian, e.projected_hessian) && ok;
+  ok = store_vector<Scalar, 9>(r.eigen.values, e.eigenvalues) && ok;
+  return ok;
+}
+
+/// A number for a message; never prints a bare non-finite token.
+std::string describe(double v) { return std::isfinite(v) ? format_number(v) : "a value beyond the double range"; }
+
+std::string nonnegative_problem(const char* field, double v) {
+  if (std::isfinite(v) && v >= 0) return {};
+  return std::string("field \"") + field + "\" must be finite and >= 0 (got " + describe(v) + ")";
+}
+
+std::string finite_problem(const char* field, double v) {
+  if (std::isfinite(v)) return {};
+  return std::string("field \"") + field + "\" must be finite (got " + describe(v) + ")";
+}
+
+/// Which penalty parameter the library rejected (empty if none).
+std::string penalty_problem(const pce::QuadraticPenalty& p) {
+  std::string s = nonnegative_problem("penalty.stiffness", p.stiffness);
+  return s.empty() ? finite_problem("penalty.eps", p.eps) : s;
+}
+std::string penalty_problem(const pce::CubicPenalty& p) {
+  std::string s = nonnegative_problem("penalty.stiffness", p.stiffness);
+  if (s.empty()) s = finite_problem("penalty.eps", p.eps);
+  return s.empty() ? nonnegative_problem("penalty.delta", p.delta) : s;
+}
+std::string penalty_problem(const pce::LogBarrierPenalty& p) {
+  std::string s = nonnegative_problem("penalty.stiffness", p.stiffness);
+  if (!s.empty()) return s;
+  if (std::isfinite(p.dhat) && p.dhat > 0) return {};
+  return "field \"penalty.dhat\" must be finite and > 0 (got " + describe(p.dhat) + ")";
+}
+
+/// Which coordinate the library rejected (empty if none).
+template <class Scalar> std::string coordinate_problem(const Request& req, const pce::Vec12<Scalar>& xs) {
+  using std::abs;
+  const Scalar lim = pce::Constants<Scalar>::max_coordinate();
+  for (int i = 0; i < 12; ++i) {
+    if (std::isfinite(xs[i]) && !(abs(xs[i]) > lim)) continue;
+    const double v = req.x[static_cast<std::size_t>(i)];
+    std::string msg = "field \"x\"[" + std::to_string(i) + "] ";
+    if (!std::isfinite(v)) return msg + "is too large to be represented as a double";
+    msg += "= " + format_number(v) + " is beyond the largest accepted magnitude " +
+           describe(static_cast<double>(lim));
+    return msg + " for scalar \"" + to_string(req.scalar) + "\"";
+  }
+  return {};
+}
+
+const char* degenerate_message(PairKind pair) {
+  return pair == PairKind::vertex_face
+             ? "degenerate frame: zero-area triangle (t0, t1, t2 coincident or collinear)"
+             : "degenerate frame: parallel or zero-length edges";
+}
+
+template <class Penalty> std::string domain_message(const Penalty&, double L) {
+  if constexpr (std::is_same_v<Penalty, pce::LogBarrierPenalty>)
+    return "log barrier undefined at L <= 0 (L = " + describe(L) + ")";
+  else
+    return "penalty undefined at L = " + describe(L);
+}
+
+/// L at the request's coordinates (the frame exists whenever the status is out_of_domain).
+template <class Pair, class Scalar, class Length> double length_at(const pce::Vec12<Scalar>& xs, const Length& len) {
+  pce::Frame<Scalar> f;
+  if (Pair::frame(xs, f) != pce::Status::ok) return 0.0;
+  return static_cast<double>(pce::length_value(f, len));
+}
+
+/// Human-readable explanation of a non-ok status.
+template <class Pair, class Scalar, class Length, class Penalty>
+std::string failure_message(pce::Status s, const Request& req, const pce::Vec12<Scalar>& xs, const Length& len,
+                            const Penalty& pen) {
+  switch (s) {
+    case pce::Status::invalid_input: {
+      std::string m = penalty_problem(pen);
+      if (m.empty()) m = coordinate_problem(req, xs);
+      return m.empty() ? "invalid input" : m;
+    }
+    case pce::Status::degenerate: return degenerate_message(req.pair);
+    case pce::Status::out_of_domain: return domain_message(pen, length_at<Pair>(xs, len));
+    case pce::Status::overflow:
+      return std::string("a result is not finite in scalar \"") + to_string(req.scalar) + "\"";
+    case pce::Status::ok: break;
+  }
+  return "unexpected status";
+}
+
+template <class Pair, class Scalar, class Length, class Penalty>
+Response evaluate_typed(const Request& req, const Length& len, const Penalty& pen) {
+  const pce::Vec12<Scalar> xs = to_scalar<Scalar>(req.x);
+  pce::PairResult<Scalar> result;
+  const pce::Status s = pce::evaluate<Pair>(xs, len, pen, req.projection, result);
+  if (s != pce::Status::ok)
+    return error_response(pce::to_string(s), failure_message<Pair>(s, req, xs, len, pen));
+  Evaluation e;
+  if (!to_evaluation(result, e))
+    return error_response(pce::to_string(pce::Status::overflow),
+                          "a result is finite in long double but beyond the double range used for printing");
+  e.projection = pce::to_string(req.projection);
+  e.scalar = to_string(req.scalar);
+  Response r;
+  r.status = pce::to_string(pce::Status::ok);
+  r.evaluation = e;
+  return r;
+}
+
+template <class Pair, class Length, class Penalty>
+Response dispatch_scalar(const Request& req, const Length& len, const Penalty& pen) {
+  switch (req.scalar) {
+    case ScalarKind::float_: return evaluate_typed<Pair, float>(req, len, pen);
+    case ScalarKind::long_double: return evaluate_typed<Pair, long double>(req, len, pen);
+    case ScalarKind::double_: break;
+  }
+  return evaluate_typed<Pair, double>(req, len, pen);
+}
+
+template <class Length, class Penalty> Response dispatch_pair(const Request& req, const Length& len, const Penalty& pen) {
+  if (req.pair == PairKind::edge_edge) return dispatch_scalar<pce::EdgeEdge>(req, len, pen);
+  return dispatch_scalar<pce::VertexFace>(req, len, pen);
+}
+
+}  // namespace
+
+Response evaluate_request(const Request& request) {
+  return std::visit([&](const auto& len, const auto& pen) { return dispatch_pair(request, len, pen); },
+                    request.length, request.penalty);
+}
+
+}  // namespace pce_probe

@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: MIT
+// pce-probe: evaluate single collision pairs from JSON Lines on stdin (docs/probe.md).
+#include "probe.hpp"
+
+#include <cstdio>
+#include <iostream>
+#include <string>
+
+namespace {
+
+constexpr const char* usage_text =
+    "Usage: pce-probe [--help]\n"
+    "\n"
+    "Evaluates single collision pairs with the pce library. Reads JSON Lines on stdin\n"
+    "(one request object per line; blank lines are skipped) and writes one JSON object\n"
+    "per line on stdout, in the same order.\n"
+    "\n"
+    "Request fields:\n"
+    "  pair        \"vertex_face\" (x = p,t0,t1,t2) | \"edge_edge\" (x = ea0,ea1,eb0,eb1)\n"
+    "  length      \"signed\" | \"unsigned\"\n"
+    "  penalty     {\"type\":\"quadratic\",\"stiffness\":k,\"eps\":e}\n"
+    "              {\"type\":\"cubic\",\"stiffness\":k,\"eps\":e,\"delta\":d}\n"
+    "              {\"type\":\"log_barrier\",\"stiffness\":k,\"dhat\":h}\n"
+    "  x           12 numbers\n"
+    "  side        1 | -1 (optional, default 1; ignored by \"unsigned\")\n"
+    "  projection  \"analytic\" (default) | \"numerical\" | \"gauss_newton\" | \"abs\" | \"none\"\n"
+    "  scalar      \"double\" (default) | \"float\" | \"long_double\"\n"
+    "  id          any JSON value, echoed in the response (optional)\n"
+    "\n"
+    "Response: {\"status\":\"ok\",...,\"length\",\"value\",\"gradient\",\"hessian\",\n"
+    "\"projected_hessian\",\"eigenvalues\"} or {\"status\":reason,\"message\":text}.\n"
+    "\n"
+    "Exit status: 0 when every line was answered (even with errors), 1 if stdout could\n"
+    "not be written, 2 on usage errors.\n";
+
+bool is_help(const std::string& arg) { return arg == "--help" || arg == "-h"; }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (!is_help(argv[i])) {
+      std::fprintf(stderr, "pce-probe: unknown argument '%s'\n\n%s", argv[i], usage_text);
+      return 2;
+    }
+  }
+  if (argc > 1) {
+    std::fputs(usage_text, stdout);
+    return 0;
+  }
+  std::ios::sync_with_stdio(false);
+  return pce_probe::run(std::cin, std::cout);
+}

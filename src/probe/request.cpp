@@ -1,0 +1,247 @@
+// SPDX-License-Identifier: MIT
+// pce-probe: parsing and validation of one request object (field list in docs/probe.md).
+#include "request.hpp"
+
+#include <cmath>
+#include <cstddef>
+#include <cstdlib>
+#include <regex>
+#include <string>
+
+namespace pce_probe {
+
+namespace {
+
+using nlohmann::json;
+
+[[noreturn]] void fail(const std::string& message) { throw InvalidRequest(message); }
+
+/// Stands in for a number token beyond the double range (nlohmann rejects those), so
+/// that the field holding it can be named and reported as not finite.
+constexpr const char* overflow_positive = "\x01pce-overflow+";
+constexpr const char* overflow_negative = "\x01pce-overflow-";
+
+bool is_number_char(char c) {
+  return (c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.' || c == 'e' || c == 'E';
+}
+
+/// Whether `token` follows the JSON number grammar (RFC 8259, section 6).
+bool is_json_number(const std::string& token) {
+  static const std::regex grammar(R"(-?(0|[1-9][0-9]*)(\.[0-9]+)?([eE][+-]?[0-9]+)?)");
+  return std::regex_match(token, grammar);
+}
+
+/// The replacement text for one number token, or the token itself. `-0` becomes `-0.0`
+/// (nlohmann would read it as the integer 0); a token that overflows double becomes a
+/// marker string that `number_value` reads as ±infinity.
+std::string rewrite_number(const std::string& token) {
+  if (token == "-0") return "-0.0";
+  char* end = nullptr;
+  const double v = std::strtod(token.c_str(), &end);
+  if (end != token.c_str() + token.size() || std::isfinite(v) || !is_json_number(token)) return token;
+  return json(v > 0 ? overflow_positive : overflow_negative).dump();
+}
+
+/// Applies `rewrite_number` to every number token outside strings.
+std::string rewrite_numbers(const std::string& line) {
+  std::string out;
+  out.reserve(line.size() + 8);
+  bool in_string = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (in_string) {
+      out += c;
+      if (c == '\\' && i + 1 < line.size()) out += line[++i];
+      else if (c == '"') in_string = false;
+    } else if (c == '-' || (c >= '0' && c <= '9')) {
+      std::size_t j = i;
+      while (j < line.size() && is_number_char(line[j])) ++j;
+      out += rewrite_number(line.substr(i, j - i));
+      i = j - 1;
+    } else {
+      in_string = c == '"';
+      out += c;
+    }
+  }
+  return out;
+}
+
+/// Replaces overflow markers inside an echoed value by null.
+void clear_overflow_markers(json& v) {
+  if (v.is_string()) {
+    const std::string& s = v.get_ref<const std::string&>();
+    if (s == overflow_positive || s == overflow_negative) v = nullptr;
+  } else if (v.is_structured()) {
+    for (json& child : v) clear_overflow_markers(child);
+  }
+}
+
+/// A JSON number (or an overflow marker, as ±infinity) as a double; false otherwise.
+bool number_value(const json& v, double& out) {
+  if (v.is_number()) {
+    out = v.get<double>();
+    return true;
+  }
+  if (!v.is_string()) return false;
+  const std::string& s = v.get_ref<const std::string&>();
+  if (s != overflow_positive && s != overflow_negative) return false;
+  out = s == overflow_positive ? HUGE_VAL : -HUGE_VAL;
+  return true;
+}
+
+/// The member `key` of `obj`, or a "missing field" error naming `path`.
+const json& required(const json& obj, const char* key, const std::string& path) {
+  const auto it = obj.find(key);
+  if (it == obj.end()) fail("missing field \"" + path + "\"");
+  return *it;
+}
+
+std::string required_string(const json& obj, const char* key, const std::string& path) {
+  const json& v = required(obj, key, path);
+  if (!v.is_string()) fail("field \"" + path + "\" must be a string");
+  return v.get<std::string>();
+}
+
+/// A JSON number as a double. nlohmann parses floating-point tokens with strtod (exact,
+/// correctly rounded); integer tokens convert exactly up to 2^53 and round to nearest
+/// beyond, which is the same double strtod would give.
+double required_number(const json& obj, const char* key, const std::string& path) {
+  const json& v = required(obj, key, path);
+  double out = 0;
+  if (!number_value(v, out)) fail("field \"" + path + "\" must be a number");
+  return out;
+}
+
+/// Quoted, escaped rendering of a user-supplied value for error messages.
+std::string quoted(const std::string& s) { return json(s).dump(-1, ' ', false, json::error_handler_t::replace); }
+
+PairKind parse_pair(const json& req) {
+  const std::string s = required_string(req, "pair", "pair");
+  if (s == "vertex_face") return PairKind::vertex_face;
+  if (s == "edge_edge") return PairKind::edge_edge;
+  fail("unknown \"pair\" " + quoted(s) + " (expected \"vertex_face\" or \"edge_edge\")");
+}
+
+/// "side": +1 or −1 (integer or floating-point token), default +1.
+pce::Side parse_side(const json& req) {
+  const auto it = req.find("side");
+  if (it == req.end()) return pce::Side::positive;
+  double v = 0;
+  if (number_value(*it, v)) {
+    if (v == 1.0) return pce::Side::positive;
+    if (v == -1.0) return pce::Side::negative;
+  }
+  fail("field \"side\" must be 1 or -1");
+}
+
+/// "length": "signed" (uses "side") or "unsigned" (a valid "side" is accepted and ignored).
+LengthSpec parse_length(const json& req) {
+  const std::string s = required_string(req, "length", "length");
+  const pce::Side side = parse_side(req);
+  if (s == "signed") return pce::SignedLength{side};
+  if (s == "unsigned") return pce::UnsignedLength{};
+  fail("unknown \"length\" " + quoted(s) + " (expected \"signed\" or \"unsigned\")");
+}
+
+/// "penalty": {"type": ..., parameters}; every parameter of the type is required.
+PenaltySpec parse_penalty(const json& req) {
+  const json& p = required(req, "penalty", "penalty");
+  if (!p.is_object()) fail("field \"penalty\" must be an object");
+  const std::string type = required_string(p, "type", "penalty.type");
+  if (type == "quadratic") {
+    pce::QuadraticPenalty q;
+    q.stiffness = required_number(p, "stiffness", "penalty.stiffness");
+    q.eps = required_number(p, "eps", "penalty.eps");
+    return q;
+  }
+  if (type == "cubic") {
+    pce::CubicPenalty c;
+    c.stiffness = required_number(p, "stiffness", "penalty.stiffness");
+    c.eps = required_number(p, "eps", "penalty.eps");
+    c.delta = required_number(p, "delta", "penalty.delta");
+    return c;
+  }
+  if (type == "log_barrier") {
+    pce::LogBarrierPenalty b;
+    b.stiffness = required_number(p, "stiffness", "penalty.stiffness");
+    b.dhat = required_number(p, "dhat", "penalty.dhat");
+    return b;
+  }
+  fail("unknown \"penalty.type\" " + quoted(type) + " (expected \"quadratic\", \"cubic\" or \"log_barrier\")");
+}
+
+/// "x": exactly 12 numbers.
+std::array<double, 12> parse_coordinates(const json& req) {
+  const json& x = required(req, "x", "x");
+  if (!x.is_array()) fail("field \"x\" must be an array of 12 numbers");
+  if (x.size() != 12) fail("field \"x\" must have 12 numbers, got " + std::to_string(x.size()));
+  std::array<double, 12> out{};
+  for (std::size_t i = 0; i < 12; ++i) {
+    if (!number_value(x[i], out[i])) fail("field \"x\"[" + std::to_string(i) + "] must be a number");
+  }
+  return out;
+}
+
+pce::Projection parse_projection(const json& req) {
+  const auto it = req.find("projection");
+  if (it == req.end()) return pce::Projection::analytic;
+  if (!it->is_string()) fail("field \"projection\" must be a string");
+  const std::string s = it->get<std::string>();
+  for (pce::Projection p : {pce::Projection::analytic, pce::Projection::numerical, pce::Projection::gauss_newton,
+                            pce::Projection::abs, pce::Projection::none})
+    if (s == pce::to_string(p)) return p;
+  fail("unknown \"projection\" " + quoted(s) +
+       " (expected \"analytic\", \"numerical\", \"gauss_newton\", \"abs\" or \"none\")");
+}
+
+ScalarKind parse_scalar(const json& req) {
+  const auto it = req.find("scalar");
+  if (it == req.end()) return ScalarKind::double_;
+  if (!it->is_string()) fail("field \"scalar\" must be a string");
+  const std::string s = it->get<std::string>();
+  for (ScalarKind k : {ScalarKind::double_, ScalarKind::float_, ScalarKind::long_double})
+    if (s == to_string(k)) return k;
+  fail("unknown \"scalar\" " + quoted(s) + " (expected \"double\", \"float\" or \"long_double\")");
+}
+
+}  // namespace
+
+const char* to_string(ScalarKind s) {
+  switch (s) {
+    case ScalarKind::float_: return "float";
+    case ScalarKind::double_: return "double";
+    case ScalarKind::long_double: return "long_double";
+  }
+  return "unknown";
+}
+
+std::optional<nlohmann::json> request_id(const nlohmann::json& request) {
+  if (!request.is_object()) return std::nullopt;
+  const auto it = request.find("id");
+  if (it == request.end()) return std::nullopt;
+  nlohmann::json id = *it;
+  clear_overflow_markers(id);
+  return id;
+}
+
+Request parse_request(const nlohmann::json& request) {
+  if (!request.is_object()) fail("request must be a JSON object");
+  Request r;
+  r.pair = parse_pair(request);
+  r.length = parse_length(request);
+  r.penalty = parse_penalty(request);
+  r.x = parse_coordinates(request);
+  r.projection = parse_projection(request);
+  r.scalar = parse_scalar(request);
+  return r;
+}
+
+nlohmann::json parse_json_line(const std::string& line) {
+  try {
+    return nlohmann::json::parse(rewrite_numbers(line));
+  } catch (const nlohmann::json::parse_error& e) {
+    fail(std::string("line is not valid JSON: ") + e.what());
+  }
+}
+
+}  // namespace pce_probe

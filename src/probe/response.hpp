@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// pce-probe: one response (an evaluated pair or an error) and its JSON Lines rendering.
+/// Numbers are written by hand with 17 significant digits so that every double
+/// round-trips exactly; strings and the echoed "id" go through nlohmann's escaping.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <optional>
+#include <string>
+
+namespace pce_probe {
+
+/// The numeric outputs of a successful evaluation, already converted to double.
+/// Matrices are row-major; `eigenvalues` are the 9 frame-space ones, ascending.
+struct Evaluation {
+  double length = 0;
+  double value = 0;
+  std::array<double, 12> gradient{};
+  std::array<double, 144> hessian{};
+  std::array<double, 144> projected_hessian{};
+  std::array<double, 9> eigenvalues{};
+  std::string projection;  ///< strategy used, as spelled in requests
+  std::string scalar;      ///< scalar type used, as spelled in requests
+};
+
+/// One output line: `status` is "ok" (and `evaluation` is set) or a machine-readable
+/// reason with a human-readable `message`.
+struct Response {
+  std::string status;
+  std::string message;
+  std::optional<nlohmann::json> id;
+  std::optional<Evaluation> evaluation;
+};
+
+/// An error response.
+Response error_response(std::string status, std::string message);
+
+/// A double as a JSON number with 17 significant digits ("%.17g"); −0 is written "-0.0"
+/// so that parsers with an integer type keep its sign. Requires a finite value.
+std::string format_number(double v);
+
+/// The response as one JSON object, without the trailing newline.
+std::string format_response(const Response& r);
+
+}  // namespace pce_probe
