@@ -1,0 +1,14 @@
+# Debian packages the build needs; sourced by .ci/run and .ci/demo.
+PCE_DEBIAN_PACKAGES="g++ cmake ninja-build libeigen3-dev libboost-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev"
+
+pce_install_deps() {
+  local sudo=""
+  [ "$(id -u)" = 0 ] || sudo="sudo"
+  # Skip apt entirely when everything is already there (fast reruns, offline machines).
+  if dpkg-query -W -f='${Status}\n' $PCE_DEBIAN_PACKAGES 2>/dev/null | grep -vq "install ok installed" ||
+     [ "$(dpkg-query -W -f='${Status}\n' $PCE_DEBIAN_PACKAGES 2>/dev/null | wc -l)" -ne "$(echo $PCE_DEBIAN_PACKAGES | wc -w)" ]; then
+    export DEBIAN_FRONTEND=noninteractive
+    $sudo apt-get update -qq
+    $sudo apt-get install -y -qq --no-install-recommends $PCE_DEBIAN_PACKAGES >/dev/null
+  fi
+}
