@@ -8,6 +8,8 @@
 
 #include <pce/penalties/penalty.hpp>
 
+#include <cmath>
+
 namespace pce {
 
 /// `ψ = k (L − eps)²` for `L < eps`, else 0; `ψ′ = 2k (L − eps)`, `ψ″ = 2k` when active.
