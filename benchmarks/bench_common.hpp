@@ -260,7 +260,9 @@ template <class Pair, class Scalar> void register_scalar() {
   static_assert(sizeof(fns) / sizeof(fns[0]) == sizeof(kQuantities) / sizeof(kQuantities[0]));
   for (std::size_t k = 0; k < sizeof(fns) / sizeof(fns[0]); ++k)
     benchmark::RegisterBenchmark(bench_name<Pair, Scalar>(kQuantities[k]).c_str(), fns[k])
-        ->Unit(benchmark::kNanosecond);
+        ->Unit(benchmark::kNanosecond)
+        // With --benchmark_repetitions: a `<name>_min` aggregate next to mean/median/stddev/cv.
+        ->ComputeStatistics("min", [](const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); });
 }
 
 /// Builds and checks the pools of `Pair`, then registers its 14 benchmarks

@@ -25,7 +25,7 @@ TYPED_TEST(LengthHessian, FamilyEigenpairsSolveTheTwoByTwoBlock) {
       // B = [[−l/a², −1/a], [−1/a, 0]]
       Eigen::Matrix<S, 2, 2> B;
       B << -(l / aa) / aa, -S(1) / aa, -S(1) / aa, S(0);
-      const Eigen::Matrix<S, 2, 1> qb(F.big0, F.big1), qs(F.small0, F.small1);
+      const Eigen::Matrix<S, 2, 1> qb = F.big(), qs = F.small();
       const double scale = std::max(max_abs(B), 1e-300);
       const double tol = ulps<S>(16);
       EXPECT_LT(max_abs((B * qb - F.lambda_big * qb).eval()) / scale, tol) << "a=" << a << " l/a=" << r;

@@ -98,16 +98,14 @@ template <class Scalar> FrameEigensystem<Scalar> energy_eigensystem(const PairEn
 
 namespace detail {
 
-/// Frame blocks of Σ f(μ) q qᵀ over the closed-form eigenpairs, f = max(·,0) or |·|;
-/// `curvature` = false keeps only the gradient term (Gauss–Newton).
-template <class Scalar, class F>
-FrameBlocks<Scalar> filtered_frame_hessian(const PairEnergy<Scalar>& e, F f, bool curvature) {
+/// Frame blocks of Σ f(μ) q qᵀ over the closed-form eigenpairs, f = max(·,0) or |·|.
+template <class Scalar, class F> FrameBlocks<Scalar> filtered_frame_hessian(const PairEnergy<Scalar>& e, F f) {
   const Frame<Scalar>& fr = e.frame;
   FrameBlocks<Scalar> b = FrameBlocks<Scalar>::Zero();
   const Mat3<Scalar> nn = fr.n * fr.n.transpose();
   b.h22 = f(e.psi.second) * nn;
   const Scalar c1 = e.sigma * e.psi.first;
-  if (!curvature || c1 == Scalar(0)) return b;
+  if (c1 == Scalar(0)) return b;
   const Vec3<Scalar>* tk[2] = {&fr.t0, &fr.t1};
   Mat3<Scalar>* hkk[2] = {&b.h00, &b.h11};
   Mat3<Scalar>* hk2[2] = {&b.h02, &b.h12};
@@ -115,10 +113,12 @@ FrameBlocks<Scalar> filtered_frame_hessian(const PairEnergy<Scalar>& e, F f, boo
   for (int k = 0; k < 2; ++k) {
     const LengthFamily<Scalar> fam = length_family(fr.l, a[k]);
     const Scalar mb = f(Scalar(c1 * fam.lambda_big)), ms = f(Scalar(c1 * fam.lambda_small));
-    // Σ μ q qᵀ restricted to the family's 2-D basis (n̂ in slot k, ê_k in slot 2).
-    const Scalar s00 = mb * fam.big0 * fam.big0 + ms * fam.small0 * fam.small0;
-    const Scalar s01 = mb * fam.big0 * fam.big1 + ms * fam.small0 * fam.small1;
-    const Scalar s11 = mb * fam.big1 * fam.big1 + ms * fam.small1 * fam.small1;
+    // Σ μ q qᵀ in the family's 2-D basis (n̂ in slot k, ê_k in slot 2), with
+    // q_big = (s, w)√n2 and q_small = (w, −s)√n2: no square root needed.
+    const Scalar w = fam.w, w2 = w * w;
+    const Scalar s00 = fam.n2 * (mb + ms * w2);
+    const Scalar s01 = fam.n2 * fam.s * w * (mb - ms);
+    const Scalar s11 = fam.n2 * (mb * w2 + ms);
     *hkk[k] = s00 * nn;
     *hk2[k] = s01 * (fr.n * tk[k]->transpose());
     b.h22 += s11 * (*tk[k] * tk[k]->transpose());
@@ -136,9 +136,13 @@ template <class Scalar> Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>
   switch (strategy) {
     case Projection::none: return energy_hessian(e);
     case Projection::numerical: return project_psd(energy_hessian(e));
-    case Projection::analytic: return pullback(e.frame, detail::filtered_frame_hessian(e, clamp, true));
-    case Projection::abs: return pullback(e.frame, detail::filtered_frame_hessian(e, flip, true));
-    case Projection::gauss_newton: return pullback(e.frame, detail::filtered_frame_hessian(e, clamp, false));
+    case Projection::analytic: return pullback(e.frame, detail::filtered_frame_hessian(e, clamp));
+    case Projection::abs: return pullback(e.frame, detail::filtered_frame_hessian(e, flip));
+    case Projection::gauss_newton: {  // rank one: max(ψ″,0) ∇L∇Lᵀ, ∇L = σ Jᵀ g
+      Vec12<Scalar> gL;
+      for (int j = 0; j < 4; ++j) gL.template segment<3>(3 * j) = (e.sigma * e.frame.P(2, j)) * e.frame.n;
+      return clamp(e.psi.second) * gL * gL.transpose();
+    }
   }
   return energy_hessian(e);
 }

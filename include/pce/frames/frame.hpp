@@ -17,6 +17,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <limits>
 
 namespace pce {
 
@@ -120,10 +121,18 @@ Status make_frame(const Vec3<Scalar>& e0, const Vec3<Scalar>& e1, const Vec3<Sca
   if (!(big > Scalar(0))) return Status::degenerate;
   int ex = 0;
   frexp(big, &ex);  // big = mant * 2^ex, mant in [0.5, 1)
-  // Exact rescaling by 2^-ex: no rounding, no overflow in the products below.
-  const Vec3<Scalar> E0 = e0.unaryExpr([ex](const Scalar& v) { return Scalar(ldexp(v, -ex)); });
-  const Vec3<Scalar> E1 = e1.unaryExpr([ex](const Scalar& v) { return Scalar(ldexp(v, -ex)); });
-  const Vec3<Scalar> E2 = e2.unaryExpr([ex](const Scalar& v) { return Scalar(ldexp(v, -ex)); });
+  // Exact rescaling by 2^-ex: no rounding, no overflow in the products below. One
+  // multiplication by a power of two is exact unless the result is subnormal; only for
+  // exponents near the ends of the range do we fall back to ldexp per coordinate.
+  const bool moderate = ex > std::numeric_limits<Scalar>::min_exponent + 64 &&
+                        ex < std::numeric_limits<Scalar>::max_exponent - 64;
+  const Scalar down = moderate ? Scalar(ldexp(Scalar(1), -ex)) : Scalar(1);
+  const auto rescale = [&](const Vec3<Scalar>& v) -> Vec3<Scalar> {
+    if (moderate) return v * down;
+    return v.unaryExpr([ex](const Scalar& c) { return Scalar(ldexp(c, -ex)); });
+  };
+  const Vec3<Scalar> E0 = rescale(e0), E1 = rescale(e1), E2 = rescale(e2);
+  const auto unscale = [&](const Scalar& v) -> Scalar { return moderate ? Scalar(v * ldexp(Scalar(1), ex)) : Scalar(ldexp(v, ex)); };
 
   const Vec3<Scalar> m = E0.cross(E1);
   const Scalar mn = sqrt(m.squaredNorm());
@@ -140,9 +149,9 @@ Status make_frame(const Vec3<Scalar>& e0, const Vec3<Scalar>& e1, const Vec3<Sca
   f.n = n;
   f.t0 = t0;
   f.t1 = n.cross(t0);
-  f.l = ldexp(ls, ex);
-  f.a0 = ldexp(a0, ex);
-  f.a1 = ldexp(mn / a0, ex);
+  f.l = unscale(ls);
+  f.a0 = unscale(a0);
+  f.a1 = unscale(mn / a0);
   f.P.row(0) = D.row(0);
   f.P.row(1) = D.row(1) - f.alpha * D.row(0);
   f.P.row(2) = D.row(2) - f.beta * D.row(0) - f.gamma * D.row(1);

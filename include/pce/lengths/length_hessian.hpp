@@ -25,22 +25,35 @@
 
 #include <pce/frames/frame.hpp>
 
-#include <algorithm>
+#include <utility>
 #include <array>
 #include <cmath>
 
 namespace pce {
 
 /// Eigenpairs of one 2×2 family `B_k` (see the file comment). Vectors are unit 2-vectors
-/// in the basis (n̂ in frame slot k, ê_k in frame slot 2).
+/// in the basis (n̂ in frame slot k, ê_k in frame slot 2):
+/// `q_big = (s, w)/√(1+w²)`, `q_small = (w, −s)/√(1+w²)`.
 template <class Scalar> struct LengthFamily {
   Scalar lambda_big, lambda_small;  ///< λ_big·λ_small = −1/a², |λ_big| ≥ 1/a ≥ |λ_small|
-  Scalar big0, big1;                ///< q_big
-  Scalar small0, small1;            ///< q_small
+  Scalar s;                         ///< sgn(l), +1 at l = 0
+  Scalar w;                         ///< w = 1/ρ ∈ (0, 1]
+  Scalar n2;                        ///< 1/(1 + w²), the squared normalisation of both vectors
+
+  Eigen::Matrix<Scalar, 2, 1> big() const {
+    using std::sqrt;
+    const Scalar c = sqrt(n2);
+    return {s * c, w * c};
+  }
+  Eigen::Matrix<Scalar, 2, 1> small() const {
+    using std::sqrt;
+    const Scalar c = sqrt(n2);
+    return {w * c, -s * c};
+  }
 };
 
 /// Closed-form eigenpairs of `B = [[−l/a², −1/a], [−1/a, 0]]` (supplement Sec. 2, in the
-/// stable form of `docs/math.md`). Requires a > 0.
+/// stable form of `docs/math.md` (M16)–(M17)). Requires a > 0.
 template <class Scalar> LengthFamily<Scalar> length_family(const Scalar& l, const Scalar& a) {
   using std::abs;
   using std::sqrt;
@@ -49,15 +62,12 @@ template <class Scalar> LengthFamily<Scalar> length_family(const Scalar& l, cons
   // sqrt(1 + t²) without overflow: beyond 1/sqrt(eps) it rounds to t anyway.
   const Scalar h = t < Scalar(1) / sqrt(Constants<Scalar>::epsilon()) ? Scalar(sqrt(Scalar(1) + t * t)) : t;
   const Scalar rho = t + h;
-  const Scalar w = Scalar(1) / rho;
-  const Scalar nrm = Scalar(1) / sqrt(Scalar(1) + w * w);
   LengthFamily<Scalar> r;
+  r.s = s;
+  r.w = Scalar(1) / rho;
+  r.n2 = Scalar(1) / (Scalar(1) + r.w * r.w);
   r.lambda_big = -s * rho / a;
-  r.lambda_small = s * w / a;
-  r.big0 = s * nrm;
-  r.big1 = w * nrm;
-  r.small0 = w * nrm;
-  r.small1 = -s * nrm;
+  r.lambda_small = s * r.w / a;
   return r;
 }
 
@@ -83,12 +93,13 @@ FrameEigensystem<Scalar> frame_eigensystem(const Frame<Scalar>& f, const Scalar&
   val[0] = c2;
   vec[0].template segment<3>(6) = f.n;
   for (int k = 0; k < 2; ++k) {
+    const Eigen::Matrix<Scalar, 2, 1> qb = F[k].big(), qs = F[k].small();
     val[1 + 2 * k] = c1 * F[k].lambda_big;
-    vec[1 + 2 * k].template segment<3>(3 * k) = F[k].big0 * f.n;
-    vec[1 + 2 * k].template segment<3>(6) = F[k].big1 * *tk[k];
+    vec[1 + 2 * k].template segment<3>(3 * k) = qb[0] * f.n;
+    vec[1 + 2 * k].template segment<3>(6) = qb[1] * *tk[k];
     val[2 + 2 * k] = c1 * F[k].lambda_small;
-    vec[2 + 2 * k].template segment<3>(3 * k) = F[k].small0 * f.n;
-    vec[2 + 2 * k].template segment<3>(6) = F[k].small1 * *tk[k];
+    vec[2 + 2 * k].template segment<3>(3 * k) = qs[0] * f.n;
+    vec[2 + 2 * k].template segment<3>(6) = qs[1] * *tk[k];
   }
   for (int k = 0; k < 2; ++k) {
     val[5 + 2 * k] = Scalar(0);
@@ -96,8 +107,10 @@ FrameEigensystem<Scalar> frame_eigensystem(const Frame<Scalar>& f, const Scalar&
     val[6 + 2 * k] = Scalar(0);
     vec[6 + 2 * k].template segment<3>(3 * k) = f.t1;
   }
+  // Insertion sort of nine values (stable, no allocation).
   std::array<int, 9> order{0, 1, 2, 3, 4, 5, 6, 7, 8};
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return val[a] < val[b]; });
+  for (int i = 1; i < 9; ++i)
+    for (int j = i; j > 0 && val[order[j]] < val[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
   FrameEigensystem<Scalar> out;
   for (int i = 0; i < 9; ++i) {
     out.values[i] = val[order[i]];
