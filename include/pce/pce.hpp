@@ -5,6 +5,7 @@
 #pragma once
 
 #include <pce/core/types.hpp>
+#include <pce/energy/mollified_energy.hpp>
 #include <pce/energy/pair_energy.hpp>
 #include <pce/energy/psd_projection.hpp>
 #include <pce/frames/edge_edge.hpp>
