@@ -18,15 +18,11 @@ struct EdgeEdge {
   /// non-finite or absurd coordinates, `degenerate` for parallel or zero-length edges; on
   /// failure `f` is untouched.
   template <class Scalar> static Status frame(const Vec12<Scalar>& x, Frame<Scalar>& f) {
-    const Status s = detail::check_coordinates(x);
-    if (s != Status::ok) return s;
-    const Vec3<Scalar> a0 = x.template segment<3>(0), a1 = x.template segment<3>(3),
-                       b0 = x.template segment<3>(6), b1 = x.template segment<3>(9);
     Mat34<Scalar> D;
     D << Scalar(-1), Scalar(1), Scalar(0), Scalar(0),  //
         Scalar(0), Scalar(0), Scalar(-1), Scalar(1),   //
         Scalar(-1), Scalar(0), Scalar(1), Scalar(0);
-    return detail::make_frame<Scalar>(a1 - a0, b1 - b0, b0 - a0, D, f);
+    return detail::frame_from_vertices(x, D, f);
   }
 };
 

@@ -167,5 +167,20 @@ template <class Scalar> Status check_coordinates(const Vec12<Scalar>& x) {
   return Status::ok;
 }
 
+/// The frame of a pair whose edge vectors are `e_k = Σ_j D(k, j) x_j` (D has entries
+/// 0, ±1, so each e_k is one exact-rounding difference of two vertices): checks the
+/// coordinates, then `make_frame`. `f` is written only on `ok`.
+template <class Scalar> Status frame_from_vertices(const Vec12<Scalar>& x, const Mat34<Scalar>& D, Frame<Scalar>& f) {
+  const Status s = check_coordinates(x);
+  if (s != Status::ok) return s;
+  Vec3<Scalar> e[3];
+  for (int k = 0; k < 3; ++k) {
+    e[k].setZero();
+    for (int j = 0; j < 4; ++j)
+      if (D(k, j) != Scalar(0)) e[k] += D(k, j) * x.template segment<3>(3 * j);
+  }
+  return make_frame<Scalar>(e[0], e[1], e[2], D, f);
+}
+
 }  // namespace detail
 }  // namespace pce

@@ -18,15 +18,11 @@ struct VertexFace {
   /// Builds the reduced frame of `x = (p, t0, t1, t2)`; `invalid_input` for non-finite or
   /// absurd coordinates, `degenerate` for a zero-area triangle; on failure `f` is untouched.
   template <class Scalar> static Status frame(const Vec12<Scalar>& x, Frame<Scalar>& f) {
-    const Status s = detail::check_coordinates(x);
-    if (s != Status::ok) return s;
-    const Vec3<Scalar> p = x.template segment<3>(0), a = x.template segment<3>(3),
-                       b = x.template segment<3>(6), c = x.template segment<3>(9);
     Mat34<Scalar> D;
     D << Scalar(0), Scalar(-1), Scalar(1), Scalar(0),  //
         Scalar(0), Scalar(-1), Scalar(0), Scalar(1),   //
         Scalar(1), Scalar(-1), Scalar(0), Scalar(0);
-    return detail::make_frame<Scalar>(b - a, c - a, p - a, D, f);
+    return detail::frame_from_vertices(x, D, f);
   }
 };
 
