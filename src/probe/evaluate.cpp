@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// pce-probe: dispatch of a request to `pce::evaluate<Pair>` for the requested pair, length,
-// penalty and scalar type; conversion of the result to double; messages for non-ok statuses.
+// pce-probe: dispatch of a request to `pce::evaluate<Pair>` (or, with a "mollifier" field,
+// `pce::mollified_pair_energy<Pair>`) for the requested pair, length, penalty and scalar
+// type; conversion of the result to double; messages for non-ok statuses.
 #include "evaluate.hpp"
 
 #include <cmath>
@@ -43,7 +44,9 @@ template <class Scalar> bool store_matrix(const pce::Mat12<Scalar>& m, std::arra
 
 /// All outputs as doubles; false if any of them does not fit.
 template <class Scalar> bool to_evaluation(const pce::PairResult<Scalar>& r, Evaluation& e) {
-  bool ok = store(r.length, e.length);
+  double length = 0;
+  bool ok = store(r.length, length);
+  e.length = length;
   ok = store(r.value, e.value) && ok;
   ok = store_vector<Scalar, 12>(r.gradient, e.gradient) && ok;
   ok = store_matrix(r.hessian, e.hessian) && ok;
@@ -156,14 +159,72 @@ Response evaluate_typed(const Request& req, const Length& len, const Penalty& pe
   return r;
 }
 
+/// Whether every output of a mollified evaluation is finite in `Scalar` (as `pce::evaluate`
+/// checks for the plain energy).
+template <class Scalar> bool all_finite(const pce::PairResult<Scalar>& r) {
+  return std::isfinite(r.length) && std::isfinite(r.value) && r.gradient.allFinite() && r.hessian.allFinite() &&
+         r.projected_hessian.allFinite() && r.eigen.values.allFinite();
+}
+
+/// The opt-in mollified energy E_m = m(X) ψ(L) (`pce::mollified_pair_energy`) with every
+/// output from its `MollifiedEnergy` overloads. Where X = 0 (no frame) the library gives
+/// ok with all zeros and m = 0; the length is then undefined and left out of the response.
+template <class Pair, class Scalar, class Length, class Penalty>
+Response evaluate_mollified(const Request& req, const Length& len, const Penalty& pen) {
+  const pce::Mollifier& mollifier = *req.mollifier;
+  const Scalar threshold = static_cast<Scalar>(mollifier.threshold);
+  if (!std::isfinite(threshold) || !(threshold > Scalar(0)))
+    return error_response(pce::to_string(pce::Status::invalid_input),
+                          "field \"mollifier.threshold\" = " + format_number(mollifier.threshold) +
+                              " is not representable as a positive finite number in scalar \"" +
+                              to_string(req.scalar) + "\"");
+  const pce::Vec12<Scalar> xs = to_scalar<Scalar>(req.x);
+  pce::MollifiedEnergy<Scalar> energy;
+  const pce::Status s = pce::mollified_pair_energy<Pair>(xs, len, pen, mollifier, energy);
+  if (s != pce::Status::ok)
+    return error_response(pce::to_string(s), failure_message<Pair>(s, req, xs, len, pen));
+  pce::PairResult<Scalar> result;
+  result.length = energy.has_frame ? energy.base.length : Scalar(0);
+  result.value = energy.value;
+  result.gradient = pce::energy_gradient(energy);
+  result.hessian = pce::energy_hessian(energy);
+  result.projected_hessian =
+      req.projection == pce::Projection::none ? result.hessian : pce::projected_hessian(energy, req.projection);
+  result.eigen = pce::energy_eigensystem(energy);
+  if (!all_finite(result) || !std::isfinite(energy.mollifier))
+    return error_response(pce::to_string(pce::Status::overflow),
+                          std::string("a result is not finite in scalar \"") + to_string(req.scalar) + "\"");
+  Evaluation e;
+  MollifierOutput m;
+  m.threshold = mollifier.threshold;
+  if (!to_evaluation(result, e) || !store(energy.mollifier, m.value))
+    return error_response(pce::to_string(pce::Status::overflow),
+                          "a result is finite in long double but beyond the double range used for printing");
+  if (!energy.has_frame) e.length.reset();
+  e.mollifier = m;
+  e.projection = pce::to_string(req.projection);
+  e.scalar = to_string(req.scalar);
+  Response r;
+  r.status = pce::to_string(pce::Status::ok);
+  r.evaluation = e;
+  return r;
+}
+
+/// The plain energy, or the mollified one when the request has a "mollifier" field.
+template <class Pair, class Scalar, class Length, class Penalty>
+Response evaluate_variant(const Request& req, const Length& len, const Penalty& pen) {
+  if (req.mollifier) return evaluate_mollified<Pair, Scalar>(req, len, pen);
+  return evaluate_typed<Pair, Scalar>(req, len, pen);
+}
+
 template <class Pair, class Length, class Penalty>
 Response dispatch_scalar(const Request& req, const Length& len, const Penalty& pen) {
   switch (req.scalar) {
-    case ScalarKind::float_: return evaluate_typed<Pair, float>(req, len, pen);
-    case ScalarKind::long_double: return evaluate_typed<Pair, long double>(req, len, pen);
+    case ScalarKind::float_: return evaluate_variant<Pair, float>(req, len, pen);
+    case ScalarKind::long_double: return evaluate_variant<Pair, long double>(req, len, pen);
     case ScalarKind::double_: break;
   }
-  return evaluate_typed<Pair, double>(req, len, pen);
+  return evaluate_variant<Pair, double>(req, len, pen);
 }
 
 template <class Length, class Penalty> Response dispatch_pair(const Request& req, const Length& len, const Penalty& pen) {

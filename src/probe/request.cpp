@@ -2,6 +2,8 @@
 // pce-probe: parsing and validation of one request object (field list in docs/probe.md).
 #include "request.hpp"
 
+#include "response.hpp"
+
 #include <cmath>
 #include <cstddef>
 #include <cstdlib>
@@ -170,17 +172,20 @@ PenaltySpec parse_penalty(const json& req) {
   fail("unknown \"penalty.type\" " + quoted(type) + " (expected \"quadratic\", \"cubic\" or \"log_barrier\")");
 }
 
-/// "x": exactly 12 numbers.
-std::array<double, 12> parse_coordinates(const json& req) {
-  const json& x = required(req, "x", "x");
-  if (!x.is_array()) fail("field \"x\" must be an array of 12 numbers");
-  if (x.size() != 12) fail("field \"x\" must have 12 numbers, got " + std::to_string(x.size()));
+/// `obj[key]`: exactly 12 numbers (or overflow markers, as ±infinity); errors name `path`.
+std::array<double, 12> parse_twelve_numbers(const json& obj, const char* key, const std::string& path) {
+  const json& x = required(obj, key, path);
+  if (!x.is_array()) fail("field \"" + path + "\" must be an array of 12 numbers");
+  if (x.size() != 12) fail("field \"" + path + "\" must have 12 numbers, got " + std::to_string(x.size()));
   std::array<double, 12> out{};
   for (std::size_t i = 0; i < 12; ++i) {
-    if (!number_value(x[i], out[i])) fail("field \"x\"[" + std::to_string(i) + "] must be a number");
+    if (!number_value(x[i], out[i])) fail("field \"" + path + "\"[" + std::to_string(i) + "] must be a number");
   }
   return out;
 }
+
+/// "x": exactly 12 numbers.
+std::array<double, 12> parse_coordinates(const json& req) { return parse_twelve_numbers(req, "x", "x"); }
 
 pce::Projection parse_projection(const json& req) {
   const auto it = req.find("projection");
@@ -202,6 +207,55 @@ ScalarKind parse_scalar(const json& req) {
   for (ScalarKind k : {ScalarKind::double_, ScalarKind::float_, ScalarKind::long_double})
     if (s == to_string(k)) return k;
   fail("unknown \"scalar\" " + quoted(s) + " (expected \"double\", \"float\" or \"long_double\")");
+}
+
+/// A number for a message; never prints a bare non-finite token.
+std::string describe(double v) { return std::isfinite(v) ? format_number(v) : "a value beyond the double range"; }
+
+/// X̂ = factor |e0|²|e1|² of the rest pair, in double (`pce::mollifier_threshold`).
+double rest_threshold(PairKind pair, const std::array<double, 12>& rest, double factor) {
+  pce::Vec12<double> r;
+  for (int i = 0; i < 12; ++i) r[i] = rest[static_cast<std::size_t>(i)];
+  return pair == PairKind::edge_edge ? pce::mollifier_threshold<pce::EdgeEdge>(r, factor)
+                                     : pce::mollifier_threshold<pce::VertexFace>(r, factor);
+}
+
+/// "mollifier" (optional): either {"threshold": X̂} or {"rest": [12 numbers], "factor": f}
+/// (f defaults to 1e-3); exactly one of "threshold" and "rest". X̂ must come out finite and
+/// > 0, f must be finite and > 0, the rest coordinates finite.
+std::optional<pce::Mollifier> parse_mollifier(const json& req, PairKind pair) {
+  const auto it = req.find("mollifier");
+  if (it == req.end()) return std::nullopt;
+  const json& m = *it;
+  if (!m.is_object())
+    fail("field \"mollifier\" must be an object: {\"threshold\":X} or {\"rest\":[12 numbers],\"factor\":f}");
+  const bool has_threshold = m.contains("threshold");
+  const bool has_rest = m.contains("rest");
+  if (has_threshold && has_rest)
+    fail("field \"mollifier\" must have either \"mollifier.threshold\" or \"mollifier.rest\", not both");
+  if (!has_threshold && !has_rest) fail("missing field \"mollifier.threshold\" (or \"mollifier.rest\")");
+  pce::Mollifier out;
+  if (has_threshold) {
+    if (m.contains("factor")) fail("field \"mollifier.factor\" is only allowed with \"mollifier.rest\"");
+    out.threshold = required_number(m, "threshold", "mollifier.threshold");
+    if (!out.valid())
+      fail("field \"mollifier.threshold\" must be finite and > 0 (got " + describe(out.threshold) + ")");
+    return out;
+  }
+  const std::array<double, 12> rest = parse_twelve_numbers(m, "rest", "mollifier.rest");
+  for (std::size_t i = 0; i < 12; ++i)
+    if (!std::isfinite(rest[i])) fail("field \"mollifier.rest\"[" + std::to_string(i) + "] must be finite");
+  double factor = 1e-3;
+  if (m.contains("factor")) {
+    factor = required_number(m, "factor", "mollifier.factor");
+    if (!std::isfinite(factor) || !(factor > 0))
+      fail("field \"mollifier.factor\" must be finite and > 0 (got " + describe(factor) + ")");
+  }
+  out.threshold = rest_threshold(pair, rest, factor);
+  if (!out.valid())
+    fail("field \"mollifier.rest\" gives the threshold factor*|e0|^2*|e1|^2 = " + describe(out.threshold) +
+         ", which must be finite and > 0 (a zero-length rest edge, or a product that underflows or overflows)");
+  return out;
 }
 
 }  // namespace
@@ -233,6 +287,7 @@ Request parse_request(const nlohmann::json& request) {
   r.x = parse_coordinates(request);
   r.projection = parse_projection(request);
   r.scalar = parse_scalar(request);
+  r.mollifier = parse_mollifier(request, r.pair);
   return r;
 }
 

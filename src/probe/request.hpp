@@ -30,7 +30,8 @@ using LengthSpec = std::variant<pce::SignedLength, pce::UnsignedLength>;
 using PenaltySpec = std::variant<pce::QuadraticPenalty, pce::CubicPenalty, pce::LogBarrierPenalty>;
 
 /// Everything one request asks for, validated for shape (not for numeric ranges: those
-/// are the library's job and come back as a status).
+/// are the library's job and come back as a status; the one exception is the opt-in
+/// mollifier, whose threshold is checked here).
 struct Request {
   PairKind pair = PairKind::vertex_face;
   LengthSpec length;
@@ -38,6 +39,9 @@ struct Request {
   std::array<double, 12> x{};
   pce::Projection projection = pce::Projection::analytic;
   ScalarKind scalar = ScalarKind::double_;
+  /// Opt-in mollified energy (`"mollifier"` field): set only when the request has the
+  /// field; its threshold is then finite and > 0 (given, or computed from `"rest"`).
+  std::optional<pce::Mollifier> mollifier;
 };
 
 /// A request that cannot be evaluated: reported as status "invalid_request".

@@ -49,7 +49,12 @@ class ObjectWriter {
 void write_evaluation(ObjectWriter& w, const Evaluation& e) {
   w.string("projection", e.projection);
   w.string("scalar", e.scalar);
-  w.number("length", e.length);
+  if (e.mollifier) {
+    w.raw("mollified", "true");
+    w.number("mollifier", e.mollifier->value);
+    w.number("mollifier_threshold", e.mollifier->threshold);
+  }
+  if (e.length) w.number("length", *e.length);
   w.number("value", e.value);
   w.numbers("gradient", e.gradient);
   w.numbers("hessian", e.hessian);

@@ -13,10 +13,16 @@
 
 namespace pce_probe {
 
+/// What a mollified evaluation reports in addition to the plain outputs.
+struct MollifierOutput {
+  double value = 0;      ///< m(X) in [0, 1]
+  double threshold = 0;  ///< X̂ used (given, or computed from the rest pair)
+};
+
 /// The numeric outputs of a successful evaluation, already converted to double.
 /// Matrices are row-major; `eigenvalues` are the 9 frame-space ones, ascending.
 struct Evaluation {
-  double length = 0;
+  std::optional<double> length;  ///< L; absent only for a mollified pair without a frame (X = 0)
   double value = 0;
   std::array<double, 12> gradient{};
   std::array<double, 144> hessian{};
@@ -24,6 +30,7 @@ struct Evaluation {
   std::array<double, 9> eigenvalues{};
   std::string projection;  ///< strategy used, as spelled in requests
   std::string scalar;      ///< scalar type used, as spelled in requests
+  std::optional<MollifierOutput> mollifier;  ///< set for requests with a "mollifier" field
 };
 
 /// One output line: `status` is "ok" (and `evaluation` is set) or a machine-readable

@@ -2,7 +2,8 @@
 // Tests for the pce-probe executable (contract: design/contracts.md section 1, user doc:
 // docs/probe.md). Each test writes a JSON Lines file, runs the built probe on it through
 // popen, and checks the answers: order, bit-exact agreement with the library after the
-// text round trip, every projection and scalar name, and every error status.
+// text round trip, every projection and scalar name, every error status, and the opt-in
+// "mollifier" field.
 #include <pce/pce.hpp>
 
 #include <gtest/gtest.h>
@@ -339,6 +340,239 @@ TEST(Probe, OutputNeverContainsNanOrInf) {
   const std::regex bad(R"(\b(nan|inf|infinity)\b)", std::regex::icase);
   EXPECT_FALSE(std::regex_search(run.output, bad)) << run.output;
   for (const std::string& line : run.lines) EXPECT_NO_THROW(static_cast<void>(parsed(line))) << line;
+}
+
+// ---- Opt-in mollified energy (request field "mollifier") ----
+
+/// Two edges 0.05 apart at an angle of about 0.01 rad: X = |e0 × e1|² = 1e-4.
+const X nearly_parallel_x = {0, 0, 0, 1, 0.01, 0, 0, 0, 0.05, 1, 0, 0.05};
+/// A vertex 0.1 above a sliver triangle: X = 1e-4.
+const X sliver_x = {0.5, 0.005, 0.1, 0, 0, 0, 1, 0, 0, 0.5, 0.01, 0};
+/// A vertex above a zero-area (collinear) triangle.
+const X flat_x = {0.2, 0.3, 1, 0, 0, 0, 1, 0, 0, 2, 0, 0};
+
+std::string mollifier_threshold(double threshold) {
+  return R"(,"mollifier":{"threshold":)" + number(threshold) + "}";
+}
+
+/// The mollified response line with its extra members removed.
+std::string without_mollifier_fields(const std::string& line) {
+  static const std::regex extra(R"(,"mollified":true,"mollifier":1,"mollifier_threshold":[^,]*)");
+  return std::regex_replace(line, extra, "");
+}
+
+TEST(ProbeMollifier, AboveTheThresholdEqualsThePlainResponseFieldByField) {
+  const char* projections[] = {"analytic", "numerical", "gauss_newton", "abs", "none"};
+  const char* scalars[] = {"double", "float", "long_double"};
+  struct Case {
+    std::string pair, length, penalty;
+    X x;
+  };
+  const Case cases[] = {{"vertex_face", "signed", quadratic, vertex_face_x},
+                        {"edge_edge", "unsigned", log_barrier, edge_edge_x}};
+  std::string input;
+  int n = 0;
+  for (const Case& c : cases)
+    for (const char* p : projections)
+      for (const char* s : scalars) {
+        const std::string extra = std::string(R"(,"projection":")") + p + R"(","scalar":")" + s + "\"";
+        input += request(c.pair, c.length, c.penalty, c.x, extra);
+        input += request(c.pair, c.length, c.penalty, c.x, extra + mollifier_threshold(1e-9));
+        input += request(c.pair, c.length, c.penalty, c.x,
+                         extra + R"(,"mollifier":{"rest":)" + coordinates(c.x) + R"(,"factor":1e-6})");
+        n += 3;
+      }
+  const ProbeRun run = run_probe(input);
+  ASSERT_EQ(run.exit_code, 0);
+  ASSERT_EQ(run.lines.size(), static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i < run.lines.size(); i += 3) {
+    const std::string& plain = run.lines[i];
+    ASSERT_EQ(parsed(plain)["status"], "ok") << plain;
+    for (std::size_t k = 1; k <= 2; ++k) {
+      const std::string& mollified = run.lines[i + k];
+      const json m = parsed(mollified);
+      EXPECT_EQ(m["status"], "ok") << mollified;
+      EXPECT_EQ(m["mollified"], true) << mollified;
+      EXPECT_EQ(m["mollifier"], 1) << mollified;
+      EXPECT_TRUE(m.contains("length")) << mollified;
+      // Every other member, as text: the same numbers bit for bit, in the same order.
+      EXPECT_EQ(without_mollifier_fields(mollified), plain);
+    }
+  }
+}
+
+TEST(ProbeMollifier, InTheBandTheEnergyIsReducedAndMatchesTheLibraryBitForBit) {
+  pce::QuadraticPenalty pen;
+  pen.stiffness = 3.5;
+  pen.eps = 0.25;
+  const std::string rest_form = R"(,"mollifier":{"rest":)" + coordinates(nearly_parallel_x) + "}";
+  const ProbeRun run = run_probe(request("edge_edge", "unsigned", quadratic, nearly_parallel_x) +
+                                 request("edge_edge", "unsigned", quadratic, nearly_parallel_x, rest_form) +
+                                 request("vertex_face", "signed", quadratic, sliver_x) +
+                                 request("vertex_face", "signed", quadratic, sliver_x, mollifier_threshold(1e-3)));
+  ASSERT_EQ(run.exit_code, 0);
+  ASSERT_EQ(run.lines.size(), 4u);
+
+  const auto check = [&](const std::string& plain, const std::string& line, auto pair, const X& x,
+                         const auto& length, double threshold) {
+    using Pair = decltype(pair);
+    const json p = parsed(plain), m = parsed(line);
+    ASSERT_EQ(p["status"], "ok") << plain;
+    ASSERT_EQ(m["status"], "ok") << line;
+    EXPECT_EQ(m["mollified"], true);
+    const double mol = m["mollifier"].get<double>();
+    EXPECT_GT(mol, 0.0);
+    EXPECT_LT(mol, 1.0);
+    EXPECT_GT(m["value"].get<double>(), 0.0);
+    EXPECT_LT(m["value"].get<double>(), p["value"].get<double>());
+    EXPECT_EQ(bits(number_of(line, "mollifier_threshold")), bits(threshold));
+
+    pce::Mollifier mollifier;
+    mollifier.threshold = threshold;
+    pce::MollifiedEnergy<double> e;
+    ASSERT_EQ(pce::mollified_pair_energy<Pair>(to_vec<double>(x), length, pen, mollifier, e), pce::Status::ok);
+    ASSERT_TRUE(e.has_frame);
+    EXPECT_EQ(bits(number_of(line, "mollifier")), bits(e.mollifier));
+    EXPECT_EQ(bits(number_of(line, "length")), bits(e.base.length));
+    EXPECT_EQ(bits(number_of(line, "length")), bits(number_of(plain, "length")));
+    EXPECT_EQ(bits(number_of(line, "value")), bits(e.value));
+    const pce::Vec12<double> g = pce::energy_gradient(e);
+    expect_same_bits(numbers_of(line, "gradient"), [&g](int i) { return g[i]; }, 12);
+    const pce::Mat12<double> h = pce::energy_hessian(e);
+    expect_same_bits(numbers_of(line, "hessian"), row_major(h), 144);
+    const pce::Mat12<double> ph = pce::projected_hessian(e, pce::Projection::analytic);
+    expect_same_bits(numbers_of(line, "projected_hessian"), row_major(ph), 144);
+    const pce::FrameEigensystem<double> es = pce::energy_eigensystem(e);
+    expect_same_bits(numbers_of(line, "eigenvalues"), [&es](int i) { return es.values[i]; }, 9);
+  };
+  // Rest form with the default factor 1e-3: X̂ = 1e-3 |e0|²|e1|².
+  check(run.lines[0], run.lines[1], pce::EdgeEdge{}, nearly_parallel_x, pce::UnsignedLength{},
+        pce::mollifier_threshold<pce::EdgeEdge>(to_vec<double>(nearly_parallel_x)));
+  check(run.lines[2], run.lines[3], pce::VertexFace{}, sliver_x, pce::SignedLength{}, 1e-3);
+}
+
+TEST(ProbeMollifier, ExactlyDegenerateIsOkWithZerosWhilePlainIsDegenerate) {
+  const char* projections[] = {"analytic", "numerical", "gauss_newton", "abs", "none"};
+  const char* scalars[] = {"double", "float", "long_double"};
+  std::string input;
+  int n = 0;
+  for (const char* p : projections)
+    for (const char* s : scalars) {
+      const std::string extra = std::string(R"(,"projection":")") + p + R"(","scalar":")" + s + "\"";
+      input += request("edge_edge", "signed", quadratic, parallel_x, extra);
+      input += request("edge_edge", "signed", quadratic, parallel_x, extra + mollifier_threshold(1e-3));
+      input += request("vertex_face", "signed", log_barrier, flat_x, extra);
+      input += request("vertex_face", "signed", log_barrier, flat_x, extra + mollifier_threshold(1e-3));
+      n += 4;
+    }
+  const ProbeRun run = run_probe(input);
+  ASSERT_EQ(run.exit_code, 0);
+  ASSERT_EQ(run.lines.size(), static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i < run.lines.size(); i += 2) {
+    EXPECT_EQ(parsed(run.lines[i])["status"], "degenerate") << run.lines[i];
+    const std::string& line = run.lines[i + 1];
+    const json m = parsed(line);
+    ASSERT_EQ(m["status"], "ok") << line;
+    EXPECT_EQ(m["mollified"], true);
+    EXPECT_EQ(m["mollifier"], 0);
+    EXPECT_FALSE(m.contains("length")) << line;  // no frame: L is undefined
+    EXPECT_EQ(m["value"], 0);
+    const std::pair<const char*, std::size_t> arrays[] = {
+        {"gradient", 12}, {"hessian", 144}, {"projected_hessian", 144}, {"eigenvalues", 9}};
+    for (const auto& a : arrays) {
+      ASSERT_EQ(m[a.first].size(), a.second) << a.first;
+      for (const json& v : m[a.first]) EXPECT_EQ(v, 0) << a.first << ": " << line;
+    }
+  }
+}
+
+TEST(ProbeMollifier, BadMollifierFieldsAreInvalidRequestNamingTheField) {
+  const std::string head = R"({"pair":"edge_edge","length":"signed","penalty":)" + quadratic +
+                           R"(,"x":[0,0,0,1,0,0,0,1,0,2,1,0],"mollifier":)";
+  const std::string rest = "[0,0,0,1,0,0,0,1,0,0,2,0]";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"{}", "mollifier.threshold"},
+      {R"({"factor":1e-3})", "mollifier.threshold"},
+      {R"({"threshold":0})", "mollifier.threshold"},
+      {R"({"threshold":-1})", "mollifier.threshold"},
+      {R"({"threshold":-0})", "mollifier.threshold"},
+      {R"({"threshold":1e400})", "mollifier.threshold"},
+      {R"({"threshold":"1e-3"})", "mollifier.threshold"},
+      {R"({"threshold":null})", "mollifier.threshold"},
+      {R"({"threshold":1e-3,"rest":)" + rest + "}", "mollifier.rest"},
+      {R"({"threshold":1e-3,"factor":1e-3})", "mollifier.factor"},
+      {R"({"rest":[0,0,0,1,0,0,0,1,0,0,2]})", "mollifier.rest"},
+      {R"({"rest":[0,0,0,1,0,0,0,1,0,0,2,"a"]})", "mollifier.rest\"[11]"},
+      {R"({"rest":[0,0,0,1,0,0,0,1,0,0,2,1e400]})", "mollifier.rest\"[11]"},
+      {R"({"rest":"none"})", "mollifier.rest"},
+      {R"({"rest":[0,0,0,0,0,0,0,1,0,0,2,0]})", "mollifier.rest"},  // zero-length rest edge: X̂ = 0
+      {R"({"rest":)" + rest + R"(,"factor":0})", "mollifier.factor"},
+      {R"({"rest":)" + rest + R"(,"factor":-1e-3})", "mollifier.factor"},
+      {R"({"rest":)" + rest + R"(,"factor":true})", "mollifier.factor"},
+      {"1e-3", "\"mollifier\""},
+      {"null", "\"mollifier\""},
+  };
+  std::string input;
+  for (const auto& c : cases) input += head + c.first + "}\n";
+  const ProbeRun run = run_probe(input);
+  ASSERT_EQ(run.exit_code, 0);
+  ASSERT_EQ(run.lines.size(), cases.size());
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const json r = parsed(run.lines[i]);
+    EXPECT_EQ(r["status"], "invalid_request") << run.lines[i];
+    EXPECT_NE(r["message"].get<std::string>().find(cases[i].second), std::string::npos)
+        << cases[i].first << " -> " << run.lines[i];
+  }
+}
+
+TEST(ProbeMollifier, ThresholdBeyondTheScalarRangeIsInvalidInput) {
+  const ProbeRun run = run_probe(
+      request("vertex_face", "signed", quadratic, vertex_face_x, R"(,"scalar":"float")" + mollifier_threshold(1e300)) +
+      request("vertex_face", "signed", quadratic, vertex_face_x, R"(,"scalar":"float")" + mollifier_threshold(1e-300)) +
+      request("vertex_face", "signed", quadratic, vertex_face_x, mollifier_threshold(1e300)));
+  ASSERT_EQ(run.lines.size(), 3u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const json r = parsed(run.lines[i]);
+    EXPECT_EQ(r["status"], "invalid_input") << run.lines[i];
+    EXPECT_NE(r["message"].get<std::string>().find("mollifier.threshold"), std::string::npos) << run.lines[i];
+  }
+  const json r = parsed(run.lines[2]);  // in double, X ≪ X̂: m is tiny but the request is valid
+  EXPECT_EQ(r["status"], "ok") << run.lines[2];
+  EXPECT_GE(r["mollifier"].get<double>(), 0.0);
+  EXPECT_LT(r["mollifier"].get<double>(), 1e-200);
+}
+
+TEST(ProbeMollifier, OutputNeverContainsNanOrInf) {
+  // X ≈ 1e-300, far inside the band (exactly parallel once rounded to float).
+  const X tiny_angle = {0, 0, 0, 1, 0, 0, 0, 0, 0.05, 2, 1e-150, 0.05};
+  // X ≈ 1e-30 (also in float).
+  const X small_angle = {0, 0, 0, 1, 0, 0, 0, 0, 0.05, 2, 1e-15, 0.05};
+  X below = vertex_face_x;
+  below[2] = -0.05;
+  std::string input;
+  for (const char* s : {"double", "float", "long_double"})
+    for (const char* p : {"analytic", "numerical", "none"}) {
+      const std::string extra =
+          std::string(R"(,"scalar":")") + s + R"(","projection":")" + p + "\"" + mollifier_threshold(1e-3);
+      input += request("edge_edge", "signed", quadratic, tiny_angle, extra);
+      input += request("edge_edge", "signed", quadratic, small_angle, extra);
+      input += request("edge_edge", "unsigned", log_barrier, edge_edge_x, extra);
+      input += request("edge_edge", "signed", quadratic, parallel_x, extra);
+      input += request("vertex_face", "signed", log_barrier, below, extra);
+      input += request("vertex_face", "signed", quadratic, flat_x, extra);
+    }
+  const ProbeRun run = run_probe(input);
+  ASSERT_EQ(run.exit_code, 0);
+  EXPECT_EQ(run.lines.size(), 54u);
+  const std::regex bad(R"(\b(nan|inf|infinity)\b)", std::regex::icase);
+  EXPECT_FALSE(std::regex_search(run.output, bad)) << run.output;
+  for (const std::string& line : run.lines) {
+    json r;
+    ASSERT_NO_THROW(r = parsed(line)) << line;
+    if (r["status"] != "ok") continue;
+    EXPECT_GE(r["mollifier"].get<double>(), 0.0) << line;
+    EXPECT_LE(r["mollifier"].get<double>(), 1.0) << line;
+  }
 }
 
 TEST(Probe, UnknownFlagIsUsageError) { EXPECT_EQ(run_probe("", "--bogus").exit_code, 2); }
