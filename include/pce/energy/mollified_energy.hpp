@@ -22,12 +22,12 @@
 ///     H_F = mψ″ ggᵀ + mσψ′ H_l + ψ(m″ ∇X∇Xᵀ + m′ ∇²X) + σψ′m′ (∇X gᵀ + g ∇Xᵀ),
 ///
 /// whose eigensystem splits into invariant subspaces of dimensions 3, 2, 2, 2, each solved
-/// in closed form (the 3×3 one by the trigonometric formula of Eigen's `computeDirect`).
+/// in closed form, except the 3×3 one, which takes a few Jacobi rotations (`detail::jacobi3`:
+/// the trigonometric closed form loses its small eigenvalue, see there).
 #pragma once
 
 #include <pce/energy/pair_energy.hpp>
 
-#include <Eigen/Eigenvalues>
 
 #include <array>
 #include <cmath>
@@ -119,6 +119,48 @@ template <class Scalar> bool unmollified(const MollifiedEnergy<Scalar>& e) {
   return e.mollifier == Scalar(1) && e.dm == Scalar(0);
 }
 
+/// Eigen-decomposition of a symmetric 3×3 matrix by cyclic Jacobi rotations (Rutishauser's
+/// update). Unlike the trigonometric closed form it keeps small eigenvalues of graded
+/// matrices accurate to their own size (Demmel & Veselić 1992), which matters here: the
+/// {x0, y1, z2} block has entries O(1), O(s), O(s²) near parallel edges and its pullback
+/// multiplies the z2 part by |J|² ~ 1/s². Converges to full precision in a few sweeps.
+template <class Scalar> void jacobi3(Mat3<Scalar>& A, Mat3<Scalar>& V) {
+  using std::abs;
+  using std::sqrt;
+  V.setIdentity();
+  const Scalar eps = Constants<Scalar>::epsilon();
+  for (int sweep = 0; sweep < 12; ++sweep) {
+    bool rotated = false;
+    for (int p = 0; p < 2; ++p)
+      for (int q = p + 1; q < 3; ++q) {
+        const Scalar apq = A(p, q);
+        if (apq == Scalar(0) || abs(apq) <= eps * sqrt(abs(A(p, p) * A(q, q))) / Scalar(4)) {
+          A(p, q) = A(q, p) = Scalar(0);
+          continue;
+        }
+        rotated = true;
+        const Scalar theta = (A(q, q) - A(p, p)) / (Scalar(2) * apq);
+        const Scalar at = abs(theta);
+        const Scalar t = (at > Scalar(1) / eps ? Scalar(1) / (Scalar(2) * at) : Scalar(1) / (at + sqrt(at * at + Scalar(1)))) *
+                         (theta < Scalar(0) ? Scalar(-1) : Scalar(1));
+        const Scalar c = Scalar(1) / sqrt(t * t + Scalar(1)), sn = t * c;
+        A(p, p) -= t * apq;
+        A(q, q) += t * apq;
+        A(p, q) = A(q, p) = Scalar(0);
+        const int r = 3 - p - q;
+        const Scalar arp = A(r, p), arq = A(r, q);
+        A(r, p) = A(p, r) = c * arp - sn * arq;
+        A(r, q) = A(q, r) = sn * arp + c * arq;
+        for (int i = 0; i < 3; ++i) {
+          const Scalar vip = V(i, p), viq = V(i, q);
+          V(i, p) = c * vip - sn * viq;
+          V(i, q) = sn * vip + c * viq;
+        }
+      }
+    if (!rotated) break;
+  }
+}
+
 /// Unit 9-vector with direction `d` in frame slot `k`.
 template <class Scalar> Vec9<Scalar> slot(int k, const Vec3<Scalar>& d) {
   Vec9<Scalar> v = Vec9<Scalar>::Zero();
@@ -165,8 +207,8 @@ template <class Scalar> Mat12<Scalar> energy_hessian(const MollifiedEnergy<Scala
   return J.transpose() * energy_frame_hessian(e) * J;
 }
 
-/// Closed-form eigensystem of H_F (frame space, ascending): the invariant subspaces
-/// {x0, y1, z2} (3×3, trigonometric closed form), {y0, x1} (±2ψm′s), {z0, x2} and
+/// Eigensystem of H_F (frame space, ascending) by its invariant subspaces:
+/// {x0, y1, z2} (3×3, Jacobi rotations), {y0, x1} (±2ψm′s), {z0, x2} and
 /// {z1, y2} (2×2 with a zero corner), where x_k, y_k, z_k are ê0, ê1, n̂ in slot k.
 /// Where X = 0: all zero, with the identity as eigenvectors.
 template <class Scalar> FrameEigensystem<Scalar> energy_eigensystem(const MollifiedEnergy<Scalar>& e) {
@@ -194,12 +236,12 @@ template <class Scalar> FrameEigensystem<Scalar> energy_eigensystem(const Mollif
     M(0, 2) = M(2, 0) = two * c.C * s * f.a1;
     M(1, 2) = M(2, 1) = two * c.C * s * f.a0;
     M(2, 2) = c.E;
-    Eigen::SelfAdjointEigenSolver<Mat3<Scalar>> es;
-    es.computeDirect(M);
+    Mat3<Scalar> V;
+    detail::jacobi3(M, V);
     const Vec9<Scalar> b[3] = {slot(0, f.t0), slot(1, f.t1), slot(2, f.n)};
     for (int i = 0; i < 3; ++i) {
-      val[i] = es.eigenvalues()[i];
-      vec[i] = es.eigenvectors()(0, i) * b[0] + es.eigenvectors()(1, i) * b[1] + es.eigenvectors()(2, i) * b[2];
+      val[i] = M(i, i);
+      vec[i] = V(0, i) * b[0] + V(1, i) * b[1] + V(2, i) * b[2];
     }
   }
   // {y0, x1}: [[0, −k], [−k, 0]], k = 2ψm′s: eigenpairs (k, (y0 − x1)/√2), (−k, (y0 + x1)/√2).
