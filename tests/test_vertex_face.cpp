@@ -69,6 +69,24 @@ TYPED_TEST(VertexFace, DegenerateTrianglesAreReportedAndNothingIsWritten) {
   EXPECT_EQ(f.l, S(42));
 }
 
+TEST(VertexFaceFloat, FarVertexOverATinyTriangleOverflowsExplicitly) {
+  // Found by pce-fuzz (seed 7, input 88491): relative to a 1e-33 triangle a vertex at 1e6
+  // is beyond float's range; the frame says so instead of returning non-finite members.
+  pce::Vec12<float> x;
+  x << 1000000.375f, 3.0584478544014759e-33f, -4.0764412987414353e-34f, 0, 0, 0, 1.5407439555097887e-33f, 0, 0,
+      3.459532679880283e-34f, 4.5623396946710012e-34f, 0;
+  pce::Frame<float> f;
+  f.l = 42.0f;
+  EXPECT_EQ(pce::vertex_face_frame(x, f), pce::Status::overflow);
+  EXPECT_EQ(f.l, 42.0f);
+  pce::PairResult<float> r;
+  EXPECT_EQ(pce::evaluate<pce::VertexFace>(x, pce::SignedLength{}, pce::QuadraticPenalty{1, 0.1}, pce::Projection::analytic, r),
+            pce::Status::overflow);
+  // The same geometry in double is fine.
+  pce::Frame<double> fd;
+  EXPECT_EQ(pce::vertex_face_frame(pce::Vec12<double>(x.cast<double>()), fd), pce::Status::ok);
+}
+
 TYPED_TEST(VertexFace, NonFiniteAndAbsurdInputIsInvalid) {
   using S = TypeParam;
   const pce::Vec12<S> good = vf<S>({0.2, 0.3, 0.5}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0});

@@ -108,7 +108,8 @@ namespace detail {
 /// as combinations of the four vertices). Uses the stable forms of
 /// `docs/stability.md`: an exact power-of-two rescaling, β and γ from `m = e0 × e1`
 /// rather than the Gram determinant, and `l = e2⊥·n̂` rather than `e2·n̂`.
-/// Returns `degenerate` when `e0 × e1` vanishes (in the rescaled coordinates); `f` is
+/// Returns `degenerate` when `e0 × e1` vanishes (in the rescaled coordinates), `overflow`
+/// when the third edge is beyond the scalar's range relative to the primitive; `f` is
 /// written only on `ok`.
 template <class Scalar>
 Status make_frame(const Vec3<Scalar>& e0, const Vec3<Scalar>& e1, const Vec3<Scalar>& e2,
@@ -141,15 +142,23 @@ Status make_frame(const Vec3<Scalar>& e0, const Vec3<Scalar>& e1, const Vec3<Sca
   const Vec3<Scalar> n = m / mn;
   const Vec3<Scalar> t0 = E0 / a0;
 
-  f.alpha = t0.dot(E1) / a0;
-  f.beta = E2.cross(E1).dot(n) / mn;
-  f.gamma = E0.cross(E2).dot(n) / mn;
-  const Scalar ls = (E2 - f.beta * E0 - f.gamma * E1).dot(n);
+  const Scalar alpha = t0.dot(E1) / a0;
+  const Scalar beta = E2.cross(E1).dot(n) / mn;
+  const Scalar gamma = E0.cross(E2).dot(n) / mn;
+  const Scalar ls = (E2 - beta * E0 - gamma * E1).dot(n);
+  const Scalar l = unscale(ls);
+  // The third edge is rescaled by the primitive's scale; a vertex (or edge) farther away
+  // than the scalar's range allows relative to a tiny primitive overflows here (found by
+  // pce-fuzz: a 1e-33 triangle with its vertex at 1e6, in float).
+  if (!is_finite(alpha) || !is_finite(beta) || !is_finite(gamma) || !is_finite(l)) return Status::overflow;
 
+  f.alpha = alpha;
+  f.beta = beta;
+  f.gamma = gamma;
   f.n = n;
   f.t0 = t0;
   f.t1 = n.cross(t0);
-  f.l = unscale(ls);
+  f.l = l;
   f.a0 = unscale(a0);
   f.a1 = unscale(mn / a0);
   f.P.row(0) = D.row(0);
