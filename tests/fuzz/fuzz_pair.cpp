@@ -630,7 +630,7 @@ void check_case(const pce::Vec12<S>& x, const Length& len, const Penalty& pen, b
     PCE_FUZZ_CHECK(fs == Status::invalid_input, "frame: coordinate %s but status %s",
                    nonfinite ? "NaN/Inf" : "beyond max_coordinate", pce::to_string(fs));
   else
-    PCE_FUZZ_CHECK(fs == Status::ok || fs == Status::degenerate, "frame: valid coordinates but status %s",
+    PCE_FUZZ_CHECK(fs == Status::ok || fs == Status::degenerate || fs == Status::overflow, "frame: valid coordinates but status %s",
                    pce::to_string(fs));
   if (fs != Status::ok) {
     PCE_FUZZ_CHECK(fsnap.unchanged(f), "frame: status %s but the output was written", pce::to_string(fs));
