@@ -87,6 +87,26 @@ TEST(VertexFaceFloat, FarVertexOverATinyTriangleOverflowsExplicitly) {
   EXPECT_EQ(pce::vertex_face_frame(pce::Vec12<double>(x.cast<double>()), fd), pce::Status::ok);
 }
 
+TEST(VertexFaceFloat, FarVertexOverATinyTriangleCannotOverflowThePullback) {
+  // Found by pce-fuzz after the fix above (seed 7, input 1279286): alpha, beta, gamma and l
+  // are finite (beta, gamma ~ -2e38 and -3e38) but the pullback's third row holds
+  // -1 + beta + gamma, beyond float's range. Every member of an `ok` frame must be finite.
+  pce::Vec12<float> x;
+  x << 0x1.fffffep+54f, 0x1.c2a3c2p-74f, 0x1.446544p-75f, -0x1.618162p-80f, 0x1.7b297cp-76f, -0x1.c771c8p-77f,
+      -0x1.e921eap-78f, -0x1.b88bb8p-74f, 0x1.0d670ep-74f, -0x1.ceb3cep-74f, 0x1.166716p-74f, -0x1.ac97acp-74f;
+  pce::Frame<float> f;
+  f.l = 42.0f;
+  EXPECT_EQ(pce::vertex_face_frame(x, f), pce::Status::overflow);
+  EXPECT_EQ(f.l, 42.0f);
+  pce::PairResult<float> r;
+  EXPECT_EQ(pce::evaluate<pce::VertexFace>(x, pce::SignedLength{pce::Side::negative},
+                                           pce::LogBarrierPenalty{1, 2e16}, pce::Projection::numerical, r),
+            pce::Status::overflow);
+  pce::Frame<double> fd;
+  ASSERT_EQ(pce::vertex_face_frame(pce::Vec12<double>(x.cast<double>()), fd), pce::Status::ok);
+  EXPECT_TRUE(fd.P.allFinite());
+}
+
 TYPED_TEST(VertexFace, NonFiniteAndAbsurdInputIsInvalid) {
   using S = TypeParam;
   const pce::Vec12<S> good = vf<S>({0.2, 0.3, 0.5}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0});

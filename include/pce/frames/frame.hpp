@@ -149,8 +149,14 @@ Status make_frame(const Vec3<Scalar>& e0, const Vec3<Scalar>& e1, const Vec3<Sca
   const Scalar l = unscale(ls);
   // The third edge is rescaled by the primitive's scale; a vertex (or edge) farther away
   // than the scalar's range allows relative to a tiny primitive overflows here (found by
-  // pce-fuzz: a 1e-33 triangle with its vertex at 1e6, in float).
+  // pce-fuzz: a 1e-33 triangle with its vertex at 1e6, in float), and so can the sum
+  // beta + gamma in the third row of P (found next: a 1e-22 triangle, vertex at 3.6e16).
   if (!is_finite(alpha) || !is_finite(beta) || !is_finite(gamma) || !is_finite(l)) return Status::overflow;
+  Mat34<Scalar> P;
+  P.row(0) = D.row(0);
+  P.row(1) = D.row(1) - alpha * D.row(0);
+  P.row(2) = D.row(2) - beta * D.row(0) - gamma * D.row(1);
+  if (!all_finite(P)) return Status::overflow;
 
   f.alpha = alpha;
   f.beta = beta;
@@ -161,9 +167,7 @@ Status make_frame(const Vec3<Scalar>& e0, const Vec3<Scalar>& e1, const Vec3<Sca
   f.l = l;
   f.a0 = unscale(a0);
   f.a1 = unscale(mn / a0);
-  f.P.row(0) = D.row(0);
-  f.P.row(1) = D.row(1) - f.alpha * D.row(0);
-  f.P.row(2) = D.row(2) - f.beta * D.row(0) - f.gamma * D.row(1);
+  f.P = P;
   return Status::ok;
 }
 
