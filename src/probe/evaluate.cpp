@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <variant>
 
 namespace pce_probe {
@@ -121,6 +122,16 @@ template <class Pair, class Scalar, class Length> double length_at(const pce::Ve
   return static_cast<double>(pce::length_value(f, len));
 }
 
+/// A successful response: the evaluation, labelled with the request's projection and scalar.
+Response ok_response(Evaluation e, const Request& req) {
+  e.projection = pce::to_string(req.projection);
+  e.scalar = to_string(req.scalar);
+  Response r;
+  r.status = pce::to_string(pce::Status::ok);
+  r.evaluation = std::move(e);
+  return r;
+}
+
 /// Human-readable explanation of a non-ok status.
 template <class Pair, class Scalar, class Length, class Penalty>
 std::string failure_message(pce::Status s, const Request& req, const pce::Vec12<Scalar>& xs, const Length& len,
@@ -151,12 +162,7 @@ Response evaluate_typed(const Request& req, const Length& len, const Penalty& pe
   if (!to_evaluation(result, e))
     return error_response(pce::to_string(pce::Status::overflow),
                           "a result is finite in long double but beyond the double range used for printing");
-  e.projection = pce::to_string(req.projection);
-  e.scalar = to_string(req.scalar);
-  Response r;
-  r.status = pce::to_string(pce::Status::ok);
-  r.evaluation = e;
-  return r;
+  return ok_response(std::move(e), req);
 }
 
 /// Whether every output of a mollified evaluation is finite in `Scalar` (as `pce::evaluate`
@@ -202,12 +208,7 @@ Response evaluate_mollified(const Request& req, const Length& len, const Penalty
                           "a result is finite in long double but beyond the double range used for printing");
   if (!energy.has_frame) e.length.reset();
   e.mollifier = m;
-  e.projection = pce::to_string(req.projection);
-  e.scalar = to_string(req.scalar);
-  Response r;
-  r.status = pce::to_string(pce::Status::ok);
-  r.evaluation = e;
-  return r;
+  return ok_response(std::move(e), req);
 }
 
 /// The plain energy, or the mollified one when the request has a "mollifier" field.

@@ -75,6 +75,12 @@ ProbeRun run_probe(const std::string& input, const std::string& args = "") {
   return run;
 }
 
+/// JSON has no NaN or Inf; the probe must never print them (contracts.md §1).
+void expect_no_nan_or_inf(const ProbeRun& run) {
+  const std::regex bad(R"(\b(nan|inf|infinity)\b)", std::regex::icase);
+  EXPECT_FALSE(std::regex_search(run.output, bad)) << run.output;
+}
+
 std::string number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.17g", v);
@@ -337,8 +343,7 @@ TEST(Probe, OutputNeverContainsNanOrInf) {
   const ProbeRun run = run_probe(input);
   ASSERT_EQ(run.exit_code, 0);
   EXPECT_EQ(run.lines.size(), 15u);
-  const std::regex bad(R"(\b(nan|inf|infinity)\b)", std::regex::icase);
-  EXPECT_FALSE(std::regex_search(run.output, bad)) << run.output;
+  expect_no_nan_or_inf(run);
   for (const std::string& line : run.lines) EXPECT_NO_THROW(static_cast<void>(parsed(line))) << line;
 }
 
@@ -564,8 +569,7 @@ TEST(ProbeMollifier, OutputNeverContainsNanOrInf) {
   const ProbeRun run = run_probe(input);
   ASSERT_EQ(run.exit_code, 0);
   EXPECT_EQ(run.lines.size(), 54u);
-  const std::regex bad(R"(\b(nan|inf|infinity)\b)", std::regex::icase);
-  EXPECT_FALSE(std::regex_search(run.output, bad)) << run.output;
+  expect_no_nan_or_inf(run);
   for (const std::string& line : run.lines) {
     json r;
     ASSERT_NO_THROW(r = parsed(line)) << line;
