@@ -85,69 +85,42 @@ Case draw_case(const Combo& c, double scale, double offset, std::mt19937_64& rng
 /// 9×9 frame Hessian: Jᵀ f(Hc) J.
 template <class S, class F> pce::Mat12<S> dense_filtered(const pce::PairEnergy<S>& e, F f) {
   const pce::Mat9<S> Hc = pce::energy_frame_hessian(e).dense();
-  Eigen::SelfAdjointEigenSolver<pce::Mat9<S>> es(Hc);
-  pce::Vec9<S> lam = es.eigenvalues();
+  const SymmetricEigen<S, 9> es = symmetric_eigen(Hc);
+  pce::Vec9<S> lam = es.values;
   for (int i = 0; i < 9; ++i) lam[i] = f(lam[i]);
-  const pce::Mat9<S> Hf = es.eigenvectors() * lam.asDiagonal() * es.eigenvectors().transpose();
+  const pce::Mat9<S> Hf = es.vectors * lam.asDiagonal() * es.vectors.transpose();
   const Eigen::Matrix<S, 9, 12> J = pce::frame_jacobian(e.frame);
   return J.transpose() * Hf * J;
 }
 
 class Conformance : public testing::TestWithParam<Combo> {};
 
-template <class Pair, class S, class Length, class Penalty>
-void check_case(const Combo& combo, const Case& cs, const Length& len, const Penalty& pen) {
-  SCOPED_TRACE(testing::Message() << "x = " << cs.config.x.transpose() << ", scale " << cs.config.scale);
-  const pce::Vec12<S> x = cast12<S>(cs.config.x);
-  pce::PairEnergy<S> e;
-  ASSERT_EQ(pce::pair_energy<Pair>(x, len, pen, e), pce::Status::ok);
-  const pce::Vec12<S> g = pce::energy_gradient(e);
+// The checks below depend only on the evaluated energy, so they are templated on the
+// scalar alone: compiled 3 times per executable instead of once per length × penalty ×
+// scalar (24), which is most of this file's compile time.
+
+/// 1. The same code in 50 digits (`r`, evaluated at exactly the input `e` saw).
+template <class S> void check_against_reference(const pce::PairEnergy<S>& e, const pce::PairEnergy<HP>& r) {
+  const double tol = Tol<S>::reference();
+  EXPECT_LT(std::fabs(static_cast<double>(HP(e.length) - r.length)) / static_cast<double>(abs(r.length)), tol);
+  EXPECT_LT(std::fabs(static_cast<double>(HP(e.psi.value) - r.psi.value)) /
+                std::max(1e-300, std::fabs(static_cast<double>(r.psi.value))),
+            tol);
+  EXPECT_LT(rel_error(pce::energy_gradient(e), pce::energy_gradient(r)), tol) << "gradient vs high precision";
+  EXPECT_LT(rel_error(pce::energy_hessian(e), pce::energy_hessian(r)), tol) << "Hessian vs high precision";
+  EXPECT_LT(rel_error(pce::projected_hessian(e, pce::Projection::analytic),
+                      pce::projected_hessian(r, pce::Projection::analytic)),
+            tol)
+      << "analytic projection vs high precision";
+  EXPECT_LT(rel_error(pce::energy_eigensystem(e).values, pce::energy_eigensystem(r).values), tol)
+      << "eigenvalues vs high precision";
+}
+
+/// 3.–5. Pullback, closed-form eigensystem and projection strategies of one energy;
+/// `gL` is the length gradient ∇L (for the Gauss–Newton check).
+template <class S> void check_energy_algebra(const pce::PairEnergy<S>& e, const pce::Vec12<S>& gL) {
   const pce::Mat12<S> H = pce::energy_hessian(e);
   const double Hn = max_abs(H);
-
-  // --- 1. High-precision reference: the same code in 50 digits, at the same (rounded) input.
-  {
-    pce::PairEnergy<HP> r;
-    ASSERT_EQ(pce::pair_energy<Pair>(cast12<HP>(x), len, pen, r), pce::Status::ok);
-    const double tol = Tol<S>::reference();
-    EXPECT_LT(std::fabs(static_cast<double>(HP(e.length) - r.length)) / static_cast<double>(abs(r.length)), tol);
-    EXPECT_LT(std::fabs(static_cast<double>(HP(e.psi.value) - r.psi.value)) /
-                  std::max(1e-300, std::fabs(static_cast<double>(r.psi.value))),
-              tol);
-    EXPECT_LT(rel_error(g, pce::energy_gradient(r)), tol) << "gradient vs high precision";
-    EXPECT_LT(rel_error(H, pce::energy_hessian(r)), tol) << "Hessian vs high precision";
-    EXPECT_LT(rel_error(pce::projected_hessian(e, pce::Projection::analytic),
-                        pce::projected_hessian(r, pce::Projection::analytic)),
-              tol)
-        << "analytic projection vs high precision";
-    EXPECT_LT(rel_error(pce::energy_eigensystem(e).values, pce::energy_eigensystem(r).values), tol)
-        << "eigenvalues vs high precision";
-  }
-
-  // --- 2. Finite differences at several step sizes (best step counts), double and long double.
-  if constexpr (!std::is_same_v<S, float>) {
-    const auto value = [&](const pce::Vec12<S>& y) {
-      pce::PairEnergy<S> ey;
-      EXPECT_EQ(pce::pair_energy<Pair>(y, len, pen, ey), pce::Status::ok);
-      return ey.psi.value;
-    };
-    const auto gradient = [&](const pce::Vec12<S>& y) {
-      pce::PairEnergy<S> ey;
-      EXPECT_EQ(pce::pair_energy<Pair>(y, len, pen, ey), pce::Status::ok);
-      return pce::energy_gradient(ey);
-    };
-    const bool ld = std::is_same_v<S, long double>;
-    const double steps[3] = {ld ? 1e-4 : 1e-3, ld ? 1e-5 : 1e-4, ld ? 1e-6 : 1e-5};
-    double eg = 1e300, eh = 1e300;
-    for (double h : steps) {
-      const S hs = S(h * cs.config.scale);
-      eg = std::min(eg, rel_error(fd_gradient<S>(value, x, hs), g));
-      eh = std::min(eh, rel_error(fd_jacobian<S>(gradient, x, hs), H));
-    }
-    const double tol = ld ? 1e-8 : 1e-6;
-    EXPECT_LT(eg, tol) << "gradient vs finite differences";
-    EXPECT_LT(eh, tol) << "Hessian vs finite differences";
-  }
 
   // --- 3. The exact Hessian is Jᵀ Hc J with the frame Jacobian (dense check of `pullback`).
   const pce::Mat9<S> Hc = pce::energy_frame_hessian(e).dense();
@@ -173,8 +146,7 @@ void check_case(const Combo& combo, const Case& cs, const Length& len, const Pen
         << "orthonormal eigenvectors";
     EXPECT_LT(max_abs((es.vectors * es.values.asDiagonal() * es.vectors.transpose() - Hc).eval()) / Hcn, tol)
         << "reconstruction QΛQᵀ";
-    Eigen::SelfAdjointEigenSolver<pce::Mat9<S>> num(Hc);
-    EXPECT_LT(max_abs((num.eigenvalues() - es.values).eval()) / Hcn, tol)
+    EXPECT_LT(max_abs((symmetric_eigen(Hc).values - es.values).eval()) / Hcn, tol)
         << "closed-form vs numerical eigenvalues";
   }
 
@@ -200,7 +172,6 @@ void check_case(const Combo& combo, const Case& cs, const Length& len, const Pen
         << "analytic = Jᵀ clamp(Hc) J";
     EXPECT_LT(rel_error(Pb, dense_filtered(e, flip)), Tol<S>::reference())
         << "abs = Jᵀ |Hc| J";
-    const pce::Vec12<S> gL = pce::pullback(e.frame, pce::length_gradient(e.frame, len));
     const S c2 = e.psi.second > S(0) ? e.psi.second : S(0);
     EXPECT_LT(rel_error(Pg, (c2 * gL * gL.transpose()).eval(), Hd), Tol<S>::algebra()) << "GN = ψ″⁺ ∇L∇Lᵀ";
     // analytic ⪰ exact, abs ⪰ analytic, numerical ⪰ exact (each difference is Jᵀ(PSD)J).
@@ -210,16 +181,81 @@ void check_case(const Combo& combo, const Case& cs, const Length& len, const Pen
     // The nearest PSD matrix is a fixed point of the projection.
     EXPECT_LT(rel_error(pce::project_psd(Pn), Pn, Hd), 100 * tol) << "numerical projection idempotent";
   }
+}
 
-  // --- 6. evaluate() returns what the separate calls return.
+/// 6. evaluate() returns what the separate calls return.
+template <class S> void check_result_matches(const pce::PairResult<S>& out, const pce::PairEnergy<S>& e) {
+  EXPECT_EQ(out.value, e.psi.value);
+  EXPECT_EQ(out.length, e.length);
+  EXPECT_EQ(out.gradient, pce::energy_gradient(e));
+  EXPECT_EQ(out.hessian, pce::energy_hessian(e));
+  EXPECT_EQ(out.projected_hessian, pce::projected_hessian(e, pce::Projection::analytic));
+}
+
+/// 7. Rigid motions: `ey` is `e` evaluated at (R x + t); `B` = diag(R, R, R, R).
+inline void check_rotated(const pce::PairEnergy<double>& e, const pce::PairEnergy<double>& ey,
+                          const Eigen::Matrix<double, 12, 12>& B) {
+  const double tol = 1e-9;
+  const pce::Mat12<double> H = pce::energy_hessian(e);
+  EXPECT_NEAR(ey.psi.value, e.psi.value, tol * std::fabs(e.psi.value)) << "value invariant";
+  EXPECT_LT(rel_error(pce::energy_gradient(ey), (B * pce::energy_gradient(e)).eval()), tol) << "gradient rotates";
+  EXPECT_LT(rel_error(pce::energy_hessian(ey), (B * H * B.transpose()).eval()), tol) << "Hessian rotates";
+  const pce::Mat12<double> Pa = pce::projected_hessian(e, pce::Projection::analytic);
+  EXPECT_LT(rel_error(pce::projected_hessian(ey, pce::Projection::analytic), (B * Pa * B.transpose()).eval()), tol)
+      << "analytic projection rotates";
+}
+
+/// Every check on one case; only the evaluations that need the length and penalty types
+/// are in this function.
+template <class Pair, class S, class Length, class Penalty>
+void check_case(const Combo& combo, const Case& cs, const Length& len, const Penalty& pen) {
+  SCOPED_TRACE(testing::Message() << "x = " << cs.config.x.transpose() << ", scale " << cs.config.scale);
+  const pce::Vec12<S> x = cast12<S>(cs.config.x);
+  pce::PairEnergy<S> e;
+  ASSERT_EQ(pce::pair_energy<Pair>(x, len, pen, e), pce::Status::ok);
+
+  // --- 1. High-precision reference: the same code in 50 digits, at the same (rounded) input.
+  {
+    pce::PairEnergy<HP> r;
+    ASSERT_EQ(pce::pair_energy<Pair>(cast12<HP>(x), len, pen, r), pce::Status::ok);
+    check_against_reference(e, r);
+  }
+
+  // --- 2. Finite differences at several step sizes (best step counts), double and long double.
+  if constexpr (!std::is_same_v<S, float>) {
+    const auto value = [&](const pce::Vec12<S>& y) {
+      pce::PairEnergy<S> ey;
+      EXPECT_EQ(pce::pair_energy<Pair>(y, len, pen, ey), pce::Status::ok);
+      return ey.psi.value;
+    };
+    const auto gradient = [&](const pce::Vec12<S>& y) {
+      pce::PairEnergy<S> ey;
+      EXPECT_EQ(pce::pair_energy<Pair>(y, len, pen, ey), pce::Status::ok);
+      return pce::energy_gradient(ey);
+    };
+    const pce::Vec12<S> g = pce::energy_gradient(e);
+    const pce::Mat12<S> H = pce::energy_hessian(e);
+    const bool ld = std::is_same_v<S, long double>;
+    const double steps[3] = {ld ? 1e-4 : 1e-3, ld ? 1e-5 : 1e-4, ld ? 1e-6 : 1e-5};
+    double eg = 1e300, eh = 1e300;
+    for (double h : steps) {
+      const S hs = S(h * cs.config.scale);
+      eg = std::min(eg, rel_error(fd_gradient<S>(value, x, hs), g));
+      eh = std::min(eh, rel_error(fd_jacobian<S>(gradient, x, hs), H));
+    }
+    const double tol = ld ? 1e-8 : 1e-6;
+    EXPECT_LT(eg, tol) << "gradient vs finite differences";
+    EXPECT_LT(eh, tol) << "Hessian vs finite differences";
+  }
+
+  // --- 3.–5.
+  check_energy_algebra(e, pce::pullback(e.frame, pce::length_gradient(e.frame, len)));
+
+  // --- 6.
   {
     pce::PairResult<S> out;
     ASSERT_EQ(pce::evaluate<Pair>(x, len, pen, pce::Projection::analytic, out), pce::Status::ok);
-    EXPECT_EQ(out.value, e.psi.value);
-    EXPECT_EQ(out.length, e.length);
-    EXPECT_EQ(out.gradient, g);
-    EXPECT_EQ(out.hessian, H);
-    EXPECT_EQ(out.projected_hessian, pce::projected_hessian(e, pce::Projection::analytic));
+    check_result_matches(out, e);
   }
 
   // --- 7. Rigid motions: E(Rx + t) = E(x), ∇E and ∇²E rotate with R (double only).
@@ -235,13 +271,7 @@ void check_case(const Combo& combo, const Case& cs, const Length& len, const Pen
     }
     pce::PairEnergy<double> ey;
     ASSERT_EQ(pce::pair_energy<Pair>(y, len, pen, ey), pce::Status::ok);
-    const double tol = 1e-9;
-    EXPECT_NEAR(ey.psi.value, e.psi.value, tol * std::fabs(e.psi.value)) << "value invariant";
-    EXPECT_LT(rel_error(pce::energy_gradient(ey), (B * g).eval()), tol) << "gradient rotates";
-    EXPECT_LT(rel_error(pce::energy_hessian(ey), (B * H * B.transpose()).eval()), tol) << "Hessian rotates";
-    const pce::Mat12<double> Pa = pce::projected_hessian(e, pce::Projection::analytic);
-    EXPECT_LT(rel_error(pce::projected_hessian(ey, pce::Projection::analytic), (B * Pa * B.transpose()).eval()), tol)
-        << "analytic projection rotates";
+    check_rotated(e, ey, B);
   }
   (void)combo;
 }

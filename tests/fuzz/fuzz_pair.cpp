@@ -14,6 +14,7 @@
 /// active, at its boundary, or inactive) or from a menu including invalid ones (negative,
 /// NaN, ±Inf) and extreme ones (0, subnormal, 1e300, DBL_MAX).
 #include "fuzz_pair.hpp"
+#include "fuzz_eigensolvers.hpp"
 
 #include <pce/pce.hpp>
 
@@ -539,20 +540,6 @@ double decode_dhat(Bytes& b, double L) {
 // ---------------------------------------------------------------------------------------
 // Checks.
 
-/// Smallest eigenvalue of the symmetric `M` (its lower triangle), in long double.
-struct MinEig {
-  long double lambda_min = 0;
-  bool converged = true;
-};
-
-MinEig min_eigenvalue(const Eigen::Matrix<long double, 12, 12>& M) {
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<long double, 12, 12>> es(M, Eigen::EigenvaluesOnly);
-  MinEig r;
-  r.converged = es.info() == Eigen::Success;
-  if (r.converged) r.lambda_min = es.eigenvalues()[0];
-  return r;
-}
-
 long double max_abs(const Eigen::Matrix<long double, 12, 12>& M) { return M.cwiseAbs().maxCoeff(); }
 
 const char* check_name(int c) {
@@ -580,7 +567,7 @@ template <class S> void check_psd(const Eigen::Matrix<long double, 12, 12>& M, l
   if (!underflow && double(asym) > st.worst_asym[si]) st.worst_asym[si] = double(asym);
   PCE_FUZZ_CHECK(asym <= tol, "%s projection not symmetric: max|P - P^T| / scale = %.3Le > %.1Le", check_name(check),
                  asym, tol);
-  const MinEig e = min_eigenvalue(M);
+  const pce_fuzz::MinEig e = pce_fuzz::min_eigenvalue(M);
   ++st.psd_checks;
   if (!e.converged) {
     ++st.eig_no_convergence;
@@ -604,6 +591,95 @@ template <class S> Eigen::Matrix<long double, 12, 12> ld(const pce::Mat12<S>& M)
 
 constexpr pce::Projection kStrategies[5] = {pce::Projection::none, pce::Projection::analytic, pce::Projection::numerical,
                                             pce::Projection::gauss_newton, pce::Projection::abs};
+
+/// The lower-level outputs of one `ok` energy (gradient, exact Hessian, eigensystem and
+/// every projection) and the invariants on them that involve neither the pair kind, the
+/// length nor the penalty. Templated on the scalar alone, so it is compiled 3 times rather
+/// than once per scalar × pair × length × penalty (36).
+template <class S> struct LowerLevel {
+  pce::Vec12<S> g;
+  pce::Mat12<S> H;
+  pce::FrameEigensystem<S> eig;
+  pce::Mat12<S> P[5];
+  bool core_finite = false;
+};
+
+template <class S> void check_lower_level(const pce::PairEnergy<S>& e, LowerLevel<S>& out) {
+  PceFuzzStats& st = pce_fuzz_stats();
+  pce::Vec12<S>& g = out.g;
+  pce::Mat12<S>& H = out.H;
+  pce::FrameEigensystem<S>& eig = out.eig;
+  pce::Mat12<S>* const P = out.P;
+  bool& core_finite = out.core_finite;
+  if (e.psi.first != S(0) || e.psi.second != S(0)) ++st.active;
+  g = pce::energy_gradient(e);
+  H = pce::energy_hessian(e);
+  eig = pce::energy_eigensystem(e);
+  g_escape = &g;
+  g_escape = &H;
+  g_escape = &eig;
+  // Underflow in the frame, ψ or the exact Hessian, and in each projection. Inside the
+  // numerical projection's eigensolver an underflow only matters when ‖H‖ itself is
+  // within 1/ε of the underflow threshold (its errors are relative to ‖H‖).
+  const bool underflow = std::fetestexcept(FE_UNDERFLOW) != 0;
+  const bool tiny_h = !(H.cwiseAbs().maxCoeff() >= (std::numeric_limits<S>::min)() / std::numeric_limits<S>::epsilon());
+  bool uf[5];
+  for (int s = 0; s < 5; ++s) {
+    std::feclearexcept(FE_ALL_EXCEPT);
+    P[s] = pce::projected_hessian(e, kStrategies[s]);
+    g_escape = &P[s];
+    const bool here = std::fetestexcept(FE_UNDERFLOW) != 0;
+    uf[s] = underflow || (here && (kStrategies[s] != pce::Projection::numerical || tiny_h));
+  }
+  core_finite = finite(g) && finite(H) && finite(eig.values) && finite(e.length);
+
+  // evaluate() tests only the eigenvalues for overflow: finite values must imply finite vectors.
+  PCE_FUZZ_CHECK(!finite(eig.values) || finite(eig.vectors), "eigensystem: finite eigenvalues but a non-finite eigenvector");
+  PCE_FUZZ_CHECK(same_values(P[0], H) || !finite(H), "projection none differs from energy_hessian");
+  if (finite(eig.values)) {
+    int zeros = 0;
+    bool has_psi2 = false;
+    for (int i = 0; i < 9; ++i) {
+      if (i + 1 < 9)
+        PCE_FUZZ_CHECK(eig.values[i] <= eig.values[i + 1], "eigenvalues not ascending at %d: %.17Lg > %.17Lg", i,
+                       (long double)eig.values[i], (long double)eig.values[i + 1]);
+      if (eig.values[i] == S(0)) ++zeros;
+      if (eig.values[i] == e.psi.second) has_psi2 = true;
+    }
+    PCE_FUZZ_CHECK(zeros >= 4, "eigensystem: %d exact zeros, expected at least 4", zeros);
+    PCE_FUZZ_CHECK(has_psi2, "eigensystem: psi'' = %.17Lg is not an eigenvalue", (long double)e.psi.second);
+  }
+  if (finite(H)) {
+    const Eigen::Matrix<long double, 12, 12> Hl = ld(H);
+    const long double hs = max_abs(Hl);
+    if (hs > 0) {
+      const long double asym = (Hl - Hl.transpose()).cwiseAbs().maxCoeff() / hs;
+      if (asym > psd_tolerance<S>() && underflow)
+        ++st.underflow_excused;
+      else
+        PCE_FUZZ_CHECK(asym <= psd_tolerance<S>(), "exact Hessian not symmetric: %.3Le", asym);
+    }
+  }
+  // PSD-ness of every strategy but none, and the Loewner orderings abs ≥ analytic ≥ GN.
+  Eigen::Matrix<long double, 12, 12> Pl[5];
+  long double sc[5] = {0, 0, 0, 0, 0};
+  bool fin[5];
+  for (int s = 0; s < 5; ++s) {
+    fin[s] = finite(P[s]);
+    if (fin[s]) {
+      Pl[s] = ld(P[s]);
+      sc[s] = max_abs(Pl[s]);
+    } else if (s != 0 && finite(H)) {
+      ++st.projection_overflow;
+    }
+  }
+  if (fin[1]) check_psd<S>(Pl[1], sc[1], 0, uf[1]);
+  if (fin[2]) check_psd<S>(Pl[2], fin[0] ? (sc[2] > sc[0] ? sc[2] : sc[0]) : sc[2], 1, uf[2]);
+  if (fin[3]) check_psd<S>(Pl[3], sc[3], 2, uf[3]);
+  if (fin[4]) check_psd<S>(Pl[4], sc[4], 3, uf[4]);
+  if (fin[4] && fin[1]) check_psd<S>(Pl[4] - Pl[1], sc[4] > sc[1] ? sc[4] : sc[1], 4, uf[4] || uf[1]);
+  if (fin[1] && fin[3]) check_psd<S>(Pl[1] - Pl[3], sc[1] > sc[3] ? sc[1] : sc[3], 5, uf[1] || uf[3]);
+}
 
 template <class S, class Pair, class Length, class Penalty>
 void check_case(const pce::Vec12<S>& x, const Length& len, const Penalty& pen, bool barrier, double eps_or_dhat,
@@ -689,81 +765,13 @@ void check_case(const pce::Vec12<S>& x, const Length& len, const Penalty& pen, b
   }
 
   // --- lower-level outputs ----------------------------------------------------------------
-  pce::Vec12<S> g;
-  pce::Mat12<S> H;
-  pce::FrameEigensystem<S> eig;
-  pce::Mat12<S> P[5];
-  bool core_finite = false;
-  if (ps == Status::ok) {
-    if (e.psi.first != S(0) || e.psi.second != S(0)) ++st.active;
-    g = pce::energy_gradient(e);
-    H = pce::energy_hessian(e);
-    eig = pce::energy_eigensystem(e);
-    g_escape = &g;
-    g_escape = &H;
-    g_escape = &eig;
-    // Underflow in the frame, ψ or the exact Hessian, and in each projection. Inside the
-    // numerical projection's eigensolver an underflow only matters when ‖H‖ itself is
-    // within 1/ε of the underflow threshold (its errors are relative to ‖H‖).
-    const bool underflow = std::fetestexcept(FE_UNDERFLOW) != 0;
-    const bool tiny_h = !(H.cwiseAbs().maxCoeff() >= (std::numeric_limits<S>::min)() / std::numeric_limits<S>::epsilon());
-    bool uf[5];
-    for (int s = 0; s < 5; ++s) {
-      std::feclearexcept(FE_ALL_EXCEPT);
-      P[s] = pce::projected_hessian(e, kStrategies[s]);
-      g_escape = &P[s];
-      const bool here = std::fetestexcept(FE_UNDERFLOW) != 0;
-      uf[s] = underflow || (here && (kStrategies[s] != pce::Projection::numerical || tiny_h));
-    }
-    core_finite = finite(g) && finite(H) && finite(eig.values) && finite(e.length);
-
-    // evaluate() tests only the eigenvalues for overflow: finite values must imply finite vectors.
-    PCE_FUZZ_CHECK(!finite(eig.values) || finite(eig.vectors), "eigensystem: finite eigenvalues but a non-finite eigenvector");
-    PCE_FUZZ_CHECK(same_values(P[0], H) || !finite(H), "projection none differs from energy_hessian");
-    if (finite(eig.values)) {
-      int zeros = 0;
-      bool has_psi2 = false;
-      for (int i = 0; i < 9; ++i) {
-        if (i + 1 < 9)
-          PCE_FUZZ_CHECK(eig.values[i] <= eig.values[i + 1], "eigenvalues not ascending at %d: %.17Lg > %.17Lg", i,
-                         (long double)eig.values[i], (long double)eig.values[i + 1]);
-        if (eig.values[i] == S(0)) ++zeros;
-        if (eig.values[i] == e.psi.second) has_psi2 = true;
-      }
-      PCE_FUZZ_CHECK(zeros >= 4, "eigensystem: %d exact zeros, expected at least 4", zeros);
-      PCE_FUZZ_CHECK(has_psi2, "eigensystem: psi'' = %.17Lg is not an eigenvalue", (long double)e.psi.second);
-    }
-    if (finite(H)) {
-      const Eigen::Matrix<long double, 12, 12> Hl = ld(H);
-      const long double hs = max_abs(Hl);
-      if (hs > 0) {
-        const long double asym = (Hl - Hl.transpose()).cwiseAbs().maxCoeff() / hs;
-        if (asym > psd_tolerance<S>() && underflow)
-          ++st.underflow_excused;
-        else
-          PCE_FUZZ_CHECK(asym <= psd_tolerance<S>(), "exact Hessian not symmetric: %.3Le", asym);
-      }
-    }
-    // PSD-ness of every strategy but none, and the Loewner orderings abs ≥ analytic ≥ GN.
-    Eigen::Matrix<long double, 12, 12> Pl[5];
-    long double sc[5] = {0, 0, 0, 0, 0};
-    bool fin[5];
-    for (int s = 0; s < 5; ++s) {
-      fin[s] = finite(P[s]);
-      if (fin[s]) {
-        Pl[s] = ld(P[s]);
-        sc[s] = max_abs(Pl[s]);
-      } else if (s != 0 && finite(H)) {
-        ++st.projection_overflow;
-      }
-    }
-    if (fin[1]) check_psd<S>(Pl[1], sc[1], 0, uf[1]);
-    if (fin[2]) check_psd<S>(Pl[2], fin[0] ? (sc[2] > sc[0] ? sc[2] : sc[0]) : sc[2], 1, uf[2]);
-    if (fin[3]) check_psd<S>(Pl[3], sc[3], 2, uf[3]);
-    if (fin[4]) check_psd<S>(Pl[4], sc[4], 3, uf[4]);
-    if (fin[4] && fin[1]) check_psd<S>(Pl[4] - Pl[1], sc[4] > sc[1] ? sc[4] : sc[1], 4, uf[4] || uf[1]);
-    if (fin[1] && fin[3]) check_psd<S>(Pl[1] - Pl[3], sc[1] > sc[3] ? sc[1] : sc[3], 5, uf[1] || uf[3]);
-  }
+  LowerLevel<S> low;
+  if (ps == Status::ok) check_lower_level(e, low);
+  const pce::Vec12<S>& g = low.g;
+  const pce::Mat12<S>& H = low.H;
+  const pce::FrameEigensystem<S>& eig = low.eig;
+  const pce::Mat12<S>* const P = low.P;
+  const bool core_finite = low.core_finite;
 
   // --- evaluate ---------------------------------------------------------------------------
   pce::PairResult<S> r;

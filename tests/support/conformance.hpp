@@ -5,6 +5,8 @@
 /// configurations, scalar conversion, finite differences and error measures.
 #pragma once
 
+#include "eigensolvers.hpp"
+
 #include <pce/pce.hpp>
 
 #include <Eigen/Eigenvalues>
@@ -181,12 +183,6 @@ template <class S, class F> pce::Mat12<S> fd_jacobian(F&& f, const pce::Vec12<S>
     J.col(i) = (f(xp) - f(xm)) / (xp[i] - xm[i]);
   }
   return J;
-}
-
-/// Smallest eigenvalue of a symmetric matrix (computed in its own precision).
-template <class S, int N> double min_eigenvalue(const Eigen::Matrix<S, N, N>& H) {
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<S, N, N>> es(H);
-  return static_cast<double>(es.eigenvalues().minCoeff());
 }
 
 }  // namespace pce_test

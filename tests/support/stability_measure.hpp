@@ -106,9 +106,9 @@ template <class S> Measurement measure(const HardCase& hc, int perturbations = 6
                                   pce::Projection::abs}) {
           const pce::Mat12<S> P = pce::projected_hessian(e, p);
           m.finite = m.finite && pce::detail::all_finite(P);
-          Eigen::SelfAdjointEigenSolver<Eigen::Matrix<long double, 12, 12>> es(P.template cast<long double>());
-          const double big = static_cast<double>(es.eigenvalues().cwiseAbs().maxCoeff());
-          if (big > 0) m.worst_psd = std::min(m.worst_psd, static_cast<double>(es.eigenvalues().minCoeff()) / big);
+          const pce::Vec12<long double> lam = symmetric_eigen<long double, 12>(P.template cast<long double>()).values;
+          const double big = static_cast<double>(lam.cwiseAbs().maxCoeff());
+          if (big > 0) m.worst_psd = std::min(m.worst_psd, static_cast<double>(lam.minCoeff()) / big);
         }
         if (ref.status != pce::Status::ok) {
           m.err_value = m.err_gradient = m.err_hessian = std::numeric_limits<double>::infinity();

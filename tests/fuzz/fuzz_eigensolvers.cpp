@@ -1,0 +1,21 @@
+// SPDX-License-Identifier: MIT
+// See fuzz_eigensolvers.hpp.
+#include "fuzz_eigensolvers.hpp"
+
+namespace pce_fuzz {
+
+MinEig min_eigenvalue(const Eigen::Matrix<long double, 12, 12>& M) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<long double, 12, 12>> es(M, Eigen::EigenvaluesOnly);
+  MinEig r;
+  r.converged = es.info() == Eigen::Success;
+  if (r.converged) r.lambda_min = es.eigenvalues()[0];
+  return r;
+}
+
+}  // namespace pce_fuzz
+
+namespace pce {
+PCE_FUZZ_PROJECT_PSD(, float)
+PCE_FUZZ_PROJECT_PSD(, double)
+PCE_FUZZ_PROJECT_PSD(, long double)
+}  // namespace pce

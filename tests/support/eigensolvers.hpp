@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// The tests' dense symmetric eigensolvers, compiled once (`eigensolvers.cpp`, linked into
+/// every test as `pce_test_support`) instead of in every test executable.
+///
+/// Eigen's `SelfAdjointEigenSolver` costs about 6 s of compile time per scalar type and
+/// matrix size, and the suite needs it for four scalars (float, double, long double and
+/// the 50-digit reference) and two sizes: directly, and through `pce::project_psd`, which
+/// `pce::projected_hessian` instantiates for every scalar it is called with. The explicit
+/// instantiation declarations below keep each test from compiling those bodies again.
+#pragma once
+
+#include "high_precision.hpp"
+
+#include <pce/energy/psd_projection.hpp>
+
+#include <Eigen/Eigenvalues>
+
+namespace pce_test {
+
+/// Smallest eigenvalue of a symmetric matrix (computed in its own precision), as double.
+template <class S, int N> double min_eigenvalue(const Eigen::Matrix<S, N, N>& H) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<S, N, N>> es(H);
+  return static_cast<double>(es.eigenvalues().minCoeff());
+}
+
+/// Eigenvalues (ascending) and orthonormal eigenvectors of a symmetric matrix.
+template <class S, int N> struct SymmetricEigen {
+  Eigen::Matrix<S, N, 1> values;
+  Eigen::Matrix<S, N, N> vectors;
+};
+template <class S, int N> SymmetricEigen<S, N> symmetric_eigen(const Eigen::Matrix<S, N, N>& H) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<S, N, N>> es(H);
+  return {es.eigenvalues(), es.eigenvectors()};
+}
+
+#define PCE_TEST_EIGENSOLVERS(EXTERN, S)                                                        \
+  EXTERN template double min_eigenvalue<S, 12>(const Eigen::Matrix<S, 12, 12>&);                \
+  EXTERN template double min_eigenvalue<S, 9>(const Eigen::Matrix<S, 9, 9>&);                   \
+  EXTERN template SymmetricEigen<S, 9> symmetric_eigen<S, 9>(const Eigen::Matrix<S, 9, 9>&);    \
+  EXTERN template SymmetricEigen<S, 12> symmetric_eigen<S, 12>(const Eigen::Matrix<S, 12, 12>&);
+PCE_TEST_EIGENSOLVERS(extern, float)
+PCE_TEST_EIGENSOLVERS(extern, double)
+PCE_TEST_EIGENSOLVERS(extern, long double)
+
+}  // namespace pce_test
+
+namespace pce {
+#define PCE_TEST_PROJECT_PSD(EXTERN, S) EXTERN template Mat12<S> project_psd<S, 12>(const Mat12<S>&);
+PCE_TEST_PROJECT_PSD(extern, float)
+PCE_TEST_PROJECT_PSD(extern, double)
+PCE_TEST_PROJECT_PSD(extern, long double)
+PCE_TEST_PROJECT_PSD(extern, pce_test::HighPrecision)
+}  // namespace pce
