@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// The tests' dense symmetric eigensolvers, compiled once (`eigensolvers.cpp`, linked into
-/// every test as `pce_test_support`) instead of in every test executable.
+/// The tests' dense symmetric eigensolvers, compiled once (`eigensolvers_native.cpp` and
+/// `eigensolvers_high_precision.cpp`, linked into every test as `pce_test_support`)
+/// instead of in every test executable.
 ///
 /// Eigen's `SelfAdjointEigenSolver` costs about 6 s of compile time per scalar type and
 /// matrix size, and the suite needs it for four scalars (float, double, long double and
