@@ -11,12 +11,16 @@
 
 namespace pce {
 
-template <class Scalar> using Vec3 = Eigen::Matrix<Scalar, 3, 1>;
-template <class Scalar> using Vec9 = Eigen::Matrix<Scalar, 9, 1>;
-template <class Scalar> using Vec12 = Eigen::Matrix<Scalar, 12, 1>;
-template <class Scalar> using Mat3 = Eigen::Matrix<Scalar, 3, 3>;
-template <class Scalar> using Mat9 = Eigen::Matrix<Scalar, 9, 9>;
-template <class Scalar> using Mat12 = Eigen::Matrix<Scalar, 12, 12>;
+template <class Scalar, int N> using VecN = Eigen::Matrix<Scalar, N, 1>;
+template <class Scalar, int N> using MatN = Eigen::Matrix<Scalar, N, N>;
+template <class Scalar> using Vec3 = VecN<Scalar, 3>;
+template <class Scalar> using Vec6 = VecN<Scalar, 6>;
+template <class Scalar> using Vec9 = VecN<Scalar, 9>;
+template <class Scalar> using Vec12 = VecN<Scalar, 12>;
+template <class Scalar> using Mat3 = MatN<Scalar, 3>;
+template <class Scalar> using Mat6 = MatN<Scalar, 6>;
+template <class Scalar> using Mat9 = MatN<Scalar, 9>;
+template <class Scalar> using Mat12 = MatN<Scalar, 12>;
 /// Coefficients of the reduced frame in the four vertices: `c_k = sum_j P(k, j) x_j`.
 template <class Scalar> using Mat34 = Eigen::Matrix<Scalar, 3, 4>;
 
@@ -25,7 +29,8 @@ template <class Scalar> using Mat34 = Eigen::Matrix<Scalar, 3, 4>;
 enum class Status {
   ok = 0,
   invalid_input,  ///< a coordinate or parameter is NaN, Inf or beyond `Constants::max_coordinate`
-  degenerate,     ///< the frame does not exist: zero-area triangle, parallel or zero-length edges
+  degenerate,     ///< the frame does not exist: zero-area triangle, parallel or zero-length edges;
+                  ///< for the point kinds, distance exactly 0 (its direction is undefined)
   out_of_domain,  ///< the penalty is undefined at this length (log barrier at L <= 0)
   overflow,       ///< a result is not representable in the scalar type
 };
@@ -59,6 +64,16 @@ namespace detail {
 template <class Scalar> inline bool is_finite(const Scalar& v) {
   using std::isfinite;
   return isfinite(v);
+}
+
+/// `invalid_input` unless every coordinate is finite and within `max_coordinate`.
+template <class Derived> inline bool coordinates_valid(const Eigen::MatrixBase<Derived>& x) {
+  using std::abs;
+  using Scalar = typename Derived::Scalar;
+  const Scalar lim = Constants<Scalar>::max_coordinate();
+  for (Eigen::Index i = 0; i < x.size(); ++i)
+    if (!is_finite(x[i]) || abs(x[i]) > lim) return false;
+  return true;
 }
 
 template <class Derived> inline bool all_finite(const Eigen::MatrixBase<Derived>& m) {

@@ -26,6 +26,7 @@
 /// the trigonometric closed form loses its small eigenvalue, see there).
 #pragma once
 
+#include <pce/core/jacobi.hpp>
 #include <pce/energy/pair_energy.hpp>
 
 
@@ -119,47 +120,12 @@ template <class Scalar> bool unmollified(const MollifiedEnergy<Scalar>& e) {
   return e.mollifier == Scalar(1) && e.dm == Scalar(0);
 }
 
-/// Eigen-decomposition of a symmetric 3×3 matrix by cyclic Jacobi rotations (Rutishauser's
-/// update). Unlike the trigonometric closed form it keeps small eigenvalues of graded
-/// matrices accurate to their own size (Demmel & Veselić 1992), which matters here: the
-/// {x0, y1, z2} block has entries O(1), O(s), O(s²) near parallel edges and its pullback
-/// multiplies the z2 part by |J|² ~ 1/s². Converges to full precision in a few sweeps.
-template <class Scalar> void jacobi3(Mat3<Scalar>& A, Mat3<Scalar>& V) {
-  using std::abs;
-  using std::sqrt;
-  V.setIdentity();
-  const Scalar eps = Constants<Scalar>::epsilon();
-  for (int sweep = 0; sweep < 12; ++sweep) {
-    bool rotated = false;
-    for (int p = 0; p < 2; ++p)
-      for (int q = p + 1; q < 3; ++q) {
-        const Scalar apq = A(p, q);
-        if (apq == Scalar(0) || abs(apq) <= eps * sqrt(abs(A(p, p) * A(q, q))) / Scalar(4)) {
-          A(p, q) = A(q, p) = Scalar(0);
-          continue;
-        }
-        rotated = true;
-        const Scalar theta = (A(q, q) - A(p, p)) / (Scalar(2) * apq);
-        const Scalar at = abs(theta);
-        const Scalar t = (at > Scalar(1) / eps ? Scalar(1) / (Scalar(2) * at) : Scalar(1) / (at + sqrt(at * at + Scalar(1)))) *
-                         (theta < Scalar(0) ? Scalar(-1) : Scalar(1));
-        const Scalar c = Scalar(1) / sqrt(t * t + Scalar(1)), sn = t * c;
-        A(p, p) -= t * apq;
-        A(q, q) += t * apq;
-        A(p, q) = A(q, p) = Scalar(0);
-        const int r = 3 - p - q;
-        const Scalar arp = A(r, p), arq = A(r, q);
-        A(r, p) = A(p, r) = c * arp - sn * arq;
-        A(r, q) = A(q, r) = sn * arp + c * arq;
-        for (int i = 0; i < 3; ++i) {
-          const Scalar vip = V(i, p), viq = V(i, q);
-          V(i, p) = c * vip - sn * viq;
-          V(i, q) = sn * vip + c * viq;
-        }
-      }
-    if (!rotated) break;
-  }
-}
+/// Eigen-decomposition of a symmetric 3×3 matrix by cyclic Jacobi rotations with no
+/// absolute threshold (`core/jacobi.hpp`). Unlike the trigonometric closed form it keeps
+/// small eigenvalues of graded matrices accurate to their own size (Demmel & Veselić 1992),
+/// which matters here: the {x0, y1, z2} block has entries O(1), O(s), O(s²) near parallel
+/// edges and its pullback multiplies the z2 part by |J|² ~ 1/s².
+template <class Scalar> void jacobi3(Mat3<Scalar>& A, Mat3<Scalar>& V) { jacobi_eigen<Scalar, 3>(A, V, Scalar(0)); }
 
 /// Unit 9-vector with direction `d` in frame slot `k`.
 template <class Scalar> Vec9<Scalar> slot(int k, const Vec3<Scalar>& d) {

@@ -13,6 +13,7 @@
 /// for the four eigenpairs of H_l, and four zeros (`lengths/length_hessian.hpp`).
 #pragma once
 
+#include <pce/energy/exact_projection.hpp>
 #include <pce/energy/psd_projection.hpp>
 #include <pce/frames/edge_edge.hpp>
 #include <pce/frames/vertex_face.hpp>
@@ -20,6 +21,7 @@
 #include <pce/penalties/penalty.hpp>
 
 #include <cmath>
+#include <type_traits>
 
 namespace pce {
 
@@ -30,6 +32,8 @@ enum class Projection {
   numerical,     ///< V max(Λ,0) Vᵀ of the exact 12×12 Hessian: the true nearest PSD matrix
   gauss_newton,  ///< max(ψ″,0) ∇L ∇Lᵀ: drops the length's curvature
   abs,           ///< Jᵀ [|ψ″| ggᵀ + Σ |σψ′λ| qqᵀ] J: flip negative eigenvalues instead
+  exact,         ///< the same matrix as `numerical` (the nearest PSD matrix in x-space), through
+                 ///< the Hessian's rank ≤ 5 structure: a ≤ 5×5 eigenproblem, no 12×12 eigensolve
 };
 
 /// Name of a strategy, as `pce-probe` spells it.
@@ -40,9 +44,14 @@ inline const char* to_string(Projection p) {
     case Projection::numerical: return "numerical";
     case Projection::gauss_newton: return "gauss_newton";
     case Projection::abs: return "abs";
+    case Projection::exact: return "exact";
   }
   return "unknown";
 }
+
+/// Whether `Length` is the signed length (meaningless for the point kinds and for
+/// closest-feature evaluation, which report `invalid_input` for it).
+template <class Length> constexpr bool is_signed_length() { return std::is_same_v<Length, SignedLength>; }
 
 /// Everything one pair needs, evaluated once: the frame, σ = dL/dl, L and ψ, ψ′, ψ″.
 template <class Scalar> struct PairEnergy {
@@ -51,6 +60,19 @@ template <class Scalar> struct PairEnergy {
   Scalar length;  ///< L = σ l
   PenaltyDerivatives<Scalar> psi;
 };
+
+namespace detail {
+/// ψ, ψ′, ψ″ at `L`: `out_of_domain` where the penalty is undefined, `overflow` when a
+/// derivative is not finite; `psi` is written only on `ok`.
+template <class Penalty, class Scalar>
+Status evaluate_penalty(const Penalty& penalty, const Scalar& L, PenaltyDerivatives<Scalar>& psi) {
+  if (!penalty_in_domain(penalty, L)) return Status::out_of_domain;
+  const PenaltyDerivatives<Scalar> v = penalty.template evaluate<Scalar>(L);
+  if (!is_finite(v.value) || !is_finite(v.first) || !is_finite(v.second)) return Status::overflow;
+  psi = v;
+  return Status::ok;
+}
+}  // namespace detail
 
 /// Evaluates the frame, the length and the penalty of pair `x` (`Pair` is `VertexFace` or
 /// `EdgeEdge`). Returns `invalid_input` for bad coordinates or penalty parameters,
@@ -64,10 +86,8 @@ Status pair_energy(const Vec12<Scalar>& x, const Length& length, const Penalty& 
   if (s != Status::ok) return s;
   e.sigma = length.sigma(e.frame);
   e.length = e.sigma * e.frame.l;
-  if (!penalty_in_domain(penalty, e.length)) return Status::out_of_domain;
-  e.psi = penalty.template evaluate<Scalar>(e.length);
-  if (!detail::is_finite(e.psi.value) || !detail::is_finite(e.psi.first) || !detail::is_finite(e.psi.second))
-    return Status::overflow;
+  const Status sp = detail::evaluate_penalty(penalty, e.length, e.psi);
+  if (sp != Status::ok) return sp;
   out = e;
   return Status::ok;
 }
@@ -85,9 +105,34 @@ template <class Scalar> FrameBlocks<Scalar> energy_frame_hessian(const PairEnerg
   return detail::frame_hessian_blocks(e.frame, Scalar(e.sigma * e.psi.first), e.psi.second);
 }
 
-/// Exact Hessian ∇²E = Jᵀ(ψ″ggᵀ + σψ′H_l)J.
+namespace detail {
+/// The x-space vectors `Jᵀ(d in slot k) = P.row(k) ⊗ d` the plane kinds' Hessians are made of.
+template <class Scalar> struct PlaneVectors {
+  Vec12<Scalar> w[3];  ///< w_k = p_k ⊗ n̂ (w_2 = ∇l)
+  Vec12<Scalar> u[2];  ///< u_k = p_2 ⊗ ê_k
+  explicit PlaneVectors(const Frame<Scalar>& f) {
+    for (int k = 0; k < 3; ++k) w[k] = kron<Scalar>(f.P.row(k), f.n);
+    u[0] = kron<Scalar>(f.P.row(2), f.t0);
+    u[1] = kron<Scalar>(f.P.row(2), f.t1);
+  }
+};
+}  // namespace detail
+
+/// Exact Hessian ∇²E = Jᵀ(ψ″ggᵀ + σψ′H_l)J, written as the rank-one and rank-two terms it
+/// is (`docs/math.md` §6): `ψ″ w₂w₂ᵀ + Σ_k [m_k w_k w_kᵀ + μ_k (w_k u_kᵀ + u_k w_kᵀ)]` with
+/// `m_k = −σψ′ l/a_k²`, `μ_k = −σψ′/a_k` (the families of (M14); exact zeros stay zero).
 template <class Scalar> Mat12<Scalar> energy_hessian(const PairEnergy<Scalar>& e) {
-  return pullback(e.frame, energy_frame_hessian(e));
+  const Frame<Scalar>& f = e.frame;
+  const detail::PlaneVectors<Scalar> v(f);
+  const Scalar c1 = e.sigma * e.psi.first;
+  const Scalar a[2] = {f.a0, f.a1};
+  detail::SymmetricSum<Scalar, 12> sum;
+  sum.rank_one(e.psi.second, v.w[2]);
+  for (int k = 0; k < 2; ++k) {
+    const Scalar m = -c1 * ((f.l / a[k]) / a[k]), mu = -c1 / a[k];
+    sum.rank_two(v.w[k], (Scalar(m / Scalar(2)) * v.w[k] + mu * v.u[k]).eval());
+  }
+  return sum.matrix();
 }
 
 /// Closed-form eigensystem of the frame Hessian `ψ″ggᵀ + σψ′H_l` (9×9, frame space),
@@ -98,32 +143,26 @@ template <class Scalar> FrameEigensystem<Scalar> energy_eigensystem(const PairEn
 
 namespace detail {
 
-/// Frame blocks of Σ f(μ) q qᵀ over the closed-form eigenpairs, f = max(·,0) or |·|.
-template <class Scalar, class F> FrameBlocks<Scalar> filtered_frame_hessian(const PairEnergy<Scalar>& e, F f) {
+/// x-space `Jᵀ [f(ψ″) ggᵀ + Σ f(σψ′λ) q qᵀ] J` assembled from rank-one terms
+/// `f(μ) (Jᵀq)(Jᵀq)ᵀ` (terms with f(μ) = 0 cost nothing: one per family for `analytic`).
+template <class Scalar, class F> Mat12<Scalar> filtered_hessian(const PairEnergy<Scalar>& e, F f) {
   const Frame<Scalar>& fr = e.frame;
-  FrameBlocks<Scalar> b = FrameBlocks<Scalar>::Zero();
-  const Mat3<Scalar> nn = fr.n * fr.n.transpose();
-  b.h22 = f(e.psi.second) * nn;
+  const PlaneVectors<Scalar> v(fr);
+  SymmetricSum<Scalar, 12> sum;
+  const Scalar c2 = f(e.psi.second);
+  if (c2 != Scalar(0)) sum.rank_one(c2, v.w[2]);
   const Scalar c1 = e.sigma * e.psi.first;
-  if (c1 == Scalar(0)) return b;
-  const Vec3<Scalar>* tk[2] = {&fr.t0, &fr.t1};
-  Mat3<Scalar>* hkk[2] = {&b.h00, &b.h11};
-  Mat3<Scalar>* hk2[2] = {&b.h02, &b.h12};
+  if (c1 == Scalar(0)) return sum.matrix();
   const Scalar a[2] = {fr.a0, fr.a1};
   for (int k = 0; k < 2; ++k) {
     const LengthFamily<Scalar> fam = length_family(fr.l, a[k]);
     const Scalar mb = f(Scalar(c1 * fam.lambda_big)), ms = f(Scalar(c1 * fam.lambda_small));
-    // Σ μ q qᵀ in the family's 2-D basis (n̂ in slot k, ê_k in slot 2), with
-    // q_big = (s, w)√n2 and q_small = (w, −s)√n2: no square root needed.
-    const Scalar w = fam.w, w2 = w * w;
-    const Scalar s00 = fam.n2 * (mb + ms * w2);
-    const Scalar s01 = fam.n2 * fam.s * w * (mb - ms);
-    const Scalar s11 = fam.n2 * (mb * w2 + ms);
-    *hkk[k] = s00 * nn;
-    *hk2[k] = s01 * (fr.n * tk[k]->transpose());
-    b.h22 += s11 * (*tk[k] * tk[k]->transpose());
+    // q_big = (s, w)√n2 and q_small = (w, −s)√n2 in the basis (w_k, u_k); the √n2 goes
+    // into the weight, so no square root is taken.
+    if (mb != Scalar(0)) sum.rank_one(Scalar(mb * fam.n2), (fam.s * v.w[k] + fam.w * v.u[k]).eval());
+    if (ms != Scalar(0)) sum.rank_one(Scalar(ms * fam.n2), (fam.w * v.w[k] - fam.s * v.u[k]).eval());
   }
-  return b;
+  return sum.matrix();
 }
 
 }  // namespace detail
@@ -136,8 +175,9 @@ template <class Scalar> Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>
   switch (strategy) {
     case Projection::none: return energy_hessian(e);
     case Projection::numerical: return project_psd(energy_hessian(e));
-    case Projection::analytic: return pullback(e.frame, detail::filtered_frame_hessian(e, clamp));
-    case Projection::abs: return pullback(e.frame, detail::filtered_frame_hessian(e, flip));
+    case Projection::analytic: return detail::filtered_hessian(e, clamp);
+    case Projection::abs: return detail::filtered_hessian(e, flip);
+    case Projection::exact: return detail::exact_projection(e.frame, Scalar(e.sigma * e.psi.first), e.psi.second);
     case Projection::gauss_newton: {  // rank one: max(ψ″,0) ∇L∇Lᵀ, ∇L = σ Jᵀ g
       Vec12<Scalar> gL;
       for (int j = 0; j < 4; ++j) gL.template segment<3>(3 * j) = (e.sigma * e.frame.P(2, j)) * e.frame.n;
@@ -147,25 +187,27 @@ template <class Scalar> Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>
   return energy_hessian(e);
 }
 
-/// All outputs of one pair.
-template <class Scalar> struct PairResult {
-  Scalar length;                      ///< L
-  Scalar value;                       ///< E = ψ(L)
-  Vec12<Scalar> gradient;             ///< ∇E
-  Mat12<Scalar> hessian;              ///< exact ∇²E
-  Mat12<Scalar> projected_hessian;    ///< by the requested strategy
-  FrameEigensystem<Scalar> eigen;     ///< closed-form, frame space (9), ascending
+/// All outputs of one pair (`Dofs` coordinates, `FrameDofs` frame coordinates: 12 and 9
+/// for the plane kinds, 9 and 6 for point-edge, 6 and 3 for point-point).
+template <class Scalar, int Dofs = 12, int FrameDofs = 9> struct PairResult {
+  Scalar length;                                 ///< L
+  Scalar value;                                  ///< E = ψ(L)
+  VecN<Scalar, Dofs> gradient;                   ///< ∇E
+  MatN<Scalar, Dofs> hessian;                    ///< exact ∇²E
+  MatN<Scalar, Dofs> projected_hessian;          ///< by the requested strategy
+  FrameEigensystem<Scalar, FrameDofs> eigen;     ///< closed-form, frame space, ascending
 };
 
-/// Evaluates everything for one pair. On any non-ok status `out` is not written; a result
-/// that is not finite gives `overflow`.
+/// Evaluates everything for one pair of kind `Pair` (`VertexFace`, `EdgeEdge`, `PointEdge`,
+/// `PointPoint`). On any non-ok status `out` is not written; a result that is not finite
+/// gives `overflow`.
 template <class Pair, class Scalar, class Length, class Penalty>
-Status evaluate(const Vec12<Scalar>& x, const Length& length, const Penalty& penalty, Projection strategy,
-                PairResult<Scalar>& out) {
-  PairEnergy<Scalar> e;
+Status evaluate(const VecN<Scalar, Pair::dofs>& x, const Length& length, const Penalty& penalty, Projection strategy,
+                PairResult<Scalar, Pair::dofs, Pair::frame_dofs>& out) {
+  typename Pair::template Energy<Scalar> e;
   const Status s = pair_energy<Pair>(x, length, penalty, e);
   if (s != Status::ok) return s;
-  PairResult<Scalar> r;
+  PairResult<Scalar, Pair::dofs, Pair::frame_dofs> r;
   r.length = e.length;
   r.value = e.psi.value;
   r.gradient = energy_gradient(e);

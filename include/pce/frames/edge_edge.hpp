@@ -10,9 +10,15 @@
 
 namespace pce {
 
+template <class Scalar> struct PairEnergy;
+
 /// Tag type for the edge-edge pair kind.
 struct EdgeEdge {
   static constexpr const char* name = "edge_edge";
+  static constexpr int dofs = 12;       ///< coordinates: four points
+  static constexpr int frame_dofs = 9;  ///< frame coordinates (e0, e1⊥, e2⊥)
+  /// The evaluated energy of this kind (`energy/pair_energy.hpp`).
+  template <class Scalar> using Energy = PairEnergy<Scalar>;
 
   /// Builds the reduced frame of `x = (ea0, ea1, eb0, eb1)`; `invalid_input` for
   /// non-finite or absurd coordinates, `degenerate` for parallel or zero-length edges; on

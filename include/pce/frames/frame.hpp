@@ -74,6 +74,18 @@ template <class Scalar> Eigen::Matrix<Scalar, 9, 12> frame_jacobian(const Frame<
   return J;
 }
 
+namespace detail {
+/// `r ⊗ d`: point `j` gets `r[j] d` (a frame direction `d` in slot k pulled back to the
+/// coordinates is `P.row(k) ⊗ d`, i.e. `Jᵀ` of that slot vector).
+template <class Scalar, class Row> VecN<Scalar, 3 * Row::SizeAtCompileTime> kron(const Row& r, const Vec3<Scalar>& d) {
+  constexpr int n = Row::SizeAtCompileTime;
+  VecN<Scalar, 3 * n> v;
+  for (int j = 0; j < n; ++j) v.template segment<3>(3 * j) = r[j] * d;
+  return v;
+}
+
+}  // namespace detail
+
 /// Pull a frame-space gradient `gc` (9) back to the 12 coordinates: `Jᵀ gc`.
 template <class Scalar> Vec12<Scalar> pullback(const Frame<Scalar>& f, const Vec9<Scalar>& gc) {
   Vec12<Scalar> g;
@@ -104,6 +116,36 @@ template <class Scalar> Mat12<Scalar> pullback(const Frame<Scalar>& f, const Fra
 
 namespace detail {
 
+/// Exact rescaling by the power of two `2^-ex` nearest a reference size `big > 0`
+/// (`big = mant·2^ex`, mant in [0.5, 1)): no rounding, and no overflow in products of
+/// the rescaled vectors. One multiplication by a power of two is exact unless the result
+/// is subnormal; only for exponents near the ends of the range do we fall back to `ldexp`
+/// per coordinate.
+template <class Scalar> struct PowerOfTwoScale {
+  int ex = 0;
+  bool moderate;
+  Scalar factor;
+  explicit PowerOfTwoScale(const Scalar& big) {
+    using std::frexp;
+    using std::ldexp;
+    frexp(big, &ex);
+    moderate = ex > std::numeric_limits<Scalar>::min_exponent + 64 && ex < std::numeric_limits<Scalar>::max_exponent - 64;
+    factor = moderate ? Scalar(ldexp(Scalar(1), -ex)) : Scalar(1);
+  }
+  /// v · 2^-ex
+  Vec3<Scalar> down(const Vec3<Scalar>& v) const {
+    using std::ldexp;
+    if (moderate) return v * factor;
+    const int e = ex;
+    return v.unaryExpr([e](const Scalar& c) { return Scalar(ldexp(c, -e)); });
+  }
+  /// v · 2^ex
+  Scalar up(const Scalar& v) const {
+    using std::ldexp;
+    return moderate ? Scalar(v * ldexp(Scalar(1), ex)) : Scalar(ldexp(v, ex));
+  }
+};
+
 /// Build the frame from the pair's edge vectors and the constant map `D` (rows: e0, e1, e2
 /// as combinations of the four vertices). Uses the stable forms of
 /// `docs/stability.md`: an exact power-of-two rescaling, β and γ from `m = e0 × e1`
@@ -120,20 +162,9 @@ Status make_frame(const Vec3<Scalar>& e0, const Vec3<Scalar>& e1, const Vec3<Sca
   const Scalar big = (e0.cwiseAbs().maxCoeff() > e1.cwiseAbs().maxCoeff()) ? e0.cwiseAbs().maxCoeff()
                                                                            : e1.cwiseAbs().maxCoeff();
   if (!(big > Scalar(0))) return Status::degenerate;
-  int ex = 0;
-  frexp(big, &ex);  // big = mant * 2^ex, mant in [0.5, 1)
-  // Exact rescaling by 2^-ex: no rounding, no overflow in the products below. One
-  // multiplication by a power of two is exact unless the result is subnormal; only for
-  // exponents near the ends of the range do we fall back to ldexp per coordinate.
-  const bool moderate = ex > std::numeric_limits<Scalar>::min_exponent + 64 &&
-                        ex < std::numeric_limits<Scalar>::max_exponent - 64;
-  const Scalar down = moderate ? Scalar(ldexp(Scalar(1), -ex)) : Scalar(1);
-  const auto rescale = [&](const Vec3<Scalar>& v) -> Vec3<Scalar> {
-    if (moderate) return v * down;
-    return v.unaryExpr([ex](const Scalar& c) { return Scalar(ldexp(c, -ex)); });
-  };
-  const Vec3<Scalar> E0 = rescale(e0), E1 = rescale(e1), E2 = rescale(e2);
-  const auto unscale = [&](const Scalar& v) -> Scalar { return moderate ? Scalar(v * ldexp(Scalar(1), ex)) : Scalar(ldexp(v, ex)); };
+  const PowerOfTwoScale<Scalar> sc(big);
+  const Vec3<Scalar> E0 = sc.down(e0), E1 = sc.down(e1), E2 = sc.down(e2);
+  const auto unscale = [&](const Scalar& v) -> Scalar { return sc.up(v); };
 
   const Vec3<Scalar> m = E0.cross(E1);
   const Scalar mn = sqrt(m.squaredNorm());
@@ -173,11 +204,7 @@ Status make_frame(const Vec3<Scalar>& e0, const Vec3<Scalar>& e1, const Vec3<Sca
 
 /// `invalid_input` unless every coordinate is finite and within `max_coordinate`.
 template <class Scalar> Status check_coordinates(const Vec12<Scalar>& x) {
-  using std::abs;
-  const Scalar lim = Constants<Scalar>::max_coordinate();
-  for (int i = 0; i < 12; ++i)
-    if (!is_finite(x[i]) || abs(x[i]) > lim) return Status::invalid_input;
-  return Status::ok;
+  return coordinates_valid(x) ? Status::ok : Status::invalid_input;
 }
 
 /// The frame of a pair whose edge vectors are `e_k = Σ_j D(k, j) x_j` (D has entries

@@ -11,9 +11,15 @@
 
 namespace pce {
 
+template <class Scalar> struct PairEnergy;
+
 /// Tag type for the vertex-face pair kind.
 struct VertexFace {
   static constexpr const char* name = "vertex_face";
+  static constexpr int dofs = 12;       ///< coordinates: four points
+  static constexpr int frame_dofs = 9;  ///< frame coordinates (e0, e1⊥, e2⊥)
+  /// The evaluated energy of this kind (`energy/pair_energy.hpp`).
+  template <class Scalar> using Energy = PairEnergy<Scalar>;
 
   /// Builds the reduced frame of `x = (p, t0, t1, t2)`; `invalid_input` for non-finite or
   /// absurd coordinates, `degenerate` for a zero-area triangle; on failure `f` is untouched.

@@ -71,12 +71,30 @@ template <class Scalar> LengthFamily<Scalar> length_family(const Scalar& l, cons
   return r;
 }
 
-/// A 9-dimensional symmetric eigensystem in frame space: `values` ascending, `vectors`
-/// the matching orthonormal columns.
-template <class Scalar> struct FrameEigensystem {
-  Vec9<Scalar> values;
-  Mat9<Scalar> vectors;
+/// A symmetric eigensystem in frame space (9-dimensional for the plane kinds, 6 for
+/// point-edge, 3 for point-point): `values` ascending, `vectors` the matching orthonormal
+/// columns.
+template <class Scalar, int N = 9> struct FrameEigensystem {
+  VecN<Scalar, N> values;
+  MatN<Scalar, N> vectors;
 };
+
+namespace detail {
+/// Sorts `n` eigenpairs ascending (insertion sort: stable, no allocation).
+template <class Scalar, int N>
+FrameEigensystem<Scalar, N> sorted_eigensystem(const std::array<Scalar, N>& val, const std::array<VecN<Scalar, N>, N>& vec) {
+  std::array<int, N> order;
+  for (int i = 0; i < N; ++i) order[i] = i;
+  for (int i = 1; i < N; ++i)
+    for (int j = i; j > 0 && val[order[j]] < val[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
+  FrameEigensystem<Scalar, N> out;
+  for (int i = 0; i < N; ++i) {
+    out.values[i] = val[order[i]];
+    out.vectors.col(i) = vec[order[i]];
+  }
+  return out;
+}
+}  // namespace detail
 
 namespace detail {
 
@@ -107,16 +125,7 @@ FrameEigensystem<Scalar> frame_eigensystem(const Frame<Scalar>& f, const Scalar&
     val[6 + 2 * k] = Scalar(0);
     vec[6 + 2 * k].template segment<3>(3 * k) = f.t1;
   }
-  // Insertion sort of nine values (stable, no allocation).
-  std::array<int, 9> order{0, 1, 2, 3, 4, 5, 6, 7, 8};
-  for (int i = 1; i < 9; ++i)
-    for (int j = i; j > 0 && val[order[j]] < val[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
-  FrameEigensystem<Scalar> out;
-  for (int i = 0; i < 9; ++i) {
-    out.values[i] = val[order[i]];
-    out.vectors.col(i) = vec[order[i]];
-  }
-  return out;
+  return sorted_eigensystem<Scalar, 9>(val, vec);
 }
 
 /// Blocks of `c2 ggᵀ + c1 H_l` with exact zeros where H_l has them (`docs/stability.md`).

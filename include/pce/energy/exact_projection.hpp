@@ -1,0 +1,87 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// `Projection::exact`: the nearest positive semidefinite matrix (Frobenius norm, Higham
+/// 1988) of a pair's exact x-space Hessian, computed through the Hessian's low-rank
+/// structure instead of a full eigendecomposition (`docs/math.md` §9).
+///
+/// Every Hessian in this library is `∇²E = W M Wᵀ`, where each column of `W` is a row of the
+/// frame coefficients times a unit direction, `w = P.row(k) ⊗ d` (`Jᵀ` of a frame vector),
+/// and `M` is the frame Hessian in an orthonormal frame-space basis (≤ 5×5). The rows of `P`
+/// span exactly the vectors orthogonal to (1, …, 1) (a translation moves no frame vector),
+/// for which a fixed orthonormal basis `h_i` is known; so `W = Q R` with orthonormal `Q`
+/// (columns `h_i ⊗ d` or `P̂.row(k) ⊗ d`) and a small `R` in closed form, and
+///
+///     ∇²E = Q (R M Rᵀ) Qᵀ,    proj(∇²E) = Q proj(R M Rᵀ) Qᵀ.
+///
+/// The small symmetric `S = R M Rᵀ` is diagonalised by Jacobi rotations (`core/jacobi.hpp`).
+#pragma once
+
+#include <pce/core/jacobi.hpp>
+#include <pce/frames/frame.hpp>
+
+#include <cmath>
+
+namespace pce::detail {
+
+/// Rows: an orthonormal basis of the vectors in R^n orthogonal to (1, …, 1) (the Helmert
+/// basis: `h_i = (1, …, 1, −(i+1), 0, …)/√((i+1)(i+2))` with i+1 ones).
+template <class Scalar, int n> Eigen::Matrix<Scalar, n - 1, n> helmert_basis() {
+  using std::sqrt;
+  Eigen::Matrix<Scalar, n - 1, n> h = Eigen::Matrix<Scalar, n - 1, n>::Zero();
+  for (int i = 0; i < n - 1; ++i) {
+    const Scalar c = Scalar(1) / sqrt(Scalar((i + 1) * (i + 2)));
+    for (int j = 0; j <= i; ++j) h(i, j) = c;
+    h(i, i + 1) = -Scalar(i + 1) * c;
+  }
+  return h;
+}
+
+/// Symmetric matrix accumulated as `S + Sᵀ` from rank-one and rank-two terms, so the
+/// result is symmetric bit for bit.
+template <class Scalar, int N> struct SymmetricSum {
+  MatN<Scalar, N> half = MatN<Scalar, N>::Zero();
+  /// adds `μ v vᵀ`
+  void rank_one(const Scalar& mu, const VecN<Scalar, N>& v) { half.noalias() += (Scalar(mu / Scalar(2)) * v) * v.transpose(); }
+  /// adds `a bᵀ + b aᵀ`
+  void rank_two(const VecN<Scalar, N>& a, const VecN<Scalar, N>& b) { half.noalias() += a * b.transpose(); }
+  MatN<Scalar, N> matrix() const { return half + half.transpose(); }
+};
+
+/// `Q proj(S) Qᵀ` for orthonormal columns `Q`: diagonalise `S` by Jacobi rotations and sum
+/// `λ (Q v)(Q v)ᵀ` over its positive eigenpairs.
+template <class Scalar, int Dofs, int K>
+MatN<Scalar, Dofs> projected_in_basis(const Eigen::Matrix<Scalar, Dofs, K>& Q, MatN<Scalar, K> S) {
+  MatN<Scalar, K> V;
+  jacobi_eigen(S, V);
+  SymmetricSum<Scalar, Dofs> sum;
+  for (int i = 0; i < K; ++i)
+    if (S(i, i) > Scalar(0)) sum.rank_one(S(i, i), (Q * V.col(i)).eval());
+  return sum.matrix();
+}
+
+/// Exact projection of a plane kind's Hessian `Jᵀ(c2 ggᵀ + c1 H_l)J` (c1 = σψ′, c2 = ψ″).
+/// Range basis (M basis): `w_k = p_k ⊗ n̂` (k = 0, 1, 2; w_2 = ∇l) and `u_k = p_2 ⊗ ê_k`
+/// (k = 0, 1); `M` has `m_k = −c1 l/a_k²` on w_k, `c2` on w_2, `−c1/a_k` between w_k and u_k.
+template <class Scalar> Mat12<Scalar> exact_projection(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2) {
+  using std::sqrt;
+  const Eigen::Matrix<Scalar, 3, 4> h = helmert_basis<Scalar, 4>();
+  const Mat3<Scalar> R = h * f.P.transpose();  // p_k = Σ_i R(i, k) h_i
+  const Scalar r2 = sqrt(f.P.row(2).squaredNorm());
+  const Scalar m0 = -c1 * ((f.l / f.a0) / f.a0), m1 = -c1 * ((f.l / f.a1) / f.a1);
+  const Scalar mu0 = -c1 / f.a0, mu1 = -c1 / f.a1;
+  MatN<Scalar, 5> S;
+  S.template topLeftCorner<3, 3>() = R * Vec3<Scalar>(m0, m1, c2).asDiagonal() * R.transpose();
+  S.template block<3, 1>(0, 3) = (mu0 * r2) * R.col(0);
+  S.template block<3, 1>(0, 4) = (mu1 * r2) * R.col(1);
+  S.template block<1, 3>(3, 0) = S.template block<3, 1>(0, 3).transpose();
+  S.template block<1, 3>(4, 0) = S.template block<3, 1>(0, 4).transpose();
+  S.template bottomRightCorner<2, 2>().setZero();
+  Eigen::Matrix<Scalar, 12, 5> Q;
+  for (int i = 0; i < 3; ++i) Q.col(i) = kron<Scalar>(h.row(i), f.n);
+  const Eigen::Matrix<Scalar, 1, 4> p2 = f.P.row(2) / r2;
+  Q.col(3) = kron<Scalar>(p2, f.t0);
+  Q.col(4) = kron<Scalar>(p2, f.t1);
+  return projected_in_basis(Q, S);
+}
+
+}  // namespace pce::detail

@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// The energy `E = ψ(d)`, `d = |p − q|`, of a point-point pair (`frames/point_point.hpp`):
+/// gradient, exact Hessian, closed-form eigensystem and every PSD strategy
+/// (`docs/math.md` §9). With `e = p − q` and `û = e/d`,
+///
+///     ∂d/∂e = û,    ∂²d/∂e² = (I − ûûᵀ)/d,
+///     Hc = ψ″ ûûᵀ + (ψ′/d)(I − ûûᵀ),     ∇²E = [[Hc, −Hc], [−Hc, Hc]] = Jᵀ Hc J.
+///
+/// `J = (1, −1) ⊗ I3` has orthogonal rows (`J Jᵀ = 2I`), so the x-space eigenpairs are
+/// `(2μ, (q, −q)/√2)` for the frame pairs `(μ, q)`: clamping in frame space *is* the
+/// nearest PSD matrix, and `analytic` and `exact` coincide for this kind.
+#pragma once
+
+#include <pce/energy/pair_energy.hpp>
+#include <pce/frames/point_point.hpp>
+
+#include <array>
+
+namespace pce {
+
+/// Everything one point-point pair needs, evaluated once.
+template <class Scalar> struct PointPointEnergy {
+  PointPointFrame<Scalar> frame;
+  Scalar length;  ///< L = d
+  PenaltyDerivatives<Scalar> psi;
+};
+
+/// Evaluates the frame, the distance and the penalty of `x = (p, q)`. The length must be
+/// `UnsignedLength`; a `SignedLength` gives `invalid_input`. `degenerate` for p = q.
+/// `out` is written only on `ok`.
+template <class Pair, class Scalar, class Length, class Penalty>
+Status pair_energy(const Vec6<Scalar>& x, const Length&, const Penalty& penalty, PointPointEnergy<Scalar>& out) {
+  static_assert(std::is_same_v<Pair, PointPoint>, "a 6-coordinate pair is a PointPoint");
+  if (is_signed_length<Length>() || !penalty_valid(penalty)) return Status::invalid_input;
+  PointPointEnergy<Scalar> e;
+  const Status s = PointPoint::frame(x, e.frame);
+  if (s != Status::ok) return s;
+  e.length = e.frame.d;
+  const Status sp = detail::evaluate_penalty(penalty, e.length, e.psi);
+  if (sp != Status::ok) return sp;
+  out = e;
+  return Status::ok;
+}
+
+namespace detail {
+/// `[[Hc, −Hc], [−Hc, Hc]]` with `Hc = a ûûᵀ + b (I − ûûᵀ)`.
+template <class Scalar> Mat6<Scalar> point_point_hessian(const PointPointFrame<Scalar>& f, const Scalar& a, const Scalar& b) {
+  const Mat3<Scalar> Hc = b * Mat3<Scalar>::Identity() + (a - b) * (f.u * f.u.transpose());
+  Mat6<Scalar> H;
+  H << Hc, -Hc, -Hc, Hc;
+  return H;
+}
+}  // namespace detail
+
+/// ∇E = ψ′ (û, −û).
+template <class Scalar> Vec6<Scalar> energy_gradient(const PointPointEnergy<Scalar>& e) {
+  Vec6<Scalar> g;
+  g << e.psi.first * e.frame.u, -e.psi.first * e.frame.u;
+  return g;
+}
+
+/// Exact Hessian `Jᵀ[ψ″ûûᵀ + (ψ′/d)(I − ûûᵀ)]J`.
+template <class Scalar> Mat6<Scalar> energy_hessian(const PointPointEnergy<Scalar>& e) {
+  return detail::point_point_hessian(e.frame, e.psi.second, Scalar(e.psi.first / e.frame.d));
+}
+
+/// Closed-form eigensystem of the frame Hessian (3×3, frame space c = p − q), ascending:
+/// (ψ″, û) and (ψ′/d, v̂), (ψ′/d, ŵ).
+template <class Scalar> FrameEigensystem<Scalar, 3> energy_eigensystem(const PointPointEnergy<Scalar>& e) {
+  const Scalar c = e.psi.first / e.frame.d;
+  return detail::sorted_eigensystem<Scalar, 3>({e.psi.second, c, c}, {e.frame.u, e.frame.v, e.frame.w});
+}
+
+/// PSD (except for `none`) Hessian by the chosen strategy; `analytic` and `exact` are the
+/// same matrix for this kind (see the file comment).
+template <class Scalar> Mat6<Scalar> projected_hessian(const PointPointEnergy<Scalar>& e, Projection strategy) {
+  using std::abs;
+  const auto clamp = [](const Scalar& v) { return v > Scalar(0) ? v : Scalar(0); };
+  const Scalar c = e.psi.first / e.frame.d;
+  switch (strategy) {
+    case Projection::none: return energy_hessian(e);
+    case Projection::numerical: return project_psd(energy_hessian(e));
+    case Projection::analytic:
+    case Projection::exact: return detail::point_point_hessian(e.frame, clamp(e.psi.second), clamp(c));
+    case Projection::abs: return detail::point_point_hessian(e.frame, Scalar(abs(e.psi.second)), Scalar(abs(c)));
+    case Projection::gauss_newton: return detail::point_point_hessian(e.frame, clamp(e.psi.second), Scalar(0));
+  }
+  return energy_hessian(e);
+}
+
+}  // namespace pce
