@@ -39,7 +39,14 @@ inline constexpr std::uint64_t kSeed = 20231121;
 inline constexpr double kLMin = 0.05, kLMax = 0.95;
 
 inline pce::LogBarrierPenalty penalty() { return pce::LogBarrierPenalty{1.0, kDhat}; }
-inline pce::SignedLength length() { return pce::SignedLength{}; }
+/// The signed length for the plane kinds; the point kinds (`PointEdge`, `PointPoint`) are
+/// unsigned only.
+template <class Pair> auto length() {
+  if constexpr (Pair::dofs == 12)
+    return pce::SignedLength{};
+  else
+    return pce::UnsignedLength{};
+}
 
 /// What one benchmark measures (all include `pair_energy`, i.e. the frame, L and ψ).
 enum class Quantity {
@@ -48,6 +55,7 @@ enum class Quantity {
   eigensystem,     ///< pair_energy + energy_eigensystem (closed form, frame space)
   analytic,        ///< pair_energy + energy_gradient + projected_hessian(analytic)
   abs,             ///< ... projected_hessian(abs)
+  exact,           ///< ... projected_hessian(exact): nearest PSD matrix via the <= 5x5 reduced problem
   gauss_newton,    ///< ... projected_hessian(gauss_newton)
   numerical,       ///< ... projected_hessian(numerical): 12x12 eigensolve + clamp (baseline)
 };
@@ -59,6 +67,7 @@ inline const char* to_string(Quantity q) {
     case Quantity::eigensystem: return "eigensystem";
     case Quantity::analytic: return "analytic";
     case Quantity::abs: return "abs";
+    case Quantity::exact: return "exact";
     case Quantity::gauss_newton: return "gauss_newton";
     case Quantity::numerical: return "numerical";
   }
@@ -67,8 +76,8 @@ inline const char* to_string(Quantity q) {
 
 /// Registration order within one (pair, scalar): cheap to expensive, PSD strategies last.
 inline constexpr Quantity kQuantities[] = {Quantity::value_gradient, Quantity::exact_hessian, Quantity::eigensystem,
-                                           Quantity::analytic,       Quantity::abs,           Quantity::gauss_newton,
-                                           Quantity::numerical};
+                                           Quantity::analytic,       Quantity::abs,           Quantity::exact,
+                                           Quantity::gauss_newton,   Quantity::numerical};
 
 template <class Scalar> constexpr const char* scalar_name();
 template <> constexpr const char* scalar_name<float>() { return "float"; }
@@ -83,6 +92,8 @@ namespace detail {
 
 using Vec3d = pce::Vec3<double>;
 using Vec12d = pce::Vec12<double>;
+template <class Pair, class Scalar> using X = pce::VecN<Scalar, Pair::dofs>;
+template <class Pair, class Scalar> using H = pce::MatN<Scalar, Pair::dofs>;
 
 inline Vec3d random_point(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -123,22 +134,43 @@ inline bool make_random_pair(pce::EdgeEdge, std::mt19937_64& rng, double L, Vec1
   return true;
 }
 
+/// A point at distance L from the line of a random edge (length >= 0.3), its foot inside.
+inline bool make_random_pair(pce::PointEdge, std::mt19937_64& rng, double L, pce::Vec9<double>& x) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const Vec3d e0 = random_point(rng), e1 = random_point(rng), w = random_point(rng);
+  const Vec3d e = e1 - e0;
+  if (e.norm() < 0.3) return false;
+  const Vec3d n = e.cross(w);
+  if (n.norm() < 0.1 * e.norm()) return false;
+  const Vec3d p = e0 + u(rng) * e + L * n.normalized();
+  x << p, e0, e1;
+  return true;
+}
+
+/// Two points at distance L.
+inline bool make_random_pair(pce::PointPoint, std::mt19937_64& rng, double L, pce::Vec6<double>& x) {
+  const Vec3d q = random_point(rng), w = random_point(rng);
+  if (w.norm() < 0.1) return false;
+  x << q + L * w.normalized(), q;
+  return true;
+}
+
 /// Evaluates `x` in `Scalar` and checks that it is a benchmark-worthy active pair:
 /// status ok, 0 < L < dhat, psi'' > 0, and the exact 12x12 Hessian has clearly negative
 /// eigenvalues (so `Projection::numerical` really clamps). Returns the number of negative
 /// eigenvalues (0 = reject) and the ratio min eig / max |eig|.
-template <class Pair, class Scalar> int check_pair(const pce::Vec12<Scalar>& x, double& neg_ratio) {
-  pce::PairEnergy<Scalar> e;
-  if (pce::pair_energy<Pair>(x, length(), penalty(), e) != pce::Status::ok) return 0;
+template <class Pair, class Scalar> int check_pair(const X<Pair, Scalar>& x, double& neg_ratio) {
+  typename Pair::template Energy<Scalar> e;
+  if (pce::pair_energy<Pair>(x, length<Pair>(), penalty(), e) != pce::Status::ok) return 0;
   if (!(e.length > Scalar(0) && e.length < Scalar(kDhat)) || !(e.psi.second > Scalar(0))) return 0;
-  const Eigen::SelfAdjointEigenSolver<pce::Mat12<Scalar>> es(pce::energy_hessian(e), Eigen::EigenvaluesOnly);
+  const Eigen::SelfAdjointEigenSolver<H<Pair, Scalar>> es(pce::energy_hessian(e), Eigen::EigenvaluesOnly);
   if (es.info() != Eigen::Success) return 0;
   const auto& lam = es.eigenvalues();
   const double big = static_cast<double>(lam.cwiseAbs().maxCoeff());
   neg_ratio = static_cast<double>(lam.minCoeff()) / big;
   if (!(neg_ratio < -1e-5)) return 0;  // well above the eigensolver's noise in float
   int neg = 0;
-  for (int i = 0; i < 12; ++i) neg += lam[i] < Scalar(-1e-5 * big) ? 1 : 0;
+  for (int i = 0; i < Pair::dofs; ++i) neg += lam[i] < Scalar(-1e-5 * big) ? 1 : 0;
   return neg;
 }
 
@@ -150,12 +182,14 @@ struct PoolStats {
   int min_negative = 12;     ///< fewest clearly negative eigenvalues of an exact Hessian
   int max_negative = 0;      ///< most
   double worst_ratio = -1;   ///< largest (closest to 0) min-eig / max-|eig| over the pool, both scalars
+  double gap_median = 0;     ///< ‖analytic − exact‖_F / ‖exact‖_F over the double pool: median
+  double gap_max = 0;        ///< ... and maximum
 };
 
 /// The pool of one pair kind in one scalar: kPoolSize pairs, each accepted only if it
 /// passes `check_pair` in BOTH float and double (the two pools hold the same geometry).
 template <class Pair, class Scalar> struct Pool {
-  std::vector<pce::Vec12<Scalar>> x;
+  std::vector<detail::X<Pair, Scalar>> x;
   PoolStats stats;
 };
 
@@ -176,9 +210,9 @@ template <class Pair> PoolPair<Pair> build_pools() {
       std::fprintf(stderr, "pce-bench: cannot build a pool of active %s pairs\n", Pair::name);
       std::exit(2);
     }
-    detail::Vec12d xd;
+    detail::X<Pair, double> xd;
     if (!detail::make_random_pair(Pair{}, rng, uL(rng), xd)) continue;
-    const pce::Vec12<float> xf = xd.cast<float>();
+    const detail::X<Pair, float> xf = xd.template cast<float>();
     double rd = 0, rf = 0;
     const int nd = detail::check_pair<Pair, double>(xd, rd);
     const int nf = detail::check_pair<Pair, float>(xf, rf);
@@ -189,6 +223,17 @@ template <class Pair> PoolPair<Pair> build_pools() {
     pp.d.x.push_back(xd);
     pp.f.x.push_back(xf);
   }
+  // How far the closed-form clamp is from the nearest PSD matrix on this pool (double).
+  std::vector<double> gaps;
+  for (const auto& x : pp.d.x) {
+    typename Pair::template Energy<double> e;
+    pce::pair_energy<Pair>(x, length<Pair>(), penalty(), e);
+    const detail::H<Pair, double> Px = pce::projected_hessian(e, pce::Projection::exact);
+    gaps.push_back((pce::projected_hessian(e, pce::Projection::analytic) - Px).norm() / Px.norm());
+  }
+  std::sort(gaps.begin(), gaps.end());
+  st.gap_median = gaps[gaps.size() / 2];
+  st.gap_max = gaps.back();
   pp.d.stats = pp.f.stats = st;
   return pp;
 }
@@ -210,6 +255,7 @@ inline pce::Projection projection_of(Quantity q) {
   switch (q) {
     case Quantity::analytic: return pce::Projection::analytic;
     case Quantity::abs: return pce::Projection::abs;
+    case Quantity::exact: return pce::Projection::exact;
     case Quantity::gauss_newton: return pce::Projection::gauss_newton;
     case Quantity::numerical: return pce::Projection::numerical;
     default: return pce::Projection::none;
@@ -220,28 +266,28 @@ inline pce::Projection projection_of(Quantity q) {
 /// is the time per pair. Outputs go through DoNotOptimize (which also forces them to
 /// memory, as an assembly loop would).
 template <class Pair, class Scalar, Quantity Q> void bench_pair(benchmark::State& state) {
-  const std::vector<pce::Vec12<Scalar>>& xs = pool<Pair, Scalar>().x;
-  const auto len = length();
+  const std::vector<detail::X<Pair, Scalar>>& xs = pool<Pair, Scalar>().x;
+  const auto len = length<Pair>();
   const auto pen = penalty();
   std::size_t i = 0;
   for (auto _ : state) {
-    const pce::Vec12<Scalar>& x = xs[i];
+    const detail::X<Pair, Scalar>& x = xs[i];
     i = (i + 1) & (kPoolSize - 1);
-    pce::PairEnergy<Scalar> e;
+    typename Pair::template Energy<Scalar> e;
     pce::Status s = pce::pair_energy<Pair>(x, len, pen, e);
     benchmark::DoNotOptimize(s);
     benchmark::DoNotOptimize(e.psi.value);
     if constexpr (Q == Quantity::eigensystem) {
-      pce::FrameEigensystem<Scalar> es = pce::energy_eigensystem(e);
+      auto es = pce::energy_eigensystem(e);
       benchmark::DoNotOptimize(es);
     } else {
-      pce::Vec12<Scalar> g = pce::energy_gradient(e);
+      detail::X<Pair, Scalar> g = pce::energy_gradient(e);
       benchmark::DoNotOptimize(g);
       if constexpr (Q == Quantity::exact_hessian) {
-        pce::Mat12<Scalar> H = pce::energy_hessian(e);
+        detail::H<Pair, Scalar> H = pce::energy_hessian(e);
         benchmark::DoNotOptimize(H);
       } else if constexpr (Q != Quantity::value_gradient) {
-        pce::Mat12<Scalar> H = pce::projected_hessian(e, projection_of(Q));
+        detail::H<Pair, Scalar> H = pce::projected_hessian(e, projection_of(Q));
         benchmark::DoNotOptimize(H);
       }
     }
@@ -254,8 +300,8 @@ template <class Pair, class Scalar> void register_scalar() {
   const Fn fns[] = {
       &bench_pair<Pair, Scalar, Quantity::value_gradient>, &bench_pair<Pair, Scalar, Quantity::exact_hessian>,
       &bench_pair<Pair, Scalar, Quantity::eigensystem>,    &bench_pair<Pair, Scalar, Quantity::analytic>,
-      &bench_pair<Pair, Scalar, Quantity::abs>,            &bench_pair<Pair, Scalar, Quantity::gauss_newton>,
-      &bench_pair<Pair, Scalar, Quantity::numerical>,
+      &bench_pair<Pair, Scalar, Quantity::abs>,            &bench_pair<Pair, Scalar, Quantity::exact>,
+      &bench_pair<Pair, Scalar, Quantity::gauss_newton>,   &bench_pair<Pair, Scalar, Quantity::numerical>,
   };
   static_assert(sizeof(fns) / sizeof(fns[0]) == sizeof(kQuantities) / sizeof(kQuantities[0]));
   for (std::size_t k = 0; k < sizeof(fns) / sizeof(fns[0]); ++k)
@@ -265,7 +311,7 @@ template <class Pair, class Scalar> void register_scalar() {
         ->ComputeStatistics("min", [](const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); });
 }
 
-/// Builds and checks the pools of `Pair`, then registers its 14 benchmarks
+/// Builds and checks the pools of `Pair`, then registers its 16 benchmarks
 /// (double first, then float). Returns the pool statistics.
 template <class Pair> PoolStats register_family() {
   const PoolStats st = pools<Pair>().d.stats;
@@ -277,5 +323,7 @@ template <class Pair> PoolStats register_family() {
 // Defined in bench_vertex_face.cpp and bench_edge_edge.cpp.
 PoolStats register_vertex_face_benchmarks();
 PoolStats register_edge_edge_benchmarks();
+PoolStats register_point_edge_benchmarks();
+PoolStats register_point_point_benchmarks();
 
 }  // namespace pce_bench

@@ -100,27 +100,27 @@ bool truthy(const std::string& v) {
 }
 
 void print_ratios(std::ostream& os, const Collected& c, bool cpu) {
-  const char* pairs[] = {"vertex_face", "edge_edge"};
+  const char* pairs[] = {"vertex_face", "edge_edge", "point_edge", "point_point"};
   const char* scalars[] = {"double", "float"};
   char line[512];
   os << "\nRatio summary (" << (cpu ? "CPU" : "real")
-     << " time per pair, this run, best repetition; the product requirement, for double:\n"
-        "analytic/exact_hessian <= 1.25 and analytic/numerical <= 1/15 = 0.0667; not asserted)\n";
-  std::snprintf(line, sizeof line, "%-12s %-7s %9s %9s %9s %11s %11s %9s %9s %9s  %s\n", "pair", "scalar",
-                "exact ns", "analyt ns", "numer ns", "analytic/", "analytic/", "abs/", "gn/", "numer/",
-                "requirement");
+     << " time per pair, this run, best repetition). Requirements, for double, not asserted:\n"
+        "  [1] analytic/hessian <= 1.25 and analytic/numerical <= 1/15 (closed form vs the 12x12 baseline)\n"
+        "  [2] exact/analytic <= 2 and exact/numerical <= 1/8 (the exact projection at closed-form cost)\n";
+  std::snprintf(line, sizeof line, "%-12s %-7s %9s %9s %9s %9s %10s %9s %9s %9s %9s  %s\n", "pair", "scalar", "hess ns",
+                "analyt ns", "exact ns", "numer ns", "analytic/", "exact/", "numer/", "numer/", "abs/", "requirements");
   os << line;
-  std::snprintf(line, sizeof line, "%-12s %-7s %9s %9s %9s %11s %11s %9s %9s %9s\n", "", "", "", "", "",
-                "exact", "numerical", "exact", "exact", "analytic");
+  std::snprintf(line, sizeof line, "%-12s %-7s %9s %9s %9s %9s %10s %9s %9s %9s %9s\n", "", "", "", "", "", "", "hessian",
+                "analytic", "analytic", "exact", "hessian");
   os << line;
   for (const char* p : pairs)
     for (const char* s : scalars) {
       const auto name = [&](const char* q) { return std::string(p) + "/" + q + "/" + s; };
-      double ex = 0, an = 0, nu = 0, ab = 0, gn = 0;
-      const bool has_ex = c.get(name("exact_hessian"), cpu, ex), has_an = c.get(name("analytic"), cpu, an),
-                 has_nu = c.get(name("numerical"), cpu, nu), has_ab = c.get(name("abs"), cpu, ab),
-                 has_gn = c.get(name("gauss_newton"), cpu, gn);
-      if (!has_ex && !has_an && !has_nu && !has_ab && !has_gn) continue;  // filtered out
+      double he = 0, an = 0, ex = 0, nu = 0, ab = 0;
+      const bool has_he = c.get(name("exact_hessian"), cpu, he), has_an = c.get(name("analytic"), cpu, an),
+                 has_ex = c.get(name("exact"), cpu, ex), has_nu = c.get(name("numerical"), cpu, nu),
+                 has_ab = c.get(name("abs"), cpu, ab);
+      if (!has_he && !has_an && !has_ex && !has_nu && !has_ab) continue;  // filtered out
       const auto num = [](bool ok, double v, const char* fmt) {
         char b[32];
         if (ok)
@@ -130,16 +130,18 @@ void print_ratios(std::ostream& os, const Collected& c, bool cpu) {
         return std::string(b);
       };
       std::string req = "-";
-      if (std::strcmp(s, "double") == 0 && has_ex && has_an && has_nu) {
-        const bool ok1 = an <= 1.25 * ex, ok2 = an * 15.0 <= nu;
-        req = (ok1 && ok2) ? "met" : std::string("MISSED (") + (ok1 ? "" : "analytic/exact") +
-                                         (!ok1 && !ok2 ? ", " : "") + (ok2 ? "" : "analytic/numerical") + ")";
+      if (std::strcmp(s, "double") == 0) {
+        std::string r1 = "n/a", r2 = "n/a";
+        if (has_he && has_an && has_nu) r1 = (an <= 1.25 * he && an * 15.0 <= nu) ? "met" : "MISSED";
+        if (has_ex && has_an && has_nu) r2 = (ex <= 2.0 * an && ex * 8.0 <= nu) ? "met" : "MISSED";
+        req = "[1] " + r1 + " [2] " + r2;
       }
-      std::snprintf(line, sizeof line, "%-12s %-7s %9s %9s %9s %11s %11s %9s %9s %9s  %s\n", p, s,
-                    num(has_ex, ex, "%.2f").c_str(), num(has_an, an, "%.2f").c_str(), num(has_nu, nu, "%.1f").c_str(),
-                    num(has_an && has_ex, an / ex, "%.3f").c_str(), num(has_an && has_nu, an / nu, "%.4f").c_str(),
-                    num(has_ab && has_ex, ab / ex, "%.3f").c_str(), num(has_gn && has_ex, gn / ex, "%.3f").c_str(),
-                    num(has_an && has_nu, nu / an, "%.1fx").c_str(), req.c_str());
+      std::snprintf(line, sizeof line, "%-12s %-7s %9s %9s %9s %9s %10s %9s %9s %9s %9s  %s\n", p, s,
+                    num(has_he, he, "%.1f").c_str(), num(has_an, an, "%.1f").c_str(), num(has_ex, ex, "%.1f").c_str(),
+                    num(has_nu, nu, "%.0f").c_str(), num(has_an && has_he, an / he, "%.3f").c_str(),
+                    num(has_ex && has_an, ex / an, "%.3f").c_str(), num(has_nu && has_an, nu / an, "%.1fx").c_str(),
+                    num(has_nu && has_ex, nu / ex, "%.1fx").c_str(), num(has_ab && has_he, ab / he, "%.3f").c_str(),
+                    req.c_str());
       os << line;
     }
   os.flush();
@@ -166,8 +168,10 @@ void print_summary(std::ostream& os, const Collected& c) {
 void print_pool(const char* kind, const pce_bench::PoolStats& st) {
   std::fprintf(stderr,
                "pce-bench: %-11s pool: %zu active pairs (%zu draws); every exact Hessian has %d..%d negative "
-               "eigenvalues, min eig/max|eig| <= %.2e (float and double)\n",
-               kind, pce_bench::kPoolSize, st.draws, st.min_negative, st.max_negative, st.worst_ratio);
+               "eigenvalues, min eig/max|eig| <= %.2e (float and double); |analytic - exact|_F/|exact|_F "
+               "median %.3g, max %.3g (double)\n",
+               kind, pce_bench::kPoolSize, st.draws, st.min_negative, st.max_negative, st.worst_ratio, st.gap_median,
+               st.gap_max);
 }
 
 }  // namespace
@@ -195,11 +199,13 @@ int main(int argc, char** argv) {
                        "meaningful\n");
 #endif
   std::fprintf(stderr,
-               "pce-bench: log barrier k=1, dhat=%g on the signed length, L uniform in [%g, %g]*dhat, seed %llu\n",
+               "pce-bench: log barrier k=1, dhat=%g on the signed length (point kinds: unsigned), L uniform in [%g, %g]*dhat, seed %llu\n",
                pce_bench::kDhat, pce_bench::kLMin, pce_bench::kLMax,
                static_cast<unsigned long long>(pce_bench::kSeed));
   print_pool("vertex_face", pce_bench::register_vertex_face_benchmarks());
   print_pool("edge_edge", pce_bench::register_edge_edge_benchmarks());
+  print_pool("point_edge", pce_bench::register_point_edge_benchmarks());
+  print_pool("point_point", pce_bench::register_point_point_benchmarks());
 
   Collected collected;
   if (format == "json") {

@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <limits>
 #include <sstream>
 #include <tuple>
@@ -99,6 +100,47 @@ class Conformance : public testing::TestWithParam<Combo> {};
 // scalar alone: compiled 3 times per executable instead of once per length × penalty ×
 // scalar (24), which is most of this file's compile time.
 
+/// How `exact` compared with `numerical` over the suite (printed by each test).
+struct ExactTally {
+  int compared = 0, numerical_inaccurate = 0;
+  double worst = 0;
+};
+ExactTally& exact_tally() {
+  static ExactTally t;
+  return t;
+}
+
+/// `Projection::exact` is the nearest PSD matrix: it agrees with the 50-digit projection of
+/// the 50-digit Hessian, and with `numerical` (relative Frobenius ≤ 1e-12 in double)
+/// wherever `numerical` is itself accurate (within 1e3 roundoffs of that reference).
+template <class S> void check_exact_against_numerical(const pce::PairEnergy<S>& e, const pce::PairEnergy<HP>& r) {
+  const pce::Mat12<HP> ref = pce::project_psd(pce::energy_hessian(r));
+  const auto frob = [&](const pce::Mat12<S>& a) {
+    HP num = 0, den = 0;
+    for (int i = 0; i < 12; ++i)
+      for (int j = 0; j < 12; ++j) {
+        num += (HP(a(i, j)) - ref(i, j)) * (HP(a(i, j)) - ref(i, j));
+        den += ref(i, j) * ref(i, j);
+      }
+    return static_cast<double>(sqrt(num / den));
+  };
+  const pce::Mat12<S> Px = pce::projected_hessian(e, pce::Projection::exact);
+  const pce::Mat12<S> Pn = pce::projected_hessian(e, pce::Projection::numerical);
+  const double eps = static_cast<double>(std::numeric_limits<S>::epsilon());
+  EXPECT_LT(frob(Px), 1e3 * eps) << "exact vs the 50-digit projection";
+  if (frob(Pn) < 1e3 * eps) {
+    const double d = static_cast<double>((Px - Pn).norm() / Pn.norm());
+    if (std::is_same_v<S, double>) {
+      EXPECT_LE(d, 1e-12) << "exact vs numerical";
+    }
+    EXPECT_LE(d, 2e3 * eps) << "exact vs numerical";
+    ++exact_tally().compared;
+    exact_tally().worst = std::max(exact_tally().worst, d / eps);
+  } else {
+    ++exact_tally().numerical_inaccurate;
+  }
+}
+
 /// 1. The same code in 50 digits (`r`, evaluated at exactly the input `e` saw).
 template <class S> void check_against_reference(const pce::PairEnergy<S>& e, const pce::PairEnergy<HP>& r) {
   const double tol = Tol<S>::reference();
@@ -114,6 +156,10 @@ template <class S> void check_against_reference(const pce::PairEnergy<S>& e, con
       << "analytic projection vs high precision";
   EXPECT_LT(rel_error(pce::energy_eigensystem(e).values, pce::energy_eigensystem(r).values), tol)
       << "eigenvalues vs high precision";
+  EXPECT_LT(rel_error(pce::projected_hessian(e, pce::Projection::exact), pce::projected_hessian(r, pce::Projection::exact)),
+            tol)
+      << "exact projection vs high precision";
+  check_exact_against_numerical(e, r);
 }
 
 /// 3.–5. Pullback, closed-form eigensystem and projection strategies of one energy;
@@ -159,10 +205,11 @@ template <class S> void check_energy_algebra(const pce::PairEnergy<S>& e, const 
     const pce::Mat12<S> Pb = pce::projected_hessian(e, pce::Projection::abs);
     const pce::Mat12<S> Pg = pce::projected_hessian(e, pce::Projection::gauss_newton);
     const pce::Mat12<S> Pn = pce::projected_hessian(e, pce::Projection::numerical);
+    const pce::Mat12<S> Px = pce::projected_hessian(e, pce::Projection::exact);
     EXPECT_EQ(pce::projected_hessian(e, pce::Projection::none), H);
-    const pce::Mat12<S>* all[4] = {&Pa, &Pb, &Pg, &Pn};
-    const char* names[4] = {"analytic", "abs", "gauss_newton", "numerical"};
-    for (int i = 0; i < 4; ++i) {
+    const pce::Mat12<S>* all[5] = {&Pa, &Pb, &Pg, &Pn, &Px};
+    const char* names[5] = {"analytic", "abs", "gauss_newton", "numerical", "exact"};
+    for (int i = 0; i < 5; ++i) {
       const double n = std::max(max_abs(*all[i]), Hn);
       EXPECT_GE(min_eigenvalue(*all[i]), -tol * n * 12) << names[i] << " is PSD";
       EXPECT_LT(max_abs((*all[i] - all[i]->transpose()).eval()), tol * n) << names[i] << " symmetric";
@@ -178,6 +225,10 @@ template <class S> void check_energy_algebra(const pce::PairEnergy<S>& e, const 
     EXPECT_GE(min_eigenvalue((Pa - H).eval()), -tol * Hd * 12) << "analytic - exact is PSD";
     EXPECT_GE(min_eigenvalue((Pb - Pa).eval()), -tol * Hd * 12) << "abs - analytic is PSD";
     EXPECT_GE(min_eigenvalue((Pn - H).eval()), -tol * Hd * 12) << "numerical - exact is PSD";
+    EXPECT_GE(min_eigenvalue((Px - H).eval()), -tol * Hd * 12) << "exact projection - exact Hessian is PSD";
+    // analytic is never closer to the Hessian than the nearest PSD matrix.
+    EXPECT_LE(static_cast<double>((Px - H).norm()), static_cast<double>((Pa - H).norm()) * (1 + 1e3 * Tol<S>::eps()) + tol * Hd)
+        << "exact is at least as close to the Hessian as analytic";
     // The nearest PSD matrix is a fixed point of the projection.
     EXPECT_LT(rel_error(pce::project_psd(Pn), Pn, Hd), 100 * tol) << "numerical projection idempotent";
   }
@@ -300,6 +351,9 @@ TEST_P(Conformance, RandomConfigurations) {
         });
         if (HasFatalFailure()) return;
       }
+  std::printf("exact vs numerical: compared on %d configurations (worst %.1f roundoffs), numerical inaccurate on %d\n",
+              exact_tally().compared, exact_tally().worst, exact_tally().numerical_inaccurate);
+  exact_tally() = ExactTally{};
 }
 
 std::vector<Combo> all_combos() {
@@ -388,6 +442,7 @@ TEST(PairEnergyNames, StatusAndProjectionNames) {
   EXPECT_STREQ(pce::to_string(pce::Status::overflow), "overflow");
   EXPECT_STREQ(pce::to_string(pce::Projection::analytic), "analytic");
   EXPECT_STREQ(pce::to_string(pce::Projection::gauss_newton), "gauss_newton");
+  EXPECT_STREQ(pce::to_string(pce::Projection::exact), "exact");
 }
 
 }  // namespace

@@ -103,7 +103,7 @@ template <class S> Measurement measure(const HardCase& hc, int perturbations = 6
         m.finite = pce::detail::all_finite(g) && pce::detail::all_finite(H) && pce::detail::is_finite(e.psi.value);
         m.worst_psd = 1;
         for (pce::Projection p : {pce::Projection::analytic, pce::Projection::numerical, pce::Projection::gauss_newton,
-                                  pce::Projection::abs}) {
+                                  pce::Projection::abs, pce::Projection::exact}) {
           const pce::Mat12<S> P = pce::projected_hessian(e, p);
           m.finite = m.finite && pce::detail::all_finite(P);
           const pce::Vec12<long double> lam = symmetric_eigen<long double, 12>(P.template cast<long double>()).values;

@@ -84,4 +84,20 @@ template <class Scalar> Mat12<Scalar> exact_projection(const Frame<Scalar>& f, c
   return projected_in_basis(Q, S);
 }
 
+/// Exact projection of `Jᵀ Hc J` for a dense frame Hessian `Hc` (the mollified energy,
+/// whose frame Hessian can have rank 9): the reduced problem is 9×9 in the basis
+/// `h_i ⊗ e_a`, since `Jᵀ = Pᵀ ⊗ I3 = (hᵀ ⊗ I3)(h Pᵀ ⊗ I3)`.
+template <class Scalar> Mat12<Scalar> exact_projection(const Frame<Scalar>& f, const Mat9<Scalar>& Hc) {
+  const Eigen::Matrix<Scalar, 3, 4> h = helmert_basis<Scalar, 4>();
+  const Mat3<Scalar> R3 = h * f.P.transpose();
+  Mat9<Scalar> R = Mat9<Scalar>::Zero();
+  Eigen::Matrix<Scalar, 12, 9> Q = Eigen::Matrix<Scalar, 12, 9>::Zero();
+  for (int i = 0; i < 3; ++i)
+    for (int a = 0; a < 3; ++a) {
+      for (int k = 0; k < 3; ++k) R(3 * i + a, 3 * k + a) = R3(i, k);
+      for (int j = 0; j < 4; ++j) Q(3 * j + a, 3 * i + a) = h(i, j);
+    }
+  return projected_in_basis(Q, Mat9<Scalar>(R * Hc * R.transpose()));
+}
+
 }  // namespace pce::detail

@@ -252,7 +252,7 @@ template <class Scalar> FrameEigensystem<Scalar> energy_eigensystem(const Mollif
 
 /// PSD Hessian of the mollified energy: `analytic`/`abs` clamp/flip the closed-form frame
 /// eigenvalues and pull back; `gauss_newton` is max(mψ″, 0) ∇L∇Lᵀ; `numerical` and `none`
-/// as for the plain energy.
+/// as for the plain energy; `exact` the nearest PSD matrix through a 9×9 reduced problem.
 template <class Scalar> Mat12<Scalar> projected_hessian(const MollifiedEnergy<Scalar>& e, Projection strategy) {
   if (!e.has_frame) return Mat12<Scalar>::Zero();
   if (detail::unmollified(e)) return projected_hessian(e.base, strategy);
@@ -265,10 +265,13 @@ template <class Scalar> Mat12<Scalar> projected_hessian(const MollifiedEnergy<Sc
       return projected_hessian(b, Projection::gauss_newton);
     }
     case Projection::analytic:
-    case Projection::abs: break;
+    case Projection::abs:
+    case Projection::exact: break;
   }
   using std::abs;
   const FrameEigensystem<Scalar> es = energy_eigensystem(e);
+  if (strategy == Projection::exact)  // frame Hessian of rank up to 9: a 9×9 reduced problem
+    return detail::exact_projection(e.base.frame, Mat9<Scalar>(es.vectors * es.values.asDiagonal() * es.vectors.transpose()));
   Vec9<Scalar> lam = es.values;
   for (int i = 0; i < 9; ++i)
     lam[i] = strategy == Projection::abs ? Scalar(abs(lam[i])) : (lam[i] > Scalar(0) ? lam[i] : Scalar(0));
