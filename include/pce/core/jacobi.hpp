@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// Eigen-decomposition of a small fixed-size symmetric matrix by cyclic Jacobi rotations
-/// (Rutishauser's update; Golub & Van Loan, Matrix Computations, Sec. 8.5). Used where no
-/// closed form exists: the mollified energy's 3×3 block and the exact projection's ≤ 5×5
-/// reduced problem (`energy/exact_projection.hpp`). Unlike a trigonometric or
-/// characteristic-polynomial closed form it keeps small eigenvalues of graded matrices
-/// accurate to their own size (Demmel & Veselić 1992).
+/// Eigen-decompositions of small fixed-size symmetric matrices, where no closed form
+/// exists: cyclic Jacobi rotations (Rutishauser's update; Golub & Van Loan, Matrix
+/// Computations, Sec. 8.5) for the mollified energy's 3×3 block, which keeps small
+/// eigenvalues of graded matrices accurate to their own size (Demmel & Veselić 1992), and
+/// tridiagonalisation + implicit QR (Sec. 8.3) for the exact projection's ≤ 5×5 reduced
+/// problem (`energy/exact_projection.hpp`), about twice as fast for absolute accuracy.
 #pragma once
 
 #include <pce/core/types.hpp>
@@ -64,6 +64,85 @@ template <class Scalar, int N> void jacobi_eigen(MatN<Scalar, N>& A, MatN<Scalar
 template <class Scalar, int N> void jacobi_eigen(MatN<Scalar, N>& A, MatN<Scalar, N>& V) {
   const Scalar eps = Constants<Scalar>::epsilon();
   jacobi_eigen(A, V, Scalar(eps * eps * A.cwiseAbs().maxCoeff()));
+}
+
+/// Eigen-decomposition of a small symmetric matrix by Householder tridiagonalisation and
+/// the implicit symmetric QR algorithm with Wilkinson shifts (Golub & Van Loan, Matrix
+/// Computations, Algs. 8.3.1 and 8.3.2): on return the eigenvalues (unsorted) are in `d`
+/// and the orthonormal eigenvectors in the columns of `V`. Accurate to about ε·max|A|
+/// (absolute), which is what a PSD projection needs; it takes about half the rotations of
+/// cyclic Jacobi and one square root per rotation instead of two.
+template <class Scalar, int N> void symmetric_qr_eigen(MatN<Scalar, N> A, VecN<Scalar, N>& d, MatN<Scalar, N>& V) {
+  using std::abs;
+  using std::sqrt;
+  V.setIdentity();
+  // 1. A = V T Vᵀ with T tridiagonal (Householder reflections H = I − β v vᵀ).
+  for (int k = 0; k + 2 < N; ++k) {
+    VecN<Scalar, N> v = VecN<Scalar, N>::Zero();
+    Scalar xnorm2 = Scalar(0);
+    for (int i = k + 1; i < N; ++i) {
+      v[i] = A(i, k);
+      xnorm2 += v[i] * v[i];
+    }
+    Scalar tail2 = xnorm2 - v[k + 1] * v[k + 1];
+    if (!(tail2 > Scalar(0))) continue;  // column already tridiagonal
+    const Scalar xnorm = sqrt(xnorm2);
+    const Scalar alpha = v[k + 1] > Scalar(0) ? Scalar(-xnorm) : xnorm;
+    v[k + 1] -= alpha;  // v = x − α e1, no cancellation (α has the opposite sign of x1)
+    const Scalar beta = Scalar(2) / (tail2 + v[k + 1] * v[k + 1]);
+    const VecN<Scalar, N> p = beta * (A * v);
+    const VecN<Scalar, N> w = p - (beta * Scalar(0.5) * p.dot(v)) * v;
+    A.noalias() -= v * w.transpose() + w * v.transpose();
+    V.noalias() -= (beta * (V * v)) * v.transpose();
+  }
+  Scalar e[N > 1 ? N - 1 : 1];
+  for (int i = 0; i < N; ++i) d[i] = A(i, i);
+  for (int i = 0; i + 1 < N; ++i) e[i] = A(i + 1, i);
+  const Scalar eps = Constants<Scalar>::epsilon();
+  const Scalar floor = eps * A.cwiseAbs().maxCoeff();
+  // 2. Implicit QR steps on the unreduced trailing block [start, end], deflating from the end.
+  int end = N - 1, iterations = 0;
+  while (end > 0 && iterations < 30 * N) {
+    if (abs(e[end - 1]) <= floor || abs(e[end - 1]) <= eps * (abs(d[end - 1]) + abs(d[end]))) {
+      e[end - 1] = Scalar(0);
+      --end;
+      continue;
+    }
+    int start = end - 1;
+    while (start > 0 && abs(e[start - 1]) > floor && abs(e[start - 1]) > eps * (abs(d[start - 1]) + abs(d[start]))) --start;
+    ++iterations;
+    // Wilkinson shift: the eigenvalue of the trailing 2×2 nearer to d[end].
+    const Scalar delta = (d[end - 1] - d[end]) / Scalar(2), b = e[end - 1];
+    const Scalar root = sqrt(delta * delta + b * b);
+    const Scalar mu = d[end] - (b * b) / (delta + (delta < Scalar(0) ? Scalar(-root) : root));
+    Scalar x = d[start] - mu, z = e[start];
+    for (int k = start; k < end; ++k) {
+      // G = [[c, s], [−s, c]] on (k, k+1) with Gᵀ(x, z) = (r, 0); T ← Gᵀ T G.
+      const Scalar r = sqrt(x * x + z * z);
+      Scalar c = Scalar(1), s = Scalar(0);
+      if (r > Scalar(0)) {
+        const Scalar inv = Scalar(1) / r;
+        c = x * inv;
+        s = -z * inv;
+      }
+      if (k > start) e[k - 1] = r;
+      const Scalar a = d[k], bb = e[k], d2 = d[k + 1];
+      const Scalar cc = c * c, ss = s * s, cs = c * s;
+      d[k] = cc * a - Scalar(2) * cs * bb + ss * d2;
+      d[k + 1] = ss * a + Scalar(2) * cs * bb + cc * d2;
+      e[k] = cs * (a - d2) + (cc - ss) * bb;
+      if (k + 1 < end) {
+        z = -s * e[k + 1];
+        e[k + 1] = c * e[k + 1];
+      }
+      x = e[k];
+      for (int i = 0; i < N; ++i) {
+        const Scalar vk = V(i, k), vk1 = V(i, k + 1);
+        V(i, k) = c * vk - s * vk1;
+        V(i, k + 1) = s * vk + c * vk1;
+      }
+    }
+  }
 }
 
 }  // namespace pce::detail

@@ -13,7 +13,8 @@
 ///
 ///     ∇²E = Q (R M Rᵀ) Qᵀ,    proj(∇²E) = Q proj(R M Rᵀ) Qᵀ.
 ///
-/// The small symmetric `S = R M Rᵀ` is diagonalised by Jacobi rotations (`core/jacobi.hpp`).
+/// The small symmetric `S = R M Rᵀ` is diagonalised by Householder tridiagonalisation and
+/// implicit QR steps (`core/jacobi.hpp`).
 #pragma once
 
 #include <pce/core/jacobi.hpp>
@@ -47,15 +48,16 @@ template <class Scalar, int N> struct SymmetricSum {
   MatN<Scalar, N> matrix() const { return half + half.transpose(); }
 };
 
-/// `Q proj(S) Qᵀ` for orthonormal columns `Q`: diagonalise `S` by Jacobi rotations and sum
-/// `λ (Q v)(Q v)ᵀ` over its positive eigenpairs.
+/// `Q proj(S) Qᵀ` for orthonormal columns `Q`: diagonalise `S` (tridiagonalisation and
+/// implicit QR, `core/jacobi.hpp`) and sum `λ (Q v)(Q v)ᵀ` over its positive eigenpairs.
 template <class Scalar, int Dofs, int K>
-MatN<Scalar, Dofs> projected_in_basis(const Eigen::Matrix<Scalar, Dofs, K>& Q, MatN<Scalar, K> S) {
+MatN<Scalar, Dofs> projected_in_basis(const Eigen::Matrix<Scalar, Dofs, K>& Q, const MatN<Scalar, K>& S) {
+  VecN<Scalar, K> lambda;
   MatN<Scalar, K> V;
-  jacobi_eigen(S, V);
+  symmetric_qr_eigen(S, lambda, V);
   SymmetricSum<Scalar, Dofs> sum;
   for (int i = 0; i < K; ++i)
-    if (S(i, i) > Scalar(0)) sum.rank_one(S(i, i), (Q * V.col(i)).eval());
+    if (lambda[i] > Scalar(0)) sum.rank_one(lambda[i], (Q * V.col(i)).eval());
   return sum.matrix();
 }
 
