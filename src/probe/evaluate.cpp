@@ -1,7 +1,20 @@
 // SPDX-License-Identifier: MIT
 // pce-probe: dispatch of a request to `pce::evaluate<Pair>` (or, with a "mollifier" field,
-// `pce::mollified_pair_energy<Pair>`) for the requested pair, length, penalty and scalar
+// `pce::mollified_pair_energy<Pair>`; with "closest_feature": true,
+// `pce::closest_feature_energy<Pair>`) for the requested pair, length, penalty and scalar
 // type; conversion of the result to double; messages for non-ok statuses.
+
+// GCC 12 at -O3 reports `-Wmaybe-uninitialized` inside `pce::closest_feature_energy`, where
+// the library copies its local `ClosestFeatureEnergy` (whose unused members are
+// uninitialized) to the output: a false positive located in the header, so it is silenced
+// for the library's headers only, not for this file.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <pce/pce.hpp>
+#pragma GCC diagnostic pop
+#endif
+
 #include "evaluate.hpp"
 
 #include <cmath>
@@ -10,15 +23,17 @@
 #include <type_traits>
 #include <utility>
 #include <variant>
+#include <vector>
 
 namespace pce_probe {
 
 namespace {
 
-/// The request's coordinates rounded to `Scalar` (exact for double and long double).
-template <class Scalar> pce::Vec12<Scalar> to_scalar(const std::array<double, 12>& x) {
-  pce::Vec12<Scalar> out;
-  for (int i = 0; i < 12; ++i) out[i] = static_cast<Scalar>(x[static_cast<std::size_t>(i)]);
+/// The request's coordinates (`N` of them, checked by the parser) rounded to `Scalar`
+/// (exact for double and long double).
+template <class Scalar, int N> pce::VecN<Scalar, N> to_scalar(const std::vector<double>& x) {
+  pce::VecN<Scalar, N> out;
+  for (int i = 0; i < N; ++i) out[i] = static_cast<Scalar>(x.at(static_cast<std::size_t>(i)));
   return out;
 }
 
@@ -29,30 +44,35 @@ template <class Scalar> bool store(const Scalar& v, double& out) {
   return std::isfinite(out);
 }
 
-template <class Scalar, int N> bool store_vector(const Eigen::Matrix<Scalar, N, 1>& v, std::array<double, N>& out) {
+/// The first `count` entries of `v` (all of them by default) as doubles.
+template <class Scalar, int N>
+bool store_vector(const Eigen::Matrix<Scalar, N, 1>& v, std::vector<double>& out, int count = N) {
+  out.assign(static_cast<std::size_t>(count), 0.0);
   bool ok = true;
-  for (int i = 0; i < N; ++i) ok = store(v[i], out[static_cast<std::size_t>(i)]) && ok;
+  for (int i = 0; i < count; ++i) ok = store(v[i], out[static_cast<std::size_t>(i)]) && ok;
   return ok;
 }
 
-/// Row-major copy of a 12×12 matrix.
-template <class Scalar> bool store_matrix(const pce::Mat12<Scalar>& m, std::array<double, 144>& out) {
+/// Row-major copy of an N×N matrix.
+template <class Scalar, int N> bool store_matrix(const pce::MatN<Scalar, N>& m, std::vector<double>& out) {
+  out.assign(static_cast<std::size_t>(N * N), 0.0);
   bool ok = true;
-  for (int r = 0; r < 12; ++r)
-    for (int c = 0; c < 12; ++c) ok = store(m(r, c), out[static_cast<std::size_t>(12 * r + c)]) && ok;
+  for (int r = 0; r < N; ++r)
+    for (int c = 0; c < N; ++c) ok = store(m(r, c), out[static_cast<std::size_t>(N * r + c)]) && ok;
   return ok;
 }
 
 /// All outputs as doubles; false if any of them does not fit.
-template <class Scalar> bool to_evaluation(const pce::PairResult<Scalar>& r, Evaluation& e) {
+template <class Scalar, int Dofs, int FrameDofs>
+bool to_evaluation(const pce::PairResult<Scalar, Dofs, FrameDofs>& r, Evaluation& e) {
   double length = 0;
   bool ok = store(r.length, length);
   e.length = length;
   ok = store(r.value, e.value) && ok;
-  ok = store_vector<Scalar, 12>(r.gradient, e.gradient) && ok;
-  ok = store_matrix(r.hessian, e.hessian) && ok;
-  ok = store_matrix(r.projected_hessian, e.projected_hessian) && ok;
-  ok = store_vector<Scalar, 9>(r.eigen.values, e.eigenvalues) && ok;
+  ok = store_vector<Scalar, Dofs>(r.gradient, e.gradient) && ok;
+  ok = store_matrix<Scalar, Dofs>(r.hessian, e.hessian) && ok;
+  ok = store_matrix<Scalar, Dofs>(r.projected_hessian, e.projected_hessian) && ok;
+  ok = store_vector<Scalar, FrameDofs>(r.eigen.values, e.eigenvalues) && ok;
   return ok;
 }
 
@@ -87,10 +107,10 @@ std::string penalty_problem(const pce::LogBarrierPenalty& p) {
 }
 
 /// Which coordinate the library rejected (empty if none).
-template <class Scalar> std::string coordinate_problem(const Request& req, const pce::Vec12<Scalar>& xs) {
+template <class Scalar, int N> std::string coordinate_problem(const Request& req, const pce::VecN<Scalar, N>& xs) {
   using std::abs;
   const Scalar lim = pce::Constants<Scalar>::max_coordinate();
-  for (int i = 0; i < 12; ++i) {
+  for (int i = 0; i < N; ++i) {
     if (std::isfinite(xs[i]) && !(abs(xs[i]) > lim)) continue;
     const double v = req.x[static_cast<std::size_t>(i)];
     std::string msg = "field \"x\"[" + std::to_string(i) + "] ";
@@ -102,10 +122,19 @@ template <class Scalar> std::string coordinate_problem(const Request& req, const
   return {};
 }
 
-const char* degenerate_message(PairKind pair) {
-  return pair == PairKind::vertex_face
-             ? "degenerate frame: zero-area triangle (t0, t1, t2 coincident or collinear)"
-             : "degenerate frame: parallel or zero-length edges";
+const char* degenerate_message(const Request& req) {
+  if (req.closest_feature)
+    return "degenerate: the distance between the closest features is exactly 0 on a point-edge or point-point "
+           "feature (a point lies on the other primitive's edge or vertex, where the distance has no direction)";
+  switch (req.pair) {
+    case PairKind::vertex_face: return "degenerate frame: zero-area triangle (t0, t1, t2 coincident or collinear)";
+    case PairKind::edge_edge: return "degenerate frame: parallel or zero-length edges";
+    case PairKind::point_edge:
+      return "degenerate: zero-length edge (e0 = e1), or the point on the edge's line (distance exactly 0, "
+             "which has no direction)";
+    case PairKind::point_point: return "degenerate: coincident points (distance exactly 0, which has no direction)";
+  }
+  return "degenerate";
 }
 
 template <class Penalty> std::string domain_message(const Penalty&, double L) {
@@ -116,10 +145,31 @@ template <class Penalty> std::string domain_message(const Penalty&, double L) {
 }
 
 /// L at the request's coordinates (the frame exists whenever the status is out_of_domain).
-template <class Pair, class Scalar, class Length> double length_at(const pce::Vec12<Scalar>& xs, const Length& len) {
-  pce::Frame<Scalar> f;
-  if (Pair::frame(xs, f) != pce::Status::ok) return 0.0;
-  return static_cast<double>(pce::length_value(f, len));
+template <class Pair, class Scalar, class Length>
+double length_at(const pce::VecN<Scalar, Pair::dofs>& xs, const Length& len) {
+  if constexpr (std::is_same_v<Pair, pce::PointEdge>) {
+    pce::PointEdgeFrame<Scalar> f;
+    return Pair::frame(xs, f) == pce::Status::ok ? static_cast<double>(f.d) : 0.0;
+  } else if constexpr (std::is_same_v<Pair, pce::PointPoint>) {
+    pce::PointPointFrame<Scalar> f;
+    return Pair::frame(xs, f) == pce::Status::ok ? static_cast<double>(f.d) : 0.0;
+  } else {
+    pce::Frame<Scalar> f;
+    if (Pair::frame(xs, f) != pce::Status::ok) return 0.0;
+    return static_cast<double>(pce::length_value(f, len));
+  }
+}
+
+/// The closest-feature distance at the request's coordinates: evaluated again with a
+/// penalty that is zero and defined everywhere (a quadratic one with k = 0, an
+/// instantiation every quadratic closest-feature request needs anyway).
+template <class Pair, class Scalar> double closest_feature_length_at(const pce::Vec12<Scalar>& xs) {
+  pce::QuadraticPenalty zero;
+  zero.stiffness = 0.0;
+  zero.eps = 0.0;
+  pce::ClosestFeatureEnergy<Scalar> e;
+  if (pce::closest_feature_energy<Pair>(xs, pce::UnsignedLength{}, zero, e) != pce::Status::ok) return 0.0;
+  return static_cast<double>(e.length);
 }
 
 /// A successful response: the evaluation, labelled with the request's projection and scalar.
@@ -134,16 +184,20 @@ Response ok_response(Evaluation e, const Request& req) {
 
 /// Human-readable explanation of a non-ok status.
 template <class Pair, class Scalar, class Length, class Penalty>
-std::string failure_message(pce::Status s, const Request& req, const pce::Vec12<Scalar>& xs, const Length& len,
-                            const Penalty& pen) {
+std::string failure_message(pce::Status s, const Request& req, const pce::VecN<Scalar, Pair::dofs>& xs,
+                            const Length& len, const Penalty& pen) {
   switch (s) {
     case pce::Status::invalid_input: {
       std::string m = penalty_problem(pen);
       if (m.empty()) m = coordinate_problem(req, xs);
       return m.empty() ? "invalid input" : m;
     }
-    case pce::Status::degenerate: return degenerate_message(req.pair);
-    case pce::Status::out_of_domain: return domain_message(pen, length_at<Pair>(xs, len));
+    case pce::Status::degenerate: return degenerate_message(req);
+    case pce::Status::out_of_domain: {
+      if constexpr (Pair::dofs == 12)
+        if (req.closest_feature) return domain_message(pen, closest_feature_length_at<Pair>(xs));
+      return domain_message(pen, length_at<Pair>(xs, len));
+    }
     case pce::Status::overflow:
       return std::string("a result is not finite in scalar \"") + to_string(req.scalar) + "\"";
     case pce::Status::ok: break;
@@ -153,8 +207,8 @@ std::string failure_message(pce::Status s, const Request& req, const pce::Vec12<
 
 template <class Pair, class Scalar, class Length, class Penalty>
 Response evaluate_typed(const Request& req, const Length& len, const Penalty& pen) {
-  const pce::Vec12<Scalar> xs = to_scalar<Scalar>(req.x);
-  pce::PairResult<Scalar> result;
+  const pce::VecN<Scalar, Pair::dofs> xs = to_scalar<Scalar, Pair::dofs>(req.x);
+  pce::PairResult<Scalar, Pair::dofs, Pair::frame_dofs> result;
   const pce::Status s = pce::evaluate<Pair>(xs, len, pen, req.projection, result);
   if (s != pce::Status::ok)
     return error_response(pce::to_string(s), failure_message<Pair>(s, req, xs, len, pen));
@@ -165,11 +219,48 @@ Response evaluate_typed(const Request& req, const Length& len, const Penalty& pe
   return ok_response(std::move(e), req);
 }
 
-/// Whether every output of a mollified evaluation is finite in `Scalar` (as `pce::evaluate`
-/// checks for the plain energy).
+/// Whether every output of a mollified or closest-feature evaluation is finite in `Scalar`
+/// (as `pce::evaluate` checks for the plain energy).
 template <class Scalar> bool all_finite(const pce::PairResult<Scalar>& r) {
   return std::isfinite(r.length) && std::isfinite(r.value) && r.gradient.allFinite() && r.hessian.allFinite() &&
          r.projected_hessian.allFinite() && r.eigen.values.allFinite();
+}
+
+/// The response of a successful closest-feature evaluation (penalty-independent, so it is
+/// instantiated once per scalar type): every output on all 12 coordinates from the
+/// `ClosestFeatureEnergy` overloads, the eigenvalues of the kind evaluated (9, 6 or 3) and
+/// its name as "feature".
+template <class Scalar> Response closest_feature_response(const pce::ClosestFeatureEnergy<Scalar>& energy,
+                                                          const Request& req) {
+  pce::PairResult<Scalar> result;
+  result.length = energy.length;
+  result.value = energy.psi.value;
+  result.gradient = pce::energy_gradient(energy);
+  result.hessian = pce::energy_hessian(energy);
+  result.projected_hessian =
+      req.projection == pce::Projection::none ? result.hessian : pce::projected_hessian(energy, req.projection);
+  const pce::FeatureEigenvalues<Scalar> eig = pce::feature_eigenvalues(energy);
+  result.eigen.values = eig.values;  // entries from `count` on are zeros (not printed)
+  if (!all_finite(result))
+    return error_response(pce::to_string(pce::Status::overflow),
+                          std::string("a result is not finite in scalar \"") + to_string(req.scalar) + "\"");
+  Evaluation e;
+  if (!to_evaluation(result, e) || !store_vector<Scalar, 9>(eig.values, e.eigenvalues, eig.count))
+    return error_response(pce::to_string(pce::Status::overflow),
+                          "a result is finite in long double but beyond the double range used for printing");
+  e.feature = pce::to_string(energy.feature);
+  return ok_response(std::move(e), req);
+}
+
+/// "closest_feature": true — classify by the closest features and evaluate that kind with
+/// the unsigned distance (`pce::closest_feature_energy`).
+template <class Pair, class Scalar, class Penalty> Response evaluate_closest_feature(const Request& req, const Penalty& pen) {
+  const pce::Vec12<Scalar> xs = to_scalar<Scalar, 12>(req.x);
+  pce::ClosestFeatureEnergy<Scalar> energy;
+  const pce::Status s = pce::closest_feature_energy<Pair>(xs, pce::UnsignedLength{}, pen, energy);
+  if (s != pce::Status::ok)
+    return error_response(pce::to_string(s), failure_message<Pair>(s, req, xs, pce::UnsignedLength{}, pen));
+  return closest_feature_response(energy, req);
 }
 
 /// The opt-in mollified energy E_m = m(X) ψ(L) (`pce::mollified_pair_energy`) with every
@@ -184,7 +275,7 @@ Response evaluate_mollified(const Request& req, const Length& len, const Penalty
                           "field \"mollifier.threshold\" = " + format_number(mollifier.threshold) +
                               " is not representable as a positive finite number in scalar \"" +
                               to_string(req.scalar) + "\"");
-  const pce::Vec12<Scalar> xs = to_scalar<Scalar>(req.x);
+  const pce::Vec12<Scalar> xs = to_scalar<Scalar, 12>(req.x);
   pce::MollifiedEnergy<Scalar> energy;
   const pce::Status s = pce::mollified_pair_energy<Pair>(xs, len, pen, mollifier, energy);
   if (s != pce::Status::ok)
@@ -211,10 +302,16 @@ Response evaluate_mollified(const Request& req, const Length& len, const Penalty
   return ok_response(std::move(e), req);
 }
 
-/// The plain energy, or the mollified one when the request has a "mollifier" field.
+/// The plain energy, the mollified one when the request has a "mollifier" field, or the
+/// closest-feature one for "closest_feature": true (the parser allows those two only for
+/// the plane kinds, and closest_feature only with an unsigned length).
 template <class Pair, class Scalar, class Length, class Penalty>
 Response evaluate_variant(const Request& req, const Length& len, const Penalty& pen) {
-  if (req.mollifier) return evaluate_mollified<Pair, Scalar>(req, len, pen);
+  if constexpr (Pair::dofs == 12) {
+    if (req.mollifier) return evaluate_mollified<Pair, Scalar>(req, len, pen);
+    if constexpr (std::is_same_v<Length, pce::UnsignedLength>)
+      if (req.closest_feature) return evaluate_closest_feature<Pair, Scalar>(req, pen);
+  }
   return evaluate_typed<Pair, Scalar>(req, len, pen);
 }
 
@@ -228,8 +325,23 @@ Response dispatch_scalar(const Request& req, const Length& len, const Penalty& p
   return evaluate_variant<Pair, double>(req, len, pen);
 }
 
+/// The point kinds are instantiated with the unsigned length only (the parser rejects a
+/// signed one, and so would the library).
 template <class Length, class Penalty> Response dispatch_pair(const Request& req, const Length& len, const Penalty& pen) {
-  if (req.pair == PairKind::edge_edge) return dispatch_scalar<pce::EdgeEdge>(req, len, pen);
+  if (req.closest_feature && !std::is_same_v<Length, pce::UnsignedLength>)
+    return error_response("internal_error", "closest_feature with a signed length reached evaluation");
+  switch (req.pair) {
+    case PairKind::edge_edge: return dispatch_scalar<pce::EdgeEdge>(req, len, pen);
+    case PairKind::point_edge:
+    case PairKind::point_point:
+      if constexpr (std::is_same_v<Length, pce::UnsignedLength>) {
+        if (req.pair == PairKind::point_edge) return dispatch_scalar<pce::PointEdge>(req, len, pen);
+        return dispatch_scalar<pce::PointPoint>(req, len, pen);
+      } else {
+        return error_response("internal_error", "a signed length for a point pair reached evaluation");
+      }
+    case PairKind::vertex_face: break;
+  }
   return dispatch_scalar<pce::VertexFace>(req, len, pen);
 }
 

@@ -9,6 +9,8 @@
 #include <cstdlib>
 #include <regex>
 #include <string>
+#include <variant>
+#include <vector>
 
 namespace pce_probe {
 
@@ -119,9 +121,10 @@ std::string quoted(const std::string& s) { return json(s).dump(-1, ' ', false, j
 
 PairKind parse_pair(const json& req) {
   const std::string s = required_string(req, "pair", "pair");
-  if (s == "vertex_face") return PairKind::vertex_face;
-  if (s == "edge_edge") return PairKind::edge_edge;
-  fail("unknown \"pair\" " + quoted(s) + " (expected \"vertex_face\" or \"edge_edge\")");
+  for (PairKind p : {PairKind::vertex_face, PairKind::edge_edge, PairKind::point_edge, PairKind::point_point})
+    if (s == to_string(p)) return p;
+  fail("unknown \"pair\" " + quoted(s) +
+       " (expected \"vertex_face\", \"edge_edge\", \"point_edge\" or \"point_point\")");
 }
 
 /// "side": +1 or −1 (integer or floating-point token), default +1.
@@ -137,9 +140,13 @@ pce::Side parse_side(const json& req) {
 }
 
 /// "length": "signed" (uses "side") or "unsigned" (a valid "side" is accepted and ignored).
-LengthSpec parse_length(const json& req) {
+/// The point kinds (a distance to a line or a point has no side) accept only "unsigned".
+LengthSpec parse_length(const json& req, PairKind pair) {
   const std::string s = required_string(req, "length", "length");
   const pce::Side side = parse_side(req);
+  if (s == "signed" && is_point_kind(pair))
+    fail("field \"length\" must be \"unsigned\" for \"pair\" " + quoted(to_string(pair)) +
+         " (a distance between points and lines has no side)");
   if (s == "signed") return pce::SignedLength{side};
   if (s == "unsigned") return pce::UnsignedLength{};
   fail("unknown \"length\" " + quoted(s) + " (expected \"signed\" or \"unsigned\")");
@@ -172,31 +179,39 @@ PenaltySpec parse_penalty(const json& req) {
   fail("unknown \"penalty.type\" " + quoted(type) + " (expected \"quadratic\", \"cubic\" or \"log_barrier\")");
 }
 
-/// `obj[key]`: exactly 12 numbers (or overflow markers, as ±infinity); errors name `path`.
-std::array<double, 12> parse_twelve_numbers(const json& obj, const char* key, const std::string& path) {
+/// `obj[key]`: exactly `n` numbers (or overflow markers, as ±infinity); errors name `path`
+/// (`hint`, if not empty, is added to the count messages).
+std::vector<double> parse_numbers(const json& obj, const char* key, const std::string& path, std::size_t n,
+                                  const std::string& hint = "") {
   const json& x = required(obj, key, path);
-  if (!x.is_array()) fail("field \"" + path + "\" must be an array of 12 numbers");
-  if (x.size() != 12) fail("field \"" + path + "\" must have 12 numbers, got " + std::to_string(x.size()));
-  std::array<double, 12> out{};
-  for (std::size_t i = 0; i < 12; ++i) {
+  const std::string count = std::to_string(n) + " numbers" + hint;
+  if (!x.is_array()) fail("field \"" + path + "\" must be an array of " + count);
+  if (x.size() != n) fail("field \"" + path + "\" must have " + count + ", got " + std::to_string(x.size()));
+  std::vector<double> out(n);
+  for (std::size_t i = 0; i < n; ++i) {
     if (!number_value(x[i], out[i])) fail("field \"" + path + "\"[" + std::to_string(i) + "] must be a number");
   }
   return out;
 }
 
-/// "x": exactly 12 numbers.
-std::array<double, 12> parse_coordinates(const json& req) { return parse_twelve_numbers(req, "x", "x"); }
+/// "x": exactly 12 numbers (vertex_face, edge_edge), 9 (point_edge) or 6 (point_point).
+std::vector<double> parse_coordinates(const json& req, PairKind pair) {
+  std::string hint;
+  if (pair == PairKind::point_edge) hint = " (p, e0, e1) for \"pair\" \"point_edge\"";
+  if (pair == PairKind::point_point) hint = " (p, q) for \"pair\" \"point_point\"";
+  return parse_numbers(req, "x", "x", static_cast<std::size_t>(coordinate_count(pair)), hint);
+}
 
 pce::Projection parse_projection(const json& req) {
   const auto it = req.find("projection");
   if (it == req.end()) return pce::Projection::analytic;
   if (!it->is_string()) fail("field \"projection\" must be a string");
   const std::string s = it->get<std::string>();
-  for (pce::Projection p : {pce::Projection::analytic, pce::Projection::numerical, pce::Projection::gauss_newton,
-                            pce::Projection::abs, pce::Projection::none})
+  for (pce::Projection p : {pce::Projection::analytic, pce::Projection::numerical, pce::Projection::exact,
+                            pce::Projection::gauss_newton, pce::Projection::abs, pce::Projection::none})
     if (s == pce::to_string(p)) return p;
   fail("unknown \"projection\" " + quoted(s) +
-       " (expected \"analytic\", \"numerical\", \"gauss_newton\", \"abs\" or \"none\")");
+       " (expected \"analytic\", \"numerical\", \"exact\", \"gauss_newton\", \"abs\" or \"none\")");
 }
 
 ScalarKind parse_scalar(const json& req) {
@@ -213,7 +228,7 @@ ScalarKind parse_scalar(const json& req) {
 std::string describe(double v) { return std::isfinite(v) ? format_number(v) : "a value beyond the double range"; }
 
 /// X̂ = factor |e0|²|e1|² of the rest pair, in double (`pce::mollifier_threshold`).
-double rest_threshold(PairKind pair, const std::array<double, 12>& rest, double factor) {
+double rest_threshold(PairKind pair, const std::vector<double>& rest, double factor) {
   pce::Vec12<double> r;
   for (int i = 0; i < 12; ++i) r[i] = rest[static_cast<std::size_t>(i)];
   return pair == PairKind::edge_edge ? pce::mollifier_threshold<pce::EdgeEdge>(r, factor)
@@ -226,6 +241,9 @@ double rest_threshold(PairKind pair, const std::array<double, 12>& rest, double 
 std::optional<pce::Mollifier> parse_mollifier(const json& req, PairKind pair) {
   const auto it = req.find("mollifier");
   if (it == req.end()) return std::nullopt;
+  if (is_point_kind(pair))
+    fail("field \"mollifier\" is only for \"pair\" \"vertex_face\" or \"edge_edge\" (got " +
+         quoted(to_string(pair)) + ")");
   const json& m = *it;
   if (!m.is_object())
     fail("field \"mollifier\" must be an object: {\"threshold\":X} or {\"rest\":[12 numbers],\"factor\":f}");
@@ -242,7 +260,7 @@ std::optional<pce::Mollifier> parse_mollifier(const json& req, PairKind pair) {
       fail("field \"mollifier.threshold\" must be finite and > 0 (got " + describe(out.threshold) + ")");
     return out;
   }
-  const std::array<double, 12> rest = parse_twelve_numbers(m, "rest", "mollifier.rest");
+  const std::vector<double> rest = parse_numbers(m, "rest", "mollifier.rest", 12);
   for (std::size_t i = 0; i < 12; ++i)
     if (!std::isfinite(rest[i])) fail("field \"mollifier.rest\"[" + std::to_string(i) + "] must be finite");
   double factor = 1e-3;
@@ -258,7 +276,47 @@ std::optional<pce::Mollifier> parse_mollifier(const json& req, PairKind pair) {
   return out;
 }
 
+/// "closest_feature" (optional, default false): a boolean; `true` only for vertex_face and
+/// edge_edge, with an unsigned length and without "mollifier".
+bool parse_closest_feature(const json& req, const Request& r) {
+  const auto it = req.find("closest_feature");
+  if (it == req.end()) return false;
+  if (!it->is_boolean()) fail("field \"closest_feature\" must be true or false");
+  if (!it->get<bool>()) return false;
+  if (is_point_kind(r.pair))
+    fail("field \"closest_feature\" is only for \"pair\" \"vertex_face\" or \"edge_edge\" (got " +
+         quoted(to_string(r.pair)) + ")");
+  if (std::holds_alternative<pce::SignedLength>(r.length))
+    fail("field \"closest_feature\" requires \"length\":\"unsigned\" (closest-feature distances have no side)");
+  if (r.mollifier)
+    fail("field \"closest_feature\" cannot be combined with \"mollifier\" (the mollifier applies to the plain "
+         "plane-distance energy only)");
+  return true;
+}
+
 }  // namespace
+
+const char* to_string(PairKind p) {
+  switch (p) {
+    case PairKind::vertex_face: return "vertex_face";
+    case PairKind::edge_edge: return "edge_edge";
+    case PairKind::point_edge: return "point_edge";
+    case PairKind::point_point: return "point_point";
+  }
+  return "unknown";
+}
+
+int coordinate_count(PairKind p) {
+  switch (p) {
+    case PairKind::point_edge: return pce::PointEdge::dofs;
+    case PairKind::point_point: return pce::PointPoint::dofs;
+    case PairKind::vertex_face: return pce::VertexFace::dofs;
+    case PairKind::edge_edge: return pce::EdgeEdge::dofs;
+  }
+  return 12;
+}
+
+bool is_point_kind(PairKind p) { return p == PairKind::point_edge || p == PairKind::point_point; }
 
 const char* to_string(ScalarKind s) {
   switch (s) {
@@ -282,12 +340,13 @@ Request parse_request(const nlohmann::json& request) {
   if (!request.is_object()) fail("request must be a JSON object");
   Request r;
   r.pair = parse_pair(request);
-  r.length = parse_length(request);
+  r.length = parse_length(request, r.pair);
   r.penalty = parse_penalty(request);
-  r.x = parse_coordinates(request);
+  r.x = parse_coordinates(request, r.pair);
   r.projection = parse_projection(request);
   r.scalar = parse_scalar(request);
   r.mollifier = parse_mollifier(request, r.pair);
+  r.closest_feature = parse_closest_feature(request, r);
   return r;
 }
 

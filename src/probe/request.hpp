@@ -9,16 +9,26 @@
 
 #include <nlohmann/json.hpp>
 
-#include <array>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <variant>
+#include <vector>
 
 namespace pce_probe {
 
 /// Pair kinds the probe knows, by their request names.
-enum class PairKind { vertex_face, edge_edge };
+enum class PairKind { vertex_face, edge_edge, point_edge, point_point };
+
+/// Request spelling of a pair kind ("vertex_face", "edge_edge", "point_edge", "point_point").
+const char* to_string(PairKind p);
+
+/// Number of coordinates in "x" for a pair kind: 12, 12, 9, 6.
+int coordinate_count(PairKind p);
+
+/// Whether the pair kind is one of the point kinds (point_edge, point_point): unsigned only,
+/// no mollifier, no closest-feature classification.
+bool is_point_kind(PairKind p);
 
 /// Scalar type the library is instantiated with.
 enum class ScalarKind { float_, double_, long_double };
@@ -36,12 +46,17 @@ struct Request {
   PairKind pair = PairKind::vertex_face;
   LengthSpec length;
   PenaltySpec penalty;
-  std::array<double, 12> x{};
+  /// `coordinate_count(pair)` numbers (12, 9 or 6), vertex by vertex.
+  std::vector<double> x;
   pce::Projection projection = pce::Projection::analytic;
   ScalarKind scalar = ScalarKind::double_;
   /// Opt-in mollified energy (`"mollifier"` field): set only when the request has the
   /// field; its threshold is then finite and > 0 (given, or computed from `"rest"`).
   std::optional<pce::Mollifier> mollifier;
+  /// `"closest_feature": true`: classify a vertex_face / edge_edge pair by its closest
+  /// features and evaluate that kind (`pce::closest_feature_energy`). Only set for those two
+  /// pairs with an unsigned length and no mollifier.
+  bool closest_feature = false;
 };
 
 /// A request that cannot be evaluated: reported as status "invalid_request".

@@ -26,9 +26,9 @@ class ObjectWriter {
   }
   void string(const char* key, const std::string& value) { raw(key, escaped(value)); }
   void number(const char* key, double value) { raw(key, format_number(value)); }
-  template <std::size_t N> void numbers(const char* key, const std::array<double, N>& values) {
+  void numbers(const char* key, const std::vector<double>& values) {
     std::string text = "[";
-    for (std::size_t i = 0; i < N; ++i) {
+    for (std::size_t i = 0; i < values.size(); ++i) {
       if (i != 0) text += ',';
       text += format_number(values[i]);
     }
@@ -54,6 +54,7 @@ void write_evaluation(ObjectWriter& w, const Evaluation& e) {
     w.number("mollifier", e.mollifier->value);
     w.number("mollifier_threshold", e.mollifier->threshold);
   }
+  if (e.feature) w.string("feature", *e.feature);
   if (e.length) w.number("length", *e.length);
   w.number("value", e.value);
   w.numbers("gradient", e.gradient);

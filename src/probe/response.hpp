@@ -7,9 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include <array>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace pce_probe {
 
@@ -20,17 +20,20 @@ struct MollifierOutput {
 };
 
 /// The numeric outputs of a successful evaluation, already converted to double.
-/// Matrices are row-major; `eigenvalues` are the 9 frame-space ones, ascending.
+/// `gradient` has one entry per coordinate of "x" (12, 9 or 6), the matrices its square,
+/// row-major; `eigenvalues` are the frame-space ones of the evaluated kind (9, 6 or 3),
+/// ascending.
 struct Evaluation {
   std::optional<double> length;  ///< L; absent only for a mollified pair without a frame (X = 0)
   double value = 0;
-  std::array<double, 12> gradient{};
-  std::array<double, 144> hessian{};
-  std::array<double, 144> projected_hessian{};
-  std::array<double, 9> eigenvalues{};
+  std::vector<double> gradient;
+  std::vector<double> hessian;
+  std::vector<double> projected_hessian;
+  std::vector<double> eigenvalues;
   std::string projection;  ///< strategy used, as spelled in requests
   std::string scalar;      ///< scalar type used, as spelled in requests
   std::optional<MollifierOutput> mollifier;  ///< set for requests with a "mollifier" field
+  std::optional<std::string> feature;        ///< set for "closest_feature" requests: the kind evaluated
 };
 
 /// One output line: `status` is "ok" (and `evaluation` is set) or a machine-readable
