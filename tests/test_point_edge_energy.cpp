@@ -68,6 +68,25 @@ TYPED_TEST(PointEdgeStatus, EveryFailureIsExplicitAndWritesNothing) {
   }
 }
 
+// Found by the fuzzer: a distance below the smallest subnormal (here 2^-1134 in double,
+// 2^-179 in float) rounded to d = 0 and the frame still said ok, so 1/d terms were infinite.
+TEST(PointEdgeFrame, DistanceThatUnderflowsIsDegenerate) {
+  const auto check = [](auto zero) {
+    using S = decltype(zero);
+    using L = std::numeric_limits<S>;
+    const int m = L::min_exponent;  // -1021 (double), -125 (float)
+    pce::Vec9<S> x;
+    // edge (0,0,0)-(2^(m/2), 2^(m/2 - 60), 0), p = the smallest subnormal on the x axis
+    x << L::denorm_min(), S(0), S(0), S(0), S(0), S(0), std::ldexp(S(1), m / 2), std::ldexp(S(1), m / 2 - 60), S(0);
+    pce::PointEdgeFrame<S> f;
+    f.d = S(-7);
+    EXPECT_EQ(pce::PointEdge::frame(x, f), pce::Status::degenerate);
+    EXPECT_EQ(f.d, S(-7)) << "nothing written";
+  };
+  check(0.0);
+  check(0.0f);
+}
+
 TEST(PointEdgeEnergy, Conformance) {
   const ExactStats st = run_kind_suite<Kind>(draw_point_edge, 41);
   std::printf("point_edge: exact vs numerical compared on %d configurations (worst %.2e), numerical inaccurate on %d; "

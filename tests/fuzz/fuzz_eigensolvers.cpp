@@ -15,7 +15,7 @@ MinEig min_eigenvalue(const Eigen::Matrix<long double, 12, 12>& M) {
 }  // namespace pce_fuzz
 
 namespace pce {
-PCE_FUZZ_PROJECT_PSD(, float)
-PCE_FUZZ_PROJECT_PSD(, double)
-PCE_FUZZ_PROJECT_PSD(, long double)
+PCE_FUZZ_PROJECT_PSD_12(, float)
+PCE_FUZZ_PROJECT_PSD_12(, double)
+PCE_FUZZ_PROJECT_PSD_12(, long double)
 }  // namespace pce

@@ -1,36 +1,29 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// The fuzz body of `docs/fuzzing.md`: decode bytes into one per-pair case, run it through
-/// `pce::evaluate` and the lower-level per-pair functions, check the invariants.
+/// The fuzz body of `docs/fuzzing.md`, first half: decode bytes into one case, run the two
+/// plane kinds (vertex-face, edge-edge) through `pce::evaluate` and the lower-level per-pair
+/// functions and check the invariants; the decoders and the projection checks every kind
+/// shares. The point kinds are in `fuzz_points.cpp`, closest-feature evaluation in
+/// `fuzz_closest.cpp`.
 ///
 /// Decoding is menu-driven, so that random bytes give interesting cases often: coordinates
 /// come from geometric templates (a triangle and a vertex near its plane, two edges near
-/// each other), small integers, uniform values or special values (NaN, ±Inf, subnormals,
-/// the largest finite values, `max_coordinate` and its neighbours, raw bit patterns), and
-/// are then edited by a few operations (duplicate a point, make points collinear or
-/// coplanar, make edges nearly parallel by a perturbation 10^-k, scale by 10^k or 2^k,
-/// offset by 10^k, rotate, nudge by ulps, plant a special value). Penalty parameters are
-/// drawn relative to the decoded geometry's length L (so the penalty is active, just
-/// active, at its boundary, or inactive) or from a menu including invalid ones (negative,
-/// NaN, ±Inf) and extreme ones (0, subnormal, 1e300, DBL_MAX).
-#include "fuzz_pair.hpp"
-#include "fuzz_eigensolvers.hpp"
-
-#include <pce/pce.hpp>
+/// each other, a point near an edge's line, two nearly coincident points), small integers,
+/// uniform values or special values (NaN, ±Inf, subnormals, the largest finite values,
+/// `max_coordinate` and its neighbours, raw bit patterns), and are then edited by a few
+/// operations (duplicate a point, make points collinear or coplanar, make edges nearly
+/// parallel by a perturbation 10^-k, scale by 10^k or 2^k, offset by 10^k, rotate, nudge by
+/// ulps, plant a special value). Penalty parameters are drawn relative to the decoded
+/// geometry's length L (so the penalty is active, just active, at its boundary, or
+/// inactive) or from a menu including invalid ones (negative, NaN, ±Inf) and extreme ones
+/// (0, subnormal, 1e300, DBL_MAX).
+#include "fuzz_common.hpp"
 
 #include <Eigen/Eigenvalues>
-#include <Eigen/Geometry>
 
-#include <array>
-#include <cmath>
-#include <cfenv>
 #include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
-#include <limits>
-#include <string>
-#include <type_traits>
 
 PceFuzzConfig& pce_fuzz_config() {
   static PceFuzzConfig c;
@@ -42,58 +35,12 @@ PceFuzzStats& pce_fuzz_stats() {
   return s;
 }
 
-namespace {
-
-// ---------------------------------------------------------------------------------------
-// Byte reader: every read past the end yields zeros, so every byte string is a valid case.
-
-class Bytes {
- public:
-  Bytes(const uint8_t* d, size_t n) : d_(d), n_(n) {}
-  uint8_t u8() { return i_ < n_ ? d_[i_++] : uint8_t(0); }
-  // Little-endian; each read is its own statement (the order of operands is unspecified).
-  uint16_t u16() {
-    const uint16_t lo = u8();
-    return uint16_t(lo | (uint16_t(u8()) << 8));
-  }
-  uint32_t u32() {
-    const uint32_t lo = u16();
-    return lo | (uint32_t(u16()) << 16);
-  }
-  uint64_t u64() {
-    const uint64_t lo = u32();
-    return lo | (uint64_t(u32()) << 32);
-  }
-  /// In [0, 1].
-  double unit() { return u16() / 65535.0; }
-  /// In [-1, 1].
-  double sym() { return 2.0 * unit() - 1.0; }
-  /// A small integer in [lo, hi].
-  int range(int lo, int hi) { return lo + int(u8() % unsigned(hi - lo + 1)); }
-
- private:
-  const uint8_t* d_;
-  size_t n_;
-  size_t i_ = 0;
-};
-
-// ---------------------------------------------------------------------------------------
-// The case being run, for the reproducer printed on failure.
-
-struct CaseInfo {
-  const char* scalar = "";
-  const char* pair = "";
-  const char* length = "";
-  const char* penalty = "";
-  const char* projection = "";
-  double k = 0, eps = 0, delta = 0, dhat = 0;
-  long double x[12] = {};
-  int coord_mode = 0;
-  std::string ops;
-  bool failed = false;  ///< this input already reported (keep-going mode: one report per input)
-};
+namespace pce_fuzz {
 
 CaseInfo g_case;
+void* volatile g_escape = nullptr;
+
+namespace {
 
 void print_reproducer() {
   const CaseInfo& c = g_case;
@@ -106,14 +53,14 @@ void print_reproducer() {
     std::fprintf(stderr, "  penalty=LogBarrierPenalty{k=%.17g, dhat=%.17g}\n", c.k, c.dhat);
   const bool ld = std::strcmp(c.scalar, "long double") == 0;
   std::fprintf(stderr, "  x = {");
-  for (int i = 0; i < 12; ++i) {
+  for (int i = 0; i < c.nx; ++i) {
     if (ld)
       std::fprintf(stderr, "%s%.21Lg", i ? ", " : "", c.x[i]);
     else
       std::fprintf(stderr, "%s%.17g", i ? ", " : "", double(c.x[i]));
   }
   std::fprintf(stderr, "}\n  x (hex) = {");
-  for (int i = 0; i < 12; ++i) {
+  for (int i = 0; i < c.nx; ++i) {
     if (ld)
       std::fprintf(stderr, "%s%La", i ? ", " : "", c.x[i]);
     else
@@ -122,9 +69,8 @@ void print_reproducer() {
   std::fprintf(stderr, "}\n  decoded from: coordinate mode %d, ops [%s]\n", c.coord_mode, c.ops.c_str());
 }
 
-#if defined(__GNUC__)
-__attribute__((format(printf, 1, 2)))
-#endif
+}  // namespace
+
 void fail(const char* fmt, ...) {
   PceFuzzStats& st = pce_fuzz_stats();
   const PceFuzzConfig& cfg = pce_fuzz_config();
@@ -145,234 +91,87 @@ void fail(const char* fmt, ...) {
   if (cfg.abort_on_failure) std::abort();
 }
 
-#define PCE_FUZZ_CHECK(cond, ...) \
-  do {                            \
-    if (!(cond)) fail(__VA_ARGS__); \
-  } while (0)
-
-// ---------------------------------------------------------------------------------------
-// Scalars.
-
-template <class S> int scalar_index() { return std::is_same<S, float>::value ? 0 : std::is_same<S, double>::value ? 1 : 2; }
-template <class S> const char* scalar_name() {
-  return std::is_same<S, float>::value ? "float" : std::is_same<S, double>::value ? "double" : "long double";
-}
-
-/// Relative tolerance of the PSD and symmetry checks: 1024 ε of the scalar (1.2e-4 in
-/// float, 2.3e-13 in double, 1.1e-16 in long double). Rounding alone stays below ~16 ε
-/// (measured, docs/fuzzing.md); a wrong sign, a missing clamp or an unstable reassembly is
-/// orders of magnitude above it.
-template <class S> long double psd_tolerance() { return 1024.0L * std::numeric_limits<S>::epsilon(); }
-
-template <class S, std::enable_if_t<std::is_floating_point<S>::value, int> = 0> bool finite(const S& v) {
-  return std::isfinite(v);
-}
-template <class Derived> bool finite(const Eigen::MatrixBase<Derived>& m) {
-  for (Eigen::Index j = 0; j < m.cols(); ++j)
-    for (Eigen::Index i = 0; i < m.rows(); ++i)
-      if (!std::isfinite(m(i, j))) return false;
-  return true;
-}
-
-template <class A, class B> bool same_values(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
-  return (a.array() == b.array()).all();
-}
-
-/// The object representation of `t`, to check that a failing call wrote nothing.
-template <class T> class Snapshot {
- public:
-  explicit Snapshot(const T& t) { std::memcpy(bytes_, static_cast<const void*>(&t), sizeof(T)); }
-  bool unchanged(const T& t) const { return std::memcmp(bytes_, static_cast<const void*>(&t), sizeof(T)) == 0; }
-
- private:
-  unsigned char bytes_[sizeof(T)];
-};
-
-/// A value no call computes by accident.
-template <class S> S sentinel() { return S(-7777.125); }
-
-template <class S> void fill(pce::Frame<S>& f) {
-  f.P.setConstant(sentinel<S>());
-  f.n.setConstant(sentinel<S>());
-  f.t0.setConstant(sentinel<S>());
-  f.t1.setConstant(sentinel<S>());
-  f.l = f.a0 = f.a1 = f.alpha = f.beta = f.gamma = sentinel<S>();
-}
-template <class S> void fill(pce::PairEnergy<S>& e) {
-  fill(e.frame);
-  e.sigma = e.length = e.psi.value = e.psi.first = e.psi.second = sentinel<S>();
-}
-template <class S> void fill(pce::PairResult<S>& r) {
-  r.length = r.value = sentinel<S>();
-  r.gradient.setConstant(sentinel<S>());
-  r.hessian.setConstant(sentinel<S>());
-  r.projected_hessian.setConstant(sentinel<S>());
-  r.eigen.values.setConstant(sentinel<S>());
-  r.eigen.vectors.setConstant(sentinel<S>());
-}
-
 // ---------------------------------------------------------------------------------------
 // Coordinates.
 
-template <class S> S pow10(int k) {
-  using std::pow;
-  return S(pow(S(10), S(k)));
-}
-
-template <class S> S raw_bits(Bytes& b) {
-  S v;
-  if constexpr (std::is_same<S, float>::value) {
-    const uint32_t u = b.u32();
-    std::memcpy(&v, &u, sizeof v);
-  } else if constexpr (std::is_same<S, double>::value) {
-    const uint64_t u = b.u64();
-    std::memcpy(&v, &u, sizeof v);
-  } else {
-    // x87 80-bit extended: 64-bit significand (explicit integer bit) and sign+exponent.
-    // Non-canonical encodings (unnormals, pseudo-denormals) are included on purpose.
-    unsigned char buf[sizeof(S)] = {};
-    const uint64_t m = b.u64();
-    const uint16_t e = b.u16();
-    std::memcpy(buf, &m, 8);
-    std::memcpy(buf + 8, &e, 2);
-    std::memcpy(&v, buf, sizeof v);
-  }
-  return v;
-}
-
-/// NaN, ±Inf, subnormals, the extremes, max_coordinate and its neighbours, raw bits, ...
-template <class S> S special(Bytes& b) {
-  using L = std::numeric_limits<S>;
-  using std::ldexp;
-  using std::nextafter;
-  const S mc = pce::Constants<S>::max_coordinate();
-  switch (b.u8() % 28) {
-    case 0: return S(0);
-    case 1: return -S(0);
-    case 2: return S(1);
-    case 3: return S(-1);
-    case 4: return S(0.5);
-    case 5: return S(b.range(-8, 8));
-    case 6: return L::quiet_NaN();
-    case 7: return -L::quiet_NaN();
-    case 8: return L::signaling_NaN();
-    case 9: return L::infinity();
-    case 10: return -L::infinity();
-    case 11: return (L::max)();
-    case 12: return L::lowest();
-    case 13: return (L::min)();
-    case 14: return L::denorm_min();
-    case 15: return -L::denorm_min();
-    case 16: return L::epsilon();
-    case 17: return mc;
-    case 18: return -mc;
-    case 19: return nextafter(mc, L::infinity());
-    case 20: return nextafter(mc, S(0));
-    case 21: return -nextafter(mc, L::infinity());
-    case 22:
-    case 23: return raw_bits<S>(b);
-    case 24: {  // any power of two from deep subnormal to the top, with a significand
-      const int lo = L::min_exponent - L::digits, hi = L::max_exponent;
-      const int e = lo + int(b.u16() % unsigned(hi - lo + 1));
-      return ldexp(S(b.sym()), e);
-    }
-    case 25: {
-      const S m = S(b.sym());
-      return m * pow10<S>(b.range(-30, 30));
-    }
-    case 26: return S(1e6) + S(b.sym());
-    default: return S(b.sym());
-  }
-}
-
-/// 0, ±10^-k, or a few ulps: how far from exact degeneracy.
-template <class S> S severity(Bytes& b) {
-  const int m = b.u8() % 8;
-  const S sign = (b.u8() & 1) ? S(-1) : S(1);
-  switch (m) {
-    case 0: return S(0);
-    case 1: return sign * std::numeric_limits<S>::epsilon() * S(b.range(1, 4));
-    case 2: return sign * std::numeric_limits<S>::denorm_min();
-    default: return sign * pow10<S>(-b.range(0, 20));
-  }
-}
-
-/// Three values in [-1, 1], read in order (the order of function arguments is unspecified).
-template <class S> pce::Vec3<S> sym3(Bytes& b) {
-  pce::Vec3<S> v;
-  for (int c = 0; c < 3; ++c) v[c] = S(b.sym());
-  return v;
-}
-
-template <class S> pce::Vec3<S> axis(Bytes& b) {
-  pce::Vec3<S> a = pce::Vec3<S>::Zero();
-  const int m = b.u8() % 4;
-  if (m < 3) {
-    a[m] = S(1);
-  } else {
-    a = sym3<S>(b);
-    if (!(a.norm() > S(0.01))) a = pce::Vec3<S>(S(0), S(0), S(1));
-    a.normalize();
-  }
-  return a;
-}
-
-/// severity × axis: a displacement of size 0, 10^-k or a few ulps.
-template <class S> pce::Vec3<S> offset(Bytes& b) {
-  const S sev = severity<S>(b);
-  return sev * axis<S>(b);
-}
-
-template <class S> pce::Vec12<S> decode_x(Bytes& b, bool edge_edge) {
+template <class S> std::array<pce::Vec3<S>, 4> decode_points(Bytes& b, Layout layout) {
   using V = pce::Vec3<S>;
   std::array<V, 4> p;
+  for (auto& q : p) q.setZero();
+  const int npts = layout == Layout::point_edge ? 3 : layout == Layout::point_point ? 2 : 4;
   const int mode = b.u8() % 8;
   g_case.coord_mode = mode;
   switch (mode) {
     case 0:
     case 1:
     case 2: {  // template: a nice pair with one severity knob
-      if (!edge_edge) {
-        const S d = (b.u8() % 4 == 0) ? S(std::fabs(double(severity<S>(b)))) : S(0.05 + b.unit());
-        p[1] = V(0, 0, 0);
-        p[2] = V(1, 0, 0);
-        p[3] = V(S(b.sym()), d, 0);
-        const S h = (b.u8() % 2) ? severity<S>(b) : S(b.sym());
-        const S px = S(2 * b.sym());
-        p[0] = V(px, S(2 * b.sym()), h);
-      } else {
-        const S h = (b.u8() % 2) ? severity<S>(b) : S(b.sym());
-        const S th = (b.u8() % 4 == 0) ? severity<S>(b) : S(3 * b.sym());
-        using std::cos;
-        using std::sin;
-        p[0] = V(-1, 0, 0);
-        p[1] = V(1, 0, 0);
-        const S cx = S(b.sym());
-        const V c(cx, S(b.sym()), h);
-        p[2] = c - V(cos(th), sin(th), 0);
-        p[3] = c + V(cos(th), sin(th), 0);
+      using std::cos;
+      using std::sin;
+      switch (layout) {
+        case Layout::vertex_face: {
+          const S d = (b.u8() % 4 == 0) ? S(std::fabs(double(severity<S>(b)))) : S(0.05 + b.unit());
+          p[1] = V(0, 0, 0);
+          p[2] = V(1, 0, 0);
+          p[3] = V(S(b.sym()), d, 0);
+          const S h = (b.u8() % 2) ? severity<S>(b) : S(b.sym());
+          const S px = S(2 * b.sym());
+          p[0] = V(px, S(2 * b.sym()), h);
+          break;
+        }
+        case Layout::edge_edge: {
+          const S h = (b.u8() % 2) ? severity<S>(b) : S(b.sym());
+          const S th = (b.u8() % 4 == 0) ? severity<S>(b) : S(3 * b.sym());
+          p[0] = V(-1, 0, 0);
+          p[1] = V(1, 0, 0);
+          const S cx = S(b.sym());
+          const V c(cx, S(b.sym()), h);
+          p[2] = c - V(cos(th), sin(th), 0);
+          p[3] = c + V(cos(th), sin(th), 0);
+          break;
+        }
+        case Layout::point_edge: {  // edge (0,0,0)-(len,0,0), p at distance h from its line
+          const S len = (b.u8() % 4 == 0) ? S(std::fabs(double(severity<S>(b)))) : S(0.2 + 2 * b.unit());
+          p[1] = V(0, 0, 0);
+          p[2] = V(len, 0, 0);
+          const S h = (b.u8() % 2) ? severity<S>(b) : S(b.sym());  // 0: on the line
+          const S phi = S(3.2 * b.sym());
+          // along the line: an endpoint exactly, between them, or beyond them
+          const S px = (b.u8() % 4 == 0) ? S(b.range(0, 1)) * len : S(2 * b.sym());
+          p[0] = V(px, h * cos(phi), h * sin(phi));
+          break;
+        }
+        case Layout::point_point: {  // q = p + 0, 10^-k or a few ulps, or anywhere
+          p[0] = sym3<S>(b);
+          if (b.u8() % 4 == 0)
+            p[1] = sym3<S>(b);
+          else
+            p[1] = p[0] + offset<S>(b);
+          break;
+        }
       }
       break;
     }
     case 3:
     case 4:  // small integers: exact coincidences, collinearity and coplanarity
-      for (auto& q : p)
-        for (int c = 0; c < 3; ++c) q[c] = S(b.range(-2, 2));
+      for (int q = 0; q < npts; ++q)
+        for (int c = 0; c < 3; ++c) p[q][c] = S(b.range(-2, 2));
       break;
     case 5:
     case 6:  // uniform
-      for (auto& q : p) q = sym3<S>(b);
+      for (int q = 0; q < npts; ++q) p[q] = sym3<S>(b);
       break;
     default:  // coordinates from the special menu (each with probability 1/2), else uniform
-      for (auto& q : p)
-        for (int c = 0; c < 3; ++c) q[c] = (b.u8() & 1) ? special<S>(b) : S(b.sym());
+      for (int q = 0; q < npts; ++q)
+        for (int c = 0; c < 3; ++c) p[q][c] = (b.u8() & 1) ? special<S>(b) : S(b.sym());
       break;
   }
   const int nops = b.u8() % 5;
   g_case.ops.clear();
   for (int o = 0; o < nops; ++o) {
     const int op = b.u8() % 12;
-    const int i = b.u8() % 4, j = b.u8() % 4, k = b.u8() % 4;
+    const int ri = b.u8(), rj = b.u8(), rk = b.u8();
+    const int i = ri % npts, j = rj % npts, k = rk % npts;
+    const int c = rj % 3;  // a coordinate (ops 7 and 10)
     char buf[64];
     std::snprintf(buf, sizeof buf, "%s%d(%d,%d,%d)", o ? " " : "", op, i, j, k);
     g_case.ops += buf;
@@ -385,14 +184,14 @@ template <class S> pce::Vec12<S> decode_x(Bytes& b, bool edge_edge) {
         break;
       }
       case 2: {  // in the plane of p[j], p[k], p[m]
-        const int m = b.u8() % 4;
+        const int m = b.u8() % npts;
         const S u = S(b.sym() * 2);
         p[i] = p[j] + u * (p[k] - p[j]) + S(b.sym() * 2) * (p[m] - p[j]);
         break;
       }
       case 3: p[i] += offset<S>(b); break;  // perturb by 10^-m
       case 4: {  // nearly parallel: p[i] − p[i^1] ∥ p[j] − p[k], up to 10^-m
-        const int i2 = i ^ 1;
+        const int i2 = (i ^ 1) % npts;
         const S u = S(b.sym() * 2);
         p[i] = p[i2] + u * (p[j] - p[k]) + offset<S>(b);
         break;
@@ -408,7 +207,7 @@ template <class S> pce::Vec12<S> decode_x(Bytes& b, bool edge_edge) {
         for (auto& q : p) q += off;
         break;
       }
-      case 7: p[i][j % 3] = special<S>(b); break;
+      case 7: p[i][c] = special<S>(b); break;
       case 8: std::swap(p[i], p[j]); break;
       case 9: {  // rotate: no coordinate stays exact
         const S angle = S(b.sym() * 3.2);
@@ -420,7 +219,7 @@ template <class S> pce::Vec12<S> decode_x(Bytes& b, bool edge_edge) {
       case 10: {  // nudge one coordinate by 1..4 ulps
         using std::nextafter;
         const S to = (b.u8() % 2) ? std::numeric_limits<S>::infinity() : -std::numeric_limits<S>::infinity();
-        for (int n = b.range(1, 4); n > 0; --n) p[i][j % 3] = nextafter(p[i][j % 3], to);
+        for (int n = b.range(1, 4); n > 0; --n) p[i][c] = nextafter(p[i][c], to);
         break;
       }
       default:  // all points in the plane z = p[j].z: exactly coplanar
@@ -428,13 +227,18 @@ template <class S> pce::Vec12<S> decode_x(Bytes& b, bool edge_edge) {
         break;
     }
   }
-  pce::Vec12<S> x;
-  x << p[0], p[1], p[2], p[3];
-  return x;
+  return p;
 }
+
+
+template std::array<pce::Vec3<float>, 4> decode_points<float>(Bytes&, Layout);
+template std::array<pce::Vec3<double>, 4> decode_points<double>(Bytes&, Layout);
+template std::array<pce::Vec3<long double>, 4> decode_points<long double>(Bytes&, Layout);
 
 // ---------------------------------------------------------------------------------------
 // Penalty parameters (doubles, as the penalty types store them).
+
+namespace {
 
 double raw_double(Bytes& b) {
   const uint64_t u = b.u64();
@@ -537,22 +341,57 @@ double decode_dhat(Bytes& b, double L) {
   }
 }
 
-// ---------------------------------------------------------------------------------------
-// Checks.
+}  // namespace
 
-long double max_abs(const Eigen::Matrix<long double, 12, 12>& M) { return M.cwiseAbs().maxCoeff(); }
+DecodedPenalty decode_penalty(Bytes& b, int type, double Lhint) {
+  DecodedPenalty d;
+  d.type = type;
+  const double k = decode_stiffness(b);
+  g_case.k = k;
+  switch (type) {
+    case 0:
+      d.quadratic = pce::QuadraticPenalty{k, decode_eps(b, Lhint)};
+      d.activation = d.quadratic.eps;
+      g_case.penalty = "quadratic";
+      g_case.eps = d.quadratic.eps;
+      break;
+    case 1: {
+      const double eps = decode_eps(b, Lhint);
+      d.cubic = pce::CubicPenalty{k, eps, decode_delta(b, Lhint - eps)};
+      d.activation = d.cubic.eps;
+      g_case.penalty = "cubic";
+      g_case.eps = d.cubic.eps;
+      g_case.delta = d.cubic.delta;
+      break;
+    }
+    default:
+      d.barrier = pce::LogBarrierPenalty{k, decode_dhat(b, Lhint)};
+      d.activation = d.barrier.dhat;
+      g_case.penalty = "log_barrier";
+      g_case.dhat = d.barrier.dhat;
+      break;
+  }
+  return d;
+}
+
+// ---------------------------------------------------------------------------------------
+// Checks on a set of projections.
+
+namespace {
+
+long double max_abs(const LdMat& M) { return M.cwiseAbs().maxCoeff(); }
+long double max2(long double a, long double b) { return a > b ? a : b; }
 
 const char* check_name(int c) {
-  static const char* names[6] = {"analytic", "numerical", "gauss_newton", "abs", "abs - analytic",
-                                 "analytic - gauss_newton"};
+  static const char* names[pce_fuzz_checks] = {"analytic", "numerical",      "gauss_newton",           "abs",
+                                               "exact",    "abs - analytic", "analytic - gauss_newton", "exact - hessian"};
   return names[c];
 }
 
 /// λ_min(M) ≥ −tol·scale, M symmetric up to tol·scale. `check` indexes `worst_psd`.
 /// `underflow`: an intermediate of the library's computation underflowed (IEEE underflow
 /// flag), so relative accuracy is not defined there; a violation is then counted, not failed.
-template <class S> void check_psd(const Eigen::Matrix<long double, 12, 12>& M, long double scale, int check,
-                                  bool underflow) {
+template <class S> void check_psd(const LdMat& M, long double scale, int check, bool underflow) {
   PceFuzzStats& st = pce_fuzz_stats();
   const int si = scalar_index<S>();
   if (!(scale > 0)) return;
@@ -567,7 +406,7 @@ template <class S> void check_psd(const Eigen::Matrix<long double, 12, 12>& M, l
   if (!underflow && double(asym) > st.worst_asym[si]) st.worst_asym[si] = double(asym);
   PCE_FUZZ_CHECK(asym <= tol, "%s projection not symmetric: max|P - P^T| / scale = %.3Le > %.1Le", check_name(check),
                  asym, tol);
-  const pce_fuzz::MinEig e = pce_fuzz::min_eigenvalue(M);
+  const MinEig e = min_eigenvalue(M);
   ++st.psd_checks;
   if (!e.converged) {
     ++st.eig_no_convergence;
@@ -583,14 +422,84 @@ template <class S> void check_psd(const Eigen::Matrix<long double, 12, 12>& M, l
                  e.lambda_min, scale, ratio, tol);
 }
 
-/// Escapes an object's address, so that an opaque call (fetestexcept) may read it: the
-/// computations stored into it cannot be moved past that call.
-void* volatile g_escape = nullptr;
+}  // namespace
 
-template <class S> Eigen::Matrix<long double, 12, 12> ld(const pce::Mat12<S>& M) { return M.template cast<long double>(); }
+template <class S> void check_projection_set(const ProjectionSet& ps) {
+  PceFuzzStats& st = pce_fuzz_stats();
+  const int si = scalar_index<S>();
+  const long double tol = psd_tolerance<S>();
+  const LdMat* P = ps.P;
+  const bool* fin = ps.fin;
+  const bool* uf = ps.uf;
+  long double sc[kNumStrategies] = {};
+  for (int s = 0; s < kNumStrategies; ++s) {
+    if (fin[s])
+      sc[s] = max_abs(P[s]);
+    else if (s != 0 && fin[0])
+      ++st.projection_overflow;
+  }
+  if (fin[0] && sc[0] > 0) {
+    const long double asym = (P[0] - P[0].transpose()).cwiseAbs().maxCoeff() / sc[0];
+    if (asym > tol && ps.underflow)
+      ++st.underflow_excused;
+    else
+      PCE_FUZZ_CHECK(asym <= tol, "exact Hessian not symmetric: %.3Le", asym);
+  }
+  // PSD-ness of every strategy but none. numerical and exact are computed from (or as the
+  // projection of) H, so their rounding is relative to max|H_ij|, which can be much larger
+  // than max|P_ij| when H is mostly negative.
+  if (fin[1]) check_psd<S>(P[1], sc[1], pce_fuzz_check_analytic, uf[1]);
+  if (fin[2]) check_psd<S>(P[2], fin[0] ? max2(sc[2], sc[0]) : sc[2], pce_fuzz_check_numerical, uf[2]);
+  if (fin[3]) check_psd<S>(P[3], sc[3], pce_fuzz_check_gauss_newton, uf[3]);
+  if (fin[4]) check_psd<S>(P[4], sc[4], pce_fuzz_check_abs, uf[4]);
+  if (fin[5]) check_psd<S>(P[5], fin[0] ? max2(sc[5], sc[0]) : sc[5], pce_fuzz_check_exact, uf[5]);
+  // The Loewner orderings the definitions give: abs ⪰ analytic ⪰ gauss_newton, and
+  // exact − H = Q max(−S, 0) Qᵀ ⪰ 0 (for H = Q S Qᵀ, whether or not Q is orthonormal).
+  if (fin[4] && fin[1]) check_psd<S>(P[4] - P[1], max2(sc[4], sc[1]), pce_fuzz_check_abs_minus_analytic, uf[4] || uf[1]);
+  if (fin[1] && fin[3]) check_psd<S>(P[1] - P[3], max2(sc[1], sc[3]), pce_fuzz_check_analytic_minus_gn, uf[1] || uf[3]);
+  if (fin[5] && fin[0]) check_psd<S>(P[5] - P[0], max2(sc[5], sc[0]), pce_fuzz_check_exact_minus_hessian, uf[5]);
+  // exact and numerical are the same matrix up to rounding and up to the frame basis'
+  // orthonormality defect δ (a basis off by δ moves the two apart by at most ~10 δ‖H‖_F,
+  // docs/fuzzing.md): ‖P_exact − P_num‖_F relative to the largest of ‖H‖_F, ‖P_exact‖_F,
+  // ‖P_num‖_F (computed on matrices divided by their largest entry, so that long double
+  // cannot overflow) is at most 1024 ε + 16 δ.
+  if (fin[0] && fin[2] && fin[5]) {
+    const long double m = max2(sc[0], max2(sc[2], sc[5]));
+    if (m > 0) {
+      const LdMat H = P[0] / m, N = P[2] / m, X = P[5] / m;
+      const long double scale = max2(H.norm(), max2(N.norm(), X.norm()));
+      const long double ratio = (X - N).norm() / scale;
+      const long double bound = tol + 16 * ps.basis_defect;
+      const bool underflow = uf[2] || uf[5];
+      ++st.exact_compared;
+      if (ratio > tol && ratio <= bound) ++st.exact_basis_defect;
+      if (ratio > bound && underflow) {
+        ++st.underflow_excused;
+      } else {
+        if (!underflow) {
+          if (double(ratio) > st.worst_exact_vs_numerical[si]) st.worst_exact_vs_numerical[si] = double(ratio);
+          if (16 * ps.basis_defect <= tol && double(ratio) > st.worst_exact_vs_numerical_orthonormal[si])
+            st.worst_exact_vs_numerical_orthonormal[si] = double(ratio);
+          if (ratio > tol && ps.basis_defect > 0 && double((ratio - tol) / ps.basis_defect) > st.worst_exact_per_defect[si])
+            st.worst_exact_per_defect[si] = double((ratio - tol) / ps.basis_defect);
+        }
+        PCE_FUZZ_CHECK(ratio <= bound,
+                       "exact differs from numerical: |P_exact - P_numerical|_F / scale = %.3Le > 1024 eps + 16 delta = %.3Le "
+                       "(basis defect delta = %.3Le)",
+                       ratio, bound, ps.basis_defect);
+      }
+    }
+  }
+}
 
-constexpr pce::Projection kStrategies[5] = {pce::Projection::none, pce::Projection::analytic, pce::Projection::numerical,
-                                            pce::Projection::gauss_newton, pce::Projection::abs};
+template void check_projection_set<float>(const ProjectionSet&);
+template void check_projection_set<double>(const ProjectionSet&);
+template void check_projection_set<long double>(const ProjectionSet&);
+
+// ---------------------------------------------------------------------------------------
+// The plane kinds.
+
+namespace {
 
 /// The lower-level outputs of one `ok` energy (gradient, exact Hessian, eigensystem and
 /// every projection) and the invariants on them that involve neither the pair kind, the
@@ -600,7 +509,7 @@ template <class S> struct LowerLevel {
   pce::Vec12<S> g;
   pce::Mat12<S> H;
   pce::FrameEigensystem<S> eig;
-  pce::Mat12<S> P[5];
+  pce::Mat12<S> P[kNumStrategies];
   bool core_finite = false;
 };
 
@@ -609,8 +518,6 @@ template <class S> void check_lower_level(const pce::PairEnergy<S>& e, LowerLeve
   pce::Vec12<S>& g = out.g;
   pce::Mat12<S>& H = out.H;
   pce::FrameEigensystem<S>& eig = out.eig;
-  pce::Mat12<S>* const P = out.P;
-  bool& core_finite = out.core_finite;
   if (e.psi.first != S(0) || e.psi.second != S(0)) ++st.active;
   g = pce::energy_gradient(e);
   H = pce::energy_hessian(e);
@@ -618,24 +525,16 @@ template <class S> void check_lower_level(const pce::PairEnergy<S>& e, LowerLeve
   g_escape = &g;
   g_escape = &H;
   g_escape = &eig;
-  // Underflow in the frame, ψ or the exact Hessian, and in each projection. Inside the
-  // numerical projection's eigensolver an underflow only matters when ‖H‖ itself is
-  // within 1/ε of the underflow threshold (its errors are relative to ‖H‖).
+  // Underflow in the frame, ψ or the exact Hessian, and in each projection.
   const bool underflow = std::fetestexcept(FE_UNDERFLOW) != 0;
-  const bool tiny_h = !(H.cwiseAbs().maxCoeff() >= (std::numeric_limits<S>::min)() / std::numeric_limits<S>::epsilon());
-  bool uf[5];
-  for (int s = 0; s < 5; ++s) {
-    std::feclearexcept(FE_ALL_EXCEPT);
-    P[s] = pce::projected_hessian(e, kStrategies[s]);
-    g_escape = &P[s];
-    const bool here = std::fetestexcept(FE_UNDERFLOW) != 0;
-    uf[s] = underflow || (here && (kStrategies[s] != pce::Projection::numerical || tiny_h));
-  }
-  core_finite = finite(g) && finite(H) && finite(eig.values) && finite(e.length);
+  ProjectionSet ps;
+  compute_projections(e, H, underflow, out.P, ps);
+  ps.basis_defect = basis_defect(e.frame.t0, e.frame.t1, e.frame.n);
+  out.core_finite = finite(g) && finite(H) && finite(eig.values) && finite(e.length);
 
   // evaluate() tests only the eigenvalues for overflow: finite values must imply finite vectors.
   PCE_FUZZ_CHECK(!finite(eig.values) || finite(eig.vectors), "eigensystem: finite eigenvalues but a non-finite eigenvector");
-  PCE_FUZZ_CHECK(same_values(P[0], H) || !finite(H), "projection none differs from energy_hessian");
+  PCE_FUZZ_CHECK(same_values(out.P[0], H) || !finite(H), "projection none differs from energy_hessian");
   if (finite(eig.values)) {
     int zeros = 0;
     bool has_psi2 = false;
@@ -649,36 +548,7 @@ template <class S> void check_lower_level(const pce::PairEnergy<S>& e, LowerLeve
     PCE_FUZZ_CHECK(zeros >= 4, "eigensystem: %d exact zeros, expected at least 4", zeros);
     PCE_FUZZ_CHECK(has_psi2, "eigensystem: psi'' = %.17Lg is not an eigenvalue", (long double)e.psi.second);
   }
-  if (finite(H)) {
-    const Eigen::Matrix<long double, 12, 12> Hl = ld(H);
-    const long double hs = max_abs(Hl);
-    if (hs > 0) {
-      const long double asym = (Hl - Hl.transpose()).cwiseAbs().maxCoeff() / hs;
-      if (asym > psd_tolerance<S>() && underflow)
-        ++st.underflow_excused;
-      else
-        PCE_FUZZ_CHECK(asym <= psd_tolerance<S>(), "exact Hessian not symmetric: %.3Le", asym);
-    }
-  }
-  // PSD-ness of every strategy but none, and the Loewner orderings abs ≥ analytic ≥ GN.
-  Eigen::Matrix<long double, 12, 12> Pl[5];
-  long double sc[5] = {0, 0, 0, 0, 0};
-  bool fin[5];
-  for (int s = 0; s < 5; ++s) {
-    fin[s] = finite(P[s]);
-    if (fin[s]) {
-      Pl[s] = ld(P[s]);
-      sc[s] = max_abs(Pl[s]);
-    } else if (s != 0 && finite(H)) {
-      ++st.projection_overflow;
-    }
-  }
-  if (fin[1]) check_psd<S>(Pl[1], sc[1], 0, uf[1]);
-  if (fin[2]) check_psd<S>(Pl[2], fin[0] ? (sc[2] > sc[0] ? sc[2] : sc[0]) : sc[2], 1, uf[2]);
-  if (fin[3]) check_psd<S>(Pl[3], sc[3], 2, uf[3]);
-  if (fin[4]) check_psd<S>(Pl[4], sc[4], 3, uf[4]);
-  if (fin[4] && fin[1]) check_psd<S>(Pl[4] - Pl[1], sc[4] > sc[1] ? sc[4] : sc[1], 4, uf[4] || uf[1]);
-  if (fin[1] && fin[3]) check_psd<S>(Pl[1] - Pl[3], sc[1] > sc[3] ? sc[1] : sc[3], 5, uf[1] || uf[3]);
+  check_projection_set<S>(ps);
 }
 
 template <class S, class Pair, class Length, class Penalty>
@@ -779,6 +649,7 @@ void check_case(const pce::Vec12<S>& x, const Length& len, const Penalty& pen, b
   const Snapshot<pce::PairResult<S>> rsnap(r);
   const Status es = pce::evaluate<Pair>(x, len, pen, proj, r);
   ++st.status[static_cast<int>(es)];
+  ++st.kind_status[std::is_same<Pair, pce::EdgeEdge>::value ? pce_fuzz_edge_edge : pce_fuzz_vertex_face][static_cast<int>(es)];
   if (nonfinite) PCE_FUZZ_CHECK(es == Status::invalid_input, "evaluate: NaN/Inf coordinate but status %s", pce::to_string(es));
   if (ps != Status::ok) {
     PCE_FUZZ_CHECK(es == ps, "evaluate: status %s, pair_energy status %s", pce::to_string(es), pce::to_string(ps));
@@ -805,38 +676,17 @@ void check_case(const pce::Vec12<S>& x, const Length& len, const Penalty& pen, b
 
 template <class S, class Pair, class Length> void run_length(Bytes& b, const pce::Vec12<S>& x, const Length& len) {
   const int penalty = b.u8() % 3;
-  const pce::Projection proj = kStrategies[b.u8() % 5];
+  const pce::Projection proj = kStrategies[b.u8() % kNumStrategies];
   g_case.projection = pce::to_string(proj);
   // The geometry's own L, so that the activation lengths can be placed around it.
   double Lhint = 1.0;
   pce::Frame<S> f;
   if (Pair::frame(x, f) == pce::Status::ok) Lhint = double(len.sigma(f) * f.l);
-  const double k = decode_stiffness(b);
-  g_case.k = k;
-  switch (penalty) {
-    case 0: {
-      const pce::QuadraticPenalty pen{k, decode_eps(b, Lhint)};
-      g_case.penalty = "quadratic";
-      g_case.eps = pen.eps;
-      check_case<S, Pair>(x, len, pen, false, pen.eps, proj);
-      break;
-    }
-    case 1: {
-      const double eps = decode_eps(b, Lhint);
-      const pce::CubicPenalty pen{k, eps, decode_delta(b, Lhint - eps)};
-      g_case.penalty = "cubic";
-      g_case.eps = pen.eps;
-      g_case.delta = pen.delta;
-      check_case<S, Pair>(x, len, pen, false, pen.eps, proj);
-      break;
-    }
-    default: {
-      const pce::LogBarrierPenalty pen{k, decode_dhat(b, Lhint)};
-      g_case.penalty = "log_barrier";
-      g_case.dhat = pen.dhat;
-      check_case<S, Pair>(x, len, pen, true, pen.dhat, proj);
-      break;
-    }
+  const DecodedPenalty d = decode_penalty(b, penalty, Lhint);
+  switch (d.type) {
+    case 0: check_case<S, Pair>(x, len, d.quadratic, false, d.activation, proj); break;
+    case 1: check_case<S, Pair>(x, len, d.cubic, false, d.activation, proj); break;
+    default: check_case<S, Pair>(x, len, d.barrier, true, d.activation, proj); break;
   }
 }
 
@@ -859,11 +709,19 @@ template <class S, class Pair> void run_pair(Bytes& b, const pce::Vec12<S>& x, i
 
 template <class S> void run_scalar(Bytes& b) {
   g_case.scalar = scalar_name<S>();
-  const bool edge_edge = b.u8() & 1;
+  // Half of the inputs are plane kinds (their frames have the most hard cases), an eighth
+  // each point_edge, point_point and the two closest-feature candidates.
+  static constexpr int kinds[8] = {pce_fuzz_vertex_face, pce_fuzz_vertex_face, pce_fuzz_edge_edge, pce_fuzz_edge_edge,
+                                   pce_fuzz_point_edge,  pce_fuzz_point_point, pce_fuzz_closest_vf, pce_fuzz_closest_ee};
+  const int kind = kinds[b.u8() % 8];
+  if (kind != pce_fuzz_vertex_face && kind != pce_fuzz_edge_edge) {
+    run_new_kind<S>(b, kind);
+    return;
+  }
+  const bool edge_edge = kind == pce_fuzz_edge_edge;
   const int length = b.u8() % 3;
   g_case.pair = edge_edge ? pce::EdgeEdge::name : pce::VertexFace::name;
-  const pce::Vec12<S> x = decode_x<S>(b, edge_edge);
-  for (int i = 0; i < 12; ++i) g_case.x[i] = static_cast<long double>(x[i]);
+  const pce::Vec12<S> x = decode_x<S, 12>(b, edge_edge ? Layout::edge_edge : Layout::vertex_face);
   if (edge_edge)
     run_pair<S, pce::EdgeEdge>(b, x, length);
   else
@@ -871,8 +729,10 @@ template <class S> void run_scalar(Bytes& b) {
 }
 
 }  // namespace
+}  // namespace pce_fuzz
 
 int pce_fuzz_one(const uint8_t* data, size_t size) {
+  using namespace pce_fuzz;
   ++pce_fuzz_stats().inputs;
   g_case = CaseInfo{};
   Bytes b(data, size);

@@ -8,9 +8,11 @@
 /// problem (`energy/exact_projection.hpp`), about twice as fast for absolute accuracy.
 #pragma once
 
+#include <pce/core/scaling.hpp>
 #include <pce/core/types.hpp>
 
 #include <cmath>
+#include <limits>
 
 namespace pce::detail {
 
@@ -71,22 +73,41 @@ template <class Scalar, int N> void jacobi_eigen(MatN<Scalar, N>& A, MatN<Scalar
 /// Computations, Algs. 8.3.1 and 8.3.2): on return the eigenvalues (unsorted) are in `d`
 /// and the orthonormal eigenvectors in the columns of `V`. Accurate to about ε·max|A|
 /// (absolute), which is what a PSD projection needs; it takes about half the rotations of
-/// cyclic Jacobi and one square root per rotation instead of two.
+/// cyclic Jacobi and one square root per rotation instead of two. `A` is first rescaled
+/// exactly by a power of two to max|A_ij| in [½, 1), so that no square or product of its
+/// entries overflows or underflows whatever its magnitude. A zero `A` gives d = 0, V = I;
+/// a non-finite one gives NaN eigenvalues.
 template <class Scalar, int N> void symmetric_qr_eigen(MatN<Scalar, N> A, VecN<Scalar, N>& d, MatN<Scalar, N>& V) {
   using std::abs;
   using std::sqrt;
   V.setIdentity();
+  if (!A.allFinite()) {
+    d.setConstant(std::numeric_limits<Scalar>::quiet_NaN());
+    return;
+  }
+  const Scalar amax = A.cwiseAbs().maxCoeff();
+  if (!(amax > Scalar(0))) {
+    d.setZero();
+    return;
+  }
+  const PowerOfTwoScale<Scalar> scale(amax);
+  A = scale.down(A);
+  const Scalar eps = Constants<Scalar>::epsilon();
+  // A column whose entries below the subdiagonal have a norm below ε (ε·max|A| before the
+  // rescaling) is taken as tridiagonal: an absolute perturbation within the accuracy above,
+  // and it keeps β = 2/|v|² finite.
+  const Scalar negligible2 = eps * eps;
   // 1. A = V T Vᵀ with T tridiagonal (Householder reflections H = I − β v vᵀ).
   for (int k = 0; k + 2 < N; ++k) {
     VecN<Scalar, N> v = VecN<Scalar, N>::Zero();
-    Scalar xnorm2 = Scalar(0);
-    for (int i = k + 1; i < N; ++i) {
+    Scalar tail2 = Scalar(0);
+    for (int i = k + 2; i < N; ++i) {
       v[i] = A(i, k);
-      xnorm2 += v[i] * v[i];
+      tail2 += v[i] * v[i];
     }
-    Scalar tail2 = xnorm2 - v[k + 1] * v[k + 1];
-    if (!(tail2 > Scalar(0))) continue;  // column already tridiagonal
-    const Scalar xnorm = sqrt(xnorm2);
+    if (!(tail2 > negligible2)) continue;  // column already tridiagonal (to ε)
+    v[k + 1] = A(k + 1, k);
+    const Scalar xnorm = sqrt(v[k + 1] * v[k + 1] + tail2);
     const Scalar alpha = v[k + 1] > Scalar(0) ? Scalar(-xnorm) : xnorm;
     v[k + 1] -= alpha;  // v = x − α e1, no cancellation (α has the opposite sign of x1)
     const Scalar beta = Scalar(2) / (tail2 + v[k + 1] * v[k + 1]);
@@ -98,7 +119,6 @@ template <class Scalar, int N> void symmetric_qr_eigen(MatN<Scalar, N> A, VecN<S
   Scalar e[N > 1 ? N - 1 : 1];
   for (int i = 0; i < N; ++i) d[i] = A(i, i);
   for (int i = 0; i + 1 < N; ++i) e[i] = A(i + 1, i);
-  const Scalar eps = Constants<Scalar>::epsilon();
   const Scalar floor = eps * A.cwiseAbs().maxCoeff();
   // 2. Implicit QR steps on the unreduced trailing block [start, end], deflating from the end.
   int end = N - 1, iterations = 0;
@@ -143,6 +163,7 @@ template <class Scalar, int N> void symmetric_qr_eigen(MatN<Scalar, N> A, VecN<S
       }
     }
   }
+  for (int i = 0; i < N; ++i) d[i] = scale.up(d[i]);
 }
 
 }  // namespace pce::detail

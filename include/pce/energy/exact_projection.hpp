@@ -57,7 +57,7 @@ MatN<Scalar, Dofs> projected_in_basis(const Eigen::Matrix<Scalar, Dofs, K>& Q, c
   symmetric_qr_eigen(S, lambda, V);
   SymmetricSum<Scalar, Dofs> sum;
   for (int i = 0; i < K; ++i)
-    if (lambda[i] > Scalar(0)) sum.rank_one(lambda[i], (Q * V.col(i)).eval());
+    if (!(lambda[i] <= Scalar(0))) sum.rank_one(lambda[i], (Q * V.col(i)).eval());  // NaN propagates
   return sum.matrix();
 }
 

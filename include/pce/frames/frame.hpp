@@ -12,6 +12,7 @@
 /// `edge_edge.hpp`; both reduce to this one struct.
 #pragma once
 
+#include <pce/core/scaling.hpp>
 #include <pce/core/types.hpp>
 
 #include <Eigen/Geometry>
@@ -116,35 +117,6 @@ template <class Scalar> Mat12<Scalar> pullback(const Frame<Scalar>& f, const Fra
 
 namespace detail {
 
-/// Exact rescaling by the power of two `2^-ex` nearest a reference size `big > 0`
-/// (`big = mant·2^ex`, mant in [0.5, 1)): no rounding, and no overflow in products of
-/// the rescaled vectors. One multiplication by a power of two is exact unless the result
-/// is subnormal; only for exponents near the ends of the range do we fall back to `ldexp`
-/// per coordinate.
-template <class Scalar> struct PowerOfTwoScale {
-  int ex = 0;
-  bool moderate;
-  Scalar factor;
-  explicit PowerOfTwoScale(const Scalar& big) {
-    using std::frexp;
-    using std::ldexp;
-    frexp(big, &ex);
-    moderate = ex > std::numeric_limits<Scalar>::min_exponent + 64 && ex < std::numeric_limits<Scalar>::max_exponent - 64;
-    factor = moderate ? Scalar(ldexp(Scalar(1), -ex)) : Scalar(1);
-  }
-  /// v · 2^-ex
-  Vec3<Scalar> down(const Vec3<Scalar>& v) const {
-    using std::ldexp;
-    if (moderate) return v * factor;
-    const int e = ex;
-    return v.unaryExpr([e](const Scalar& c) { return Scalar(ldexp(c, -e)); });
-  }
-  /// v · 2^ex
-  Scalar up(const Scalar& v) const {
-    using std::ldexp;
-    return moderate ? Scalar(v * ldexp(Scalar(1), ex)) : Scalar(ldexp(v, ex));
-  }
-};
 
 /// Build the frame from the pair's edge vectors and the constant map `D` (rows: e0, e1, e2
 /// as combinations of the four vertices). Uses the stable forms of

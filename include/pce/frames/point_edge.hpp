@@ -38,7 +38,7 @@ struct PointEdge {
 
   /// Builds the reduced frame of `x = (p, e0, e1)`: `invalid_input` for non-finite or
   /// absurd coordinates, `degenerate` for a zero-length edge or a point on the line
-  /// (d = 0, where the distance has no direction), `overflow` when the point is beyond
+  /// (d = 0 — exactly, or after underflow — where the distance has no direction), `overflow` when the point is beyond
   /// the scalar's range relative to the edge. On failure `f` is untouched.
   template <class Scalar> static Status frame(const Vec9<Scalar>& x, PointEdgeFrame<Scalar>& f) {
     using std::sqrt;
@@ -60,6 +60,9 @@ struct PointEdge {
     const Scalar beta = t.dot(Rv) / a;
     const Scalar d = sc.up(Scalar(mn / a));
     if (!detail::is_finite(beta) || !detail::is_finite(d)) return Status::overflow;
+    // The distance itself can underflow to 0 (a subnormal d over a long edge, found by the
+    // fuzzer): the point is on the line as far as the scalar can tell.
+    if (!(d > Scalar(0))) return Status::degenerate;
     f.P << Scalar(0), Scalar(-1), Scalar(1),  //
         Scalar(1), Scalar(-1) + beta, -beta;
     f.t = t;
