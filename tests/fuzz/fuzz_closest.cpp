@@ -163,8 +163,11 @@ template <class S> void check_closest(ClosestCase<S>& c, const Snapshot<pce::Clo
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j) diam = (std::max)(diam, (p[i] - p[j]).norm());
     // Conditioning of the plane (line) frame: |e0||e1|/|e0 × e1| (1/sin of the angle).
-    const LdVec3 e0 = vf ? LdVec3(p[2] - p[1]) : LdVec3(p[1] - p[0]);
-    const LdVec3 e1 = vf ? LdVec3(p[3] - p[1]) : LdVec3(p[3] - p[2]);
+    // (Edges from the raw points, not from p[] relative to point 0: for long double a
+    // difference of two such rounded differences is off by ε times the configuration's
+    // size, which for a short edge far from point 0 is a wrong direction.)
+    const LdVec3 e0 = down(vf ? LdVec3(point_ld<S>(c.x, 2) - point_ld<S>(c.x, 1)) : LdVec3(point_ld<S>(c.x, 1) - point_ld<S>(c.x, 0)), k);
+    const LdVec3 e1 = down(vf ? LdVec3(point_ld<S>(c.x, 3) - point_ld<S>(c.x, 1)) : LdVec3(point_ld<S>(c.x, 3) - point_ld<S>(c.x, 2)), k);
     const long double cross = e0.cross(e1).norm();
     const long double cond = cross > 0 ? e0.norm() * e1.norm() / cross : std::numeric_limits<long double>::infinity();
     const long double eps = eps_ld<S>();
@@ -176,7 +179,12 @@ template <class S> void check_closest(ClosestCase<S>& c, const Snapshot<pce::Clo
     const long double L = down(static_cast<long double>(e.length), k);
     bool ok_bounds = true;
     long double bad = 0, bound = 0;
-    if (fs == Status::ok) {
+    // The lower bound needs a meaningful l: at an angle below about 64 ε (ε·cond > 1/64)
+    // the computed normal is rounding noise (e0 × e1 is, yet not exactly zero, so the frame
+    // is ok) and so is l — e.g. l = 1.5e4 for a float sliver with sin = 1.4e-8 whose vertex
+    // is 2.2 away; closest-feature evaluation then never picks the plane kind with it
+    // (docs/math.md §10), which the upper bounds below check.
+    if (fs == Status::ok && eps * cond <= 1.0L / 64) {
       const long double l = down(std::fabs(static_cast<long double>(f.l)), k);
       if (!(l <= L + tol_plane)) ok_bounds = false, bad = l, bound = L + tol_plane;
     }

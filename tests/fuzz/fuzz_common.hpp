@@ -116,8 +116,9 @@ template <class Derived> bool finite(const Eigen::MatrixBase<Derived>& m) {
   return true;
 }
 
+/// Equal entries, NaN equal to NaN (the same computation gives the same NaN positions).
 template <class A, class B> bool same_values(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
-  return (a.array() == b.array()).all();
+  return (a.array() == b.array() || (a.array().isNaN() && b.array().isNaN())).all();
 }
 
 /// The object representation of `t`, to check that a failing call wrote nothing.

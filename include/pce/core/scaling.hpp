@@ -35,6 +35,11 @@ template <class Scalar> struct PowerOfTwoScale {
     const int e = ex;
     return v.unaryExpr([e](const Scalar& c) { return Scalar(ldexp(c, -e)); });
   }
+  /// s · 2^-ex
+  Scalar down(const Scalar& s) const {
+    using std::ldexp;
+    return moderate ? Scalar(s * factor) : Scalar(ldexp(s, -ex));
+  }
   /// v · 2^ex
   Scalar up(const Scalar& v) const {
     using std::ldexp;

@@ -91,16 +91,16 @@ Scalar point_segment(const Vec3<Scalar>& p, const Vec3<Scalar>& a, const Vec3<Sc
 }
 
 /// Classifies the pair by its closest features (`VertexFace` or `EdgeEdge` layout).
-/// `plane_ok` says whether the plane kind's frame exists and its closest point lies inside
-/// (then `feature` is the plane kind).
+/// `plane_inside` says whether the plane kind's frame exists and its closest point lies
+/// inside the primitives, `plane_l` is then its length l. The plane kind is chosen when its
+/// foot is inside *and* |l| is not above the nearest point-segment distance: for a foot
+/// inside, |l| is the smallest of them exactly, so the rule changes nothing where the frame
+/// is accurate, and where it is not (a triangle or an edge pair at an angle below the
+/// scalar's rounding, whose normal is noise) a wrong |l| cannot win over the segments.
 template <class Pair, class Scalar>
-void classify(const Vec12<Scalar>& x, bool plane_inside, Feature& feature, std::array<int, 3>& points) {
+void classify(const Vec12<Scalar>& x, bool plane_inside, const Scalar& plane_l, Feature& feature,
+              std::array<int, 3>& points) {
   constexpr bool vf = std::is_same_v<Pair, VertexFace>;
-  if (plane_inside) {
-    feature = vf ? Feature::point_plane : Feature::line_line;
-    points = {-1, -1, -1};
-    return;
-  }
   // Points relative to point 0, exactly rescaled so squared distances cannot overflow.
   Vec3<Scalar> y[4];
   Scalar big = Scalar(0);
@@ -109,9 +109,11 @@ void classify(const Vec12<Scalar>& x, bool plane_inside, Feature& feature, std::
     big = (std::max)(big, y[j].cwiseAbs().maxCoeff());
   }
   y[0].setZero();
+  Scalar l_scaled = plane_l;
   if (big > Scalar(0)) {
     const PowerOfTwoScale<Scalar> sc(big);
     for (int j = 1; j < 4; ++j) y[j] = sc.down(y[j]);
+    l_scaled = sc.down(plane_l);
   }
   // (point, segment start, segment end) candidates, in a fixed order (ties: first wins).
   static constexpr int vf_cand[3][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}};
@@ -128,6 +130,10 @@ void classify(const Vec12<Scalar>& x, bool plane_inside, Feature& feature, std::
       feature = f;
       points = pts;
     }
+  }
+  if (plane_inside && l_scaled * l_scaled <= best) {
+    feature = vf ? Feature::point_plane : Feature::line_line;
+    points = {-1, -1, -1};
   }
 }
 
@@ -172,13 +178,15 @@ Status closest_feature_energy(const Vec12<Scalar>& x, const Length&, const Penal
   ClosestFeatureEnergy<Scalar> e;
   Frame<Scalar> f;
   bool inside = false;
+  Scalar l = Scalar(0);
   if (Pair::frame(x, f) == Status::ok) {
+    l = f.l;
     if constexpr (std::is_same_v<Pair, VertexFace>)  // barycentrics of the foot: (1 − β − γ, β, γ)
       inside = f.beta >= Scalar(0) && f.gamma >= Scalar(0) && f.beta + f.gamma <= Scalar(1);
     else  // closest points ea0 + β e0 and eb0 − γ e1
       inside = f.beta >= Scalar(0) && f.beta <= Scalar(1) && f.gamma <= Scalar(0) && f.gamma >= Scalar(-1);
   }
-  detail::classify<Pair>(x, inside, e.feature, e.points);
+  detail::classify<Pair>(x, inside, l, e.feature, e.points);
   Status s = Status::ok;
   switch (e.feature) {
     case Feature::point_plane:

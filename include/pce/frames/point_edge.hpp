@@ -56,7 +56,13 @@ struct PointEdge {
     if (!detail::is_finite(mn)) return Status::overflow;
     if (!(mn > Scalar(0))) return Status::degenerate;
     const Vec3<Scalar> t = E / a;
-    const Vec3<Scalar> n = m / mn;
+    // n̂ = m/|m| is orthogonal to t̂ only to the rounding of m relative to |m|: O(1) off when
+    // p is on the line to within rounding (found by the fuzzer). One Gram-Schmidt step makes
+    // (t̂, û, n̂) orthonormal to rounding whatever |m| is; it moves n̂ by no more than its own
+    // error.
+    Vec3<Scalar> n = m / mn;
+    n -= n.dot(t) * t;
+    n /= sqrt(n.squaredNorm());
     const Scalar beta = t.dot(Rv) / a;
     const Scalar d = sc.up(Scalar(mn / a));
     if (!detail::is_finite(beta) || !detail::is_finite(d)) return Status::overflow;
