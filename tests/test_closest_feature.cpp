@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <set>
 
 namespace {
@@ -121,6 +122,30 @@ TEST(ClosestFeature, StatusesAndWhatASignedRequestGets) {
                                                          pce::UnsignedLength{}, quad, e),
             pce::Status::ok);
   EXPECT_EQ(e.feature, pce::Feature::point_point);
+}
+
+// The plane kind is chosen only when its |l| is not above the nearest point-segment
+// distance: a frame whose normal is rounding noise (a triangle or edge pair at an angle
+// below the scalar's ε) can put the foot "inside" with a meaningless l. classify() is
+// given such a frame's verdict directly here.
+TEST(ClosestFeature, ANoisyPlaneFrameCannotWinOverTheSegments) {
+  pce::Vec12<double> x;
+  x << 0.25, 0.25, 1,  0, 0, 0,  1, 0, 0,  0, 1, 0;  // p above the face interior, l = 1
+  pce::Feature feature;
+  std::array<int, 3> points;
+  pce::detail::classify<pce::VertexFace>(x, true, 1.0, feature, points);
+  EXPECT_EQ(feature, pce::Feature::point_plane) << "an accurate frame: the plane";
+  pce::detail::classify<pce::VertexFace>(x, true, 50.0, feature, points);  // |l| beyond every edge distance
+  EXPECT_EQ(feature, pce::Feature::point_edge);
+  EXPECT_EQ(points[0], 0);
+  pce::detail::classify<pce::VertexFace>(x, false, 1.0, feature, points);
+  EXPECT_EQ(feature, pce::Feature::point_edge) << "foot outside: a segment";
+  pce::Vec12<double> y;
+  y << 0, 0, 0,  1, 0, 0,  0.5, -1, 1,  0.5, 1, 1;  // edges crossing at height 1
+  pce::detail::classify<pce::EdgeEdge>(y, true, 1.0, feature, points);
+  EXPECT_EQ(feature, pce::Feature::line_line);
+  pce::detail::classify<pce::EdgeEdge>(y, true, -7.0, feature, points);
+  EXPECT_NE(feature, pce::Feature::line_line);
 }
 
 TEST(ClosestFeature, ParallelAndCrossingEdges) {

@@ -57,12 +57,17 @@ struct PointEdge {
     if (!(mn > Scalar(0))) return Status::degenerate;
     const Vec3<Scalar> t = E / a;
     // n̂ = m/|m| is orthogonal to t̂ only to the rounding of m relative to |m|: O(1) off when
-    // p is on the line to within rounding (found by the fuzzer). One Gram-Schmidt step makes
+    // p is on the line to within rounding (found by the fuzzer). Gram-Schmidt against t̂,
+    // twice ("twice is enough", Parlett, The Symmetric Eigenvalue Problem, Sec. 6.9), makes
     // (t̂, û, n̂) orthonormal to rounding whatever |m| is; it moves n̂ by no more than its own
-    // error.
+    // error. (n̂ ∥ t̂ exactly, possible only for m of pure rounding, is `degenerate`.)
     Vec3<Scalar> n = m / mn;
-    n -= n.dot(t) * t;
-    n /= sqrt(n.squaredNorm());
+    for (int pass = 0; pass < 2; ++pass) {
+      n -= n.dot(t) * t;
+      const Scalar nn = sqrt(n.squaredNorm());
+      if (!(nn > Scalar(0))) return Status::degenerate;
+      n /= nn;
+    }
     const Scalar beta = t.dot(Rv) / a;
     const Scalar d = sc.up(Scalar(mn / a));
     if (!detail::is_finite(beta) || !detail::is_finite(d)) return Status::overflow;
