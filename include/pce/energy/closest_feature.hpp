@@ -93,9 +93,9 @@ Scalar point_segment(const Vec3<Scalar>& p, const Vec3<Scalar>& a, const Vec3<Sc
 /// Classifies the pair by its closest features (`VertexFace` or `EdgeEdge` layout).
 /// `plane_inside` says whether the plane kind's frame exists and its closest point lies
 /// inside the primitives, `plane_l` is then its length l. The plane kind is chosen when its
-/// foot is inside *and* |l| is not above the nearest point-segment distance: for a foot
-/// inside, |l| is the smallest of them exactly, so the rule changes nothing where the frame
-/// is accurate, and where it is not (a triangle or an edge pair at an angle below the
+/// foot is inside *and* |l| is not above the nearest point-segment distance (to 64 ε): for a
+/// foot inside, |l| is the smallest of them exactly, so the rule changes nothing where the
+/// frame is accurate, and where it is not (a triangle or an edge pair at an angle below the
 /// scalar's rounding, whose normal is noise) a wrong |l| cannot win over the segments.
 template <class Pair, class Scalar>
 void classify(const Vec12<Scalar>& x, bool plane_inside, const Scalar& plane_l, Feature& feature,
@@ -131,7 +131,9 @@ void classify(const Vec12<Scalar>& x, bool plane_inside, const Scalar& plane_l, 
       points = pts;
     }
   }
-  if (plane_inside && l_scaled * l_scaled <= best) {
+  // (64 ε of slack: far above the face, the plane and the nearest edge distances agree to
+  // rounding — 1e4 and 1e4 + 4.5e-6 in float — and the plane is then the right kind.)
+  if (plane_inside && l_scaled * l_scaled <= best * (Scalar(1) + Scalar(64) * Constants<Scalar>::epsilon())) {
     feature = vf ? Feature::point_plane : Feature::line_line;
     points = {-1, -1, -1};
   }

@@ -161,12 +161,26 @@ Status make_frame(const Vec3<Scalar>& e0, const Vec3<Scalar>& e1, const Vec3<Sca
   P.row(2) = D.row(2) - beta * D.row(0) - gamma * D.row(1);
   if (!all_finite(P)) return Status::overflow;
 
+  // The stored basis (t̂0, t̂1, n̂) must be orthonormal to rounding: the Hessians and the
+  // exact projection use it as an orthonormal basis. n̂ = m/|m| is orthogonal to t̂0 only to
+  // ε/sin θ (the rounding of m), O(1) off for angles below ε (found by pce-fuzz: exact and
+  // numerical then differ by up to 100 %). Gram-Schmidt against t̂0, twice ("twice is
+  // enough", Parlett, The Symmetric Eigenvalue Problem, Sec. 6.9); it moves n̂ by no more than
+  // its own error, and α, β, γ, l above keep the plain m/|m|.
+  Vec3<Scalar> nb = n;
+  for (int pass = 0; pass < 2; ++pass) {  // the second only if the first lost over half the norm
+    nb -= nb.dot(t0) * t0;
+    const Scalar nn = sqrt(nb.squaredNorm());
+    if (!(nn > Scalar(0))) return Status::degenerate;  // m ∥ e0: only for m of pure rounding
+    nb /= nn;
+    if (nn > Scalar(0.5)) break;
+  }
   f.alpha = alpha;
   f.beta = beta;
   f.gamma = gamma;
-  f.n = n;
+  f.n = nb;
   f.t0 = t0;
-  f.t1 = n.cross(t0);
+  f.t1 = nb.cross(t0);
   f.l = l;
   f.a0 = unscale(a0);
   f.a1 = unscale(mn / a0);

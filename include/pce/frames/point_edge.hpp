@@ -62,11 +62,12 @@ struct PointEdge {
     // (t̂, û, n̂) orthonormal to rounding whatever |m| is; it moves n̂ by no more than its own
     // error. (n̂ ∥ t̂ exactly, possible only for m of pure rounding, is `degenerate`.)
     Vec3<Scalar> n = m / mn;
-    for (int pass = 0; pass < 2; ++pass) {
+    for (int pass = 0; pass < 2; ++pass) {  // the second only if the first lost over half the norm
       n -= n.dot(t) * t;
       const Scalar nn = sqrt(n.squaredNorm());
       if (!(nn > Scalar(0))) return Status::degenerate;
       n /= nn;
+      if (nn > Scalar(0.5)) break;
     }
     const Scalar beta = t.dot(Rv) / a;
     const Scalar d = sc.up(Scalar(mn / a));
