@@ -72,6 +72,21 @@ Status evaluate_penalty(const Penalty& penalty, const Scalar& L, PenaltyDerivati
   psi = v;
   return Status::ok;
 }
+/// The point kinds' `pair_energy` (their length is the frame's distance d, unsigned only):
+/// `invalid_input` for a `SignedLength` or invalid penalty parameters, then the frame's
+/// status, then the penalty's; `out` is written only on `ok`.
+template <class Pair, class Energy, class X, class Length, class Penalty>
+Status distance_pair_energy(const X& x, const Penalty& penalty, Energy& out) {
+  if (is_signed_length<Length>() || !penalty_valid(penalty)) return Status::invalid_input;
+  Energy e;
+  const Status s = Pair::frame(x, e.frame);
+  if (s != Status::ok) return s;
+  e.length = e.frame.d;
+  const Status sp = evaluate_penalty(penalty, e.length, e.psi);
+  if (sp != Status::ok) return sp;
+  out = e;
+  return Status::ok;
+}
 }  // namespace detail
 
 /// Evaluates the frame, the length and the penalty of pair `x` (`Pair` is `VertexFace` or

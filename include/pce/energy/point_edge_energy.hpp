@@ -38,15 +38,7 @@ template <class Scalar> struct PointEdgeEnergy {
 template <class Pair, class Scalar, class Length, class Penalty>
 Status pair_energy(const Vec9<Scalar>& x, const Length&, const Penalty& penalty, PointEdgeEnergy<Scalar>& out) {
   static_assert(std::is_same_v<Pair, PointEdge>, "a 9-coordinate pair is a PointEdge");
-  if (is_signed_length<Length>() || !penalty_valid(penalty)) return Status::invalid_input;
-  PointEdgeEnergy<Scalar> e;
-  const Status s = PointEdge::frame(x, e.frame);
-  if (s != Status::ok) return s;
-  e.length = e.frame.d;
-  const Status sp = detail::evaluate_penalty(penalty, e.length, e.psi);
-  if (sp != Status::ok) return sp;
-  out = e;
-  return Status::ok;
+  return detail::distance_pair_energy<PointEdge, PointEdgeEnergy<Scalar>, Vec9<Scalar>, Length>(x, penalty, out);
 }
 
 namespace detail {

@@ -32,15 +32,7 @@ template <class Scalar> struct PointPointEnergy {
 template <class Pair, class Scalar, class Length, class Penalty>
 Status pair_energy(const Vec6<Scalar>& x, const Length&, const Penalty& penalty, PointPointEnergy<Scalar>& out) {
   static_assert(std::is_same_v<Pair, PointPoint>, "a 6-coordinate pair is a PointPoint");
-  if (is_signed_length<Length>() || !penalty_valid(penalty)) return Status::invalid_input;
-  PointPointEnergy<Scalar> e;
-  const Status s = PointPoint::frame(x, e.frame);
-  if (s != Status::ok) return s;
-  e.length = e.frame.d;
-  const Status sp = detail::evaluate_penalty(penalty, e.length, e.psi);
-  if (sp != Status::ok) return sp;
-  out = e;
-  return Status::ok;
+  return detail::distance_pair_energy<PointPoint, PointPointEnergy<Scalar>, Vec6<Scalar>, Length>(x, penalty, out);
 }
 
 namespace detail {
