@@ -301,11 +301,7 @@ template <class S, class Pair> void run_closest_pair(Bytes& b, pce::Side side) {
   const DecodedPenalty d = decode_penalty(b, penalty, Lhint);
   c.barrier = d.type == 2;
   c.activation = d.activation;
-  switch (d.type) {
-    case 0: run_closest_penalty<S, Pair>(c, d.quadratic); break;
-    case 1: run_closest_penalty<S, Pair>(c, d.cubic); break;
-    default: run_closest_penalty<S, Pair>(c, d.barrier); break;
-  }
+  with_penalty(d, [&](const auto& pen) { run_closest_penalty<S, Pair>(c, pen); });
   // A SignedLength request is invalid_input whatever else the input is (checked with the
   // decoded quadratic penalty only: one instantiation per scalar and candidate).
   pce::ClosestFeatureEnergy<S> e2;

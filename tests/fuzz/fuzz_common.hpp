@@ -306,6 +306,15 @@ struct DecodedPenalty {
 /// (docs/fuzzing.md) and records them in `g_case`.
 DecodedPenalty decode_penalty(Bytes& b, int type, double Lhint);
 
+/// Calls `f` with the decoded penalty object (one instantiation of `f` per penalty type).
+template <class F> void with_penalty(const DecodedPenalty& d, F&& f) {
+  switch (d.type) {
+    case 0: f(d.quadratic); break;
+    case 1: f(d.cubic); break;
+    default: f(d.barrier); break;
+  }
+}
+
 // ---------------------------------------------------------------------------------------
 // Checks on a set of projected Hessians (every kind, padded to 12×12 in long double).
 

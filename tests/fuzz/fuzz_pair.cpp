@@ -683,11 +683,7 @@ template <class S, class Pair, class Length> void run_length(Bytes& b, const pce
   pce::Frame<S> f;
   if (Pair::frame(x, f) == pce::Status::ok) Lhint = double(len.sigma(f) * f.l);
   const DecodedPenalty d = decode_penalty(b, penalty, Lhint);
-  switch (d.type) {
-    case 0: check_case<S, Pair>(x, len, d.quadratic, false, d.activation, proj); break;
-    case 1: check_case<S, Pair>(x, len, d.cubic, false, d.activation, proj); break;
-    default: check_case<S, Pair>(x, len, d.barrier, true, d.activation, proj); break;
-  }
+  with_penalty(d, [&](const auto& pen) { check_case<S, Pair>(x, len, pen, d.type == 2, d.activation, proj); });
 }
 
 template <class S, class Pair> void run_pair(Bytes& b, const pce::Vec12<S>& x, int length) {

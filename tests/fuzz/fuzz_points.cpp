@@ -372,11 +372,7 @@ template <class S, class Pair> void run_point_kind(Bytes& b, pce::Side side) {
   const DecodedPenalty d = decode_penalty(b, penalty, Lhint);
   c.barrier = d.type == 2;
   c.activation = d.activation;
-  switch (d.type) {
-    case 0: run_point_penalty<S, Pair>(c, d.quadratic); break;
-    case 1: run_point_penalty<S, Pair>(c, d.cubic); break;
-    default: run_point_penalty<S, Pair>(c, d.barrier); break;
-  }
+  with_penalty(d, [&](const auto& pen) { run_point_penalty<S, Pair>(c, pen); });
   run_point_signed<S, Pair>(c, d.quadratic);
 }
 
