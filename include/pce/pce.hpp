@@ -5,6 +5,8 @@
 #pragma once
 
 #include <pce/core/jacobi.hpp>
+#include <pce/core/negative_eigenpairs.hpp>
+#include <pce/core/tridiagonal.hpp>
 #include <pce/core/types.hpp>
 #include <pce/energy/closest_feature.hpp>
 #include <pce/energy/exact_projection.hpp>

@@ -13,14 +13,20 @@
 ///
 ///     ∇²E = Q (R M Rᵀ) Qᵀ,    proj(∇²E) = Q proj(R M Rᵀ) Qᵀ.
 ///
-/// The small symmetric `S = R M Rᵀ` is diagonalised by Householder tridiagonalisation and
-/// implicit QR steps (`core/jacobi.hpp`).
+/// For the plane kinds `S = R M Rᵀ` has at most two negative eigenvalues, and first-order
+/// perturbation theory in the contact regime (|ψ′| l ≪ |ψ′| a ≪ ψ″ a², `docs/math.md` §9)
+/// approximates them in closed form; `core/negative_eigenpairs.hpp` refines them and their
+/// eigenvectors, and `proj(S) = S − Σ_{λ<0} λ q qᵀ`. Where that does not apply (or any of
+/// its checks fails) `S` is diagonalised by Householder tridiagonalisation and implicit QR
+/// steps (`core/jacobi.hpp`).
 #pragma once
 
 #include <pce/core/jacobi.hpp>
+#include <pce/core/negative_eigenpairs.hpp>
 #include <pce/frames/frame.hpp>
 
 #include <cmath>
+#include <utility>
 
 namespace pce::detail {
 
@@ -61,6 +67,57 @@ MatN<Scalar, Dofs> projected_in_basis(const Eigen::Matrix<Scalar, Dofs, K>& Q, c
   return sum.matrix();
 }
 
+/// `Q S Qᵀ` for a positive semidefinite `S` by Cholesky factorisation with diagonal
+/// pivoting, `S = Σ g_k g_kᵀ`, stopped when no diagonal entry above `Kε·max S_ii` is left
+/// (at most rank(S) terms). Each term `(Q g)(Q g)ᵀ` is symmetric bit for bit.
+template <class Scalar, int Dofs, int K>
+MatN<Scalar, Dofs> assembled_psd(const Eigen::Matrix<Scalar, Dofs, K>& Q, MatN<Scalar, K> S) {
+  using std::sqrt;
+  MatN<Scalar, Dofs> H = MatN<Scalar, Dofs>::Zero();
+  const Scalar floor = Scalar(K) * Constants<Scalar>::epsilon() * S.diagonal().maxCoeff();
+  for (int r = 0; r < K; ++r) {
+    int p = 0;
+    for (int i = 1; i < K; ++i)
+      if (S(i, i) > S(p, p)) p = i;
+    if (!(S(p, p) > floor)) break;
+    const VecN<Scalar, K> g = S.col(p) / sqrt(S(p, p));
+    const VecN<Scalar, Dofs> x = Q * g;
+    H.noalias() += x * x.transpose();
+    S.noalias() -= g * g.transpose();
+  }
+  return H;
+}
+
+/// Closed-form approximations (ascending) of the two negative eigenvalues of the plane
+/// kinds' `S = [[A, B], [Bᵀ, 0]]` (A 3×3, B 3×2), first order in the contact regime: with
+/// `v` the unit direction of A's dominant ψ″ term, `B′ = (I − v vᵀ) B` has singular values
+/// σ_k and left singular vectors x_k, and `λ_k ≈ −σ_k + x_kᵀ A x_k / (2σ_k²)` (unnormalised
+/// x_k = B′ y_k).
+template <class Scalar> void negative_eigenvalue_guesses(const MatN<Scalar, 5>& S, const Vec3<Scalar>& v, Scalar (&g)[2]) {
+  using std::sqrt;
+  Eigen::Matrix<Scalar, 3, 2> B = S.template block<3, 2>(0, 3);
+  B -= v * (v.transpose() * B);
+  const Scalar a = B.col(0).squaredNorm(), c = B.col(1).squaredNorm(), b = B.col(0).dot(B.col(1));
+  const Scalar half = (a - c) / Scalar(2), root = sqrt(half * half + b * b), mean = (a + c) / Scalar(2);
+  Eigen::Matrix<Scalar, 2, 1> y0(Scalar(1), Scalar(0));  // eigenvector of BᵀB, larger eigenvalue
+  if (root > Scalar(0)) {
+    if (half >= Scalar(0))
+      y0 << half + root, b;
+    else
+      y0 << b, root - half;
+    y0.normalize();
+  }
+  const Eigen::Matrix<Scalar, 2, 1> y1(-y0[1], y0[0]);
+  const Scalar s2[2] = {Scalar(mean + root), Scalar(mean - root)};
+  const Vec3<Scalar> x[2] = {B * y0, B * y1};
+  const Mat3<Scalar> A = S.template topLeftCorner<3, 3>();
+  for (int k = 0; k < 2; ++k) {
+    const Scalar s = s2[k] > Scalar(0) ? Scalar(sqrt(s2[k])) : Scalar(0);
+    g[k] = s > Scalar(0) ? Scalar(-s + x[k].dot(A * x[k]) / (Scalar(2) * s2[k])) : Scalar(0);
+  }
+  if (g[1] < g[0]) std::swap(g[0], g[1]);
+}
+
 /// Exact projection of a plane kind's Hessian `Jᵀ(c2 ggᵀ + c1 H_l)J` (c1 = σψ′, c2 = ψ″).
 /// Range basis (M basis): `w_k = p_k ⊗ n̂` (k = 0, 1, 2; w_2 = ∇l) and `u_k = p_2 ⊗ ê_k`
 /// (k = 0, 1); `M` has `m_k = −c1 l/a_k²` on w_k, `c2` on w_2, `−c1/a_k` between w_k and u_k.
@@ -83,6 +140,17 @@ template <class Scalar> Mat12<Scalar> exact_projection(const Frame<Scalar>& f, c
   const Eigen::Matrix<Scalar, 1, 4> p2 = f.P.row(2) / r2;
   Q.col(3) = kron<Scalar>(p2, f.t0);
   Q.col(4) = kron<Scalar>(p2, f.t1);
+  // Two negative eigenvalues when ψ′ ≠ 0 and ψ″ ≥ 0 (S is congruent to M: two 2×2 blocks
+  // of negative determinant and c2 ≥ 0).
+  if (c1 != Scalar(0) && c2 >= Scalar(0)) {
+    Scalar guess[2], lambda[2];
+    VecN<Scalar, 5> q[2];
+    negative_eigenvalue_guesses(S, Vec3<Scalar>(R.col(2) / r2), guess);
+    if (negative_eigenpairs(S, guess, lambda, q)) {
+      for (int k = 0; k < 2; ++k) S.noalias() -= (lambda[k] * q[k]) * q[k].transpose();
+      return assembled_psd(Q, S);
+    }
+  }
   return projected_in_basis(Q, S);
 }
 
