@@ -67,25 +67,24 @@ MatN<Scalar, Dofs> projected_in_basis(const Eigen::Matrix<Scalar, Dofs, K>& Q, c
   return sum.matrix();
 }
 
-/// `Q S Qᵀ` for a positive semidefinite `S` by Cholesky factorisation with diagonal
-/// pivoting, `S = Σ g_k g_kᵀ`, stopped when no diagonal entry above `Kε·max S_ii` is left
-/// (at most rank(S) terms). Each term `(Q g)(Q g)ᵀ` is symmetric bit for bit.
-template <class Scalar, int Dofs, int K>
-MatN<Scalar, Dofs> assembled_psd(const Eigen::Matrix<Scalar, Dofs, K>& Q, MatN<Scalar, K> S) {
+/// `Σ (Q g)(Q g)ᵀ` over the columns `g` of the diagonally pivoted Cholesky factor of a
+/// positive semidefinite `S` of rank ≤ R, stopped when no diagonal entry above
+/// `Kε·max S_ii` is left; `to_x(g)` computes `Q g`. Formed as `G Gᵀ`, symmetric bit for bit.
+template <int Dofs, int R, class Scalar, int K, class ToX>
+MatN<Scalar, Dofs> assembled_psd(MatN<Scalar, K> S, const ToX& to_x) {
   using std::sqrt;
-  MatN<Scalar, Dofs> H = MatN<Scalar, Dofs>::Zero();
+  Eigen::Matrix<Scalar, Dofs, R> G = Eigen::Matrix<Scalar, Dofs, R>::Zero();
   const Scalar floor = Scalar(K) * Constants<Scalar>::epsilon() * S.diagonal().maxCoeff();
-  for (int r = 0; r < K; ++r) {
+  for (int r = 0; r < R; ++r) {
     int p = 0;
     for (int i = 1; i < K; ++i)
       if (S(i, i) > S(p, p)) p = i;
     if (!(S(p, p) > floor)) break;
     const VecN<Scalar, K> g = S.col(p) / sqrt(S(p, p));
-    const VecN<Scalar, Dofs> x = Q * g;
-    H.noalias() += x * x.transpose();
+    G.col(r) = to_x(g);
     S.noalias() -= g * g.transpose();
   }
-  return H;
+  return (G * G.transpose()).eval();
 }
 
 /// Closed-form approximations (ascending) of the two negative eigenvalues of the plane
@@ -123,7 +122,7 @@ template <class Scalar> void negative_eigenvalue_guesses(const MatN<Scalar, 5>& 
 /// (k = 0, 1); `M` has `m_k = −c1 l/a_k²` on w_k, `c2` on w_2, `−c1/a_k` between w_k and u_k.
 template <class Scalar> Mat12<Scalar> exact_projection(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2) {
   using std::sqrt;
-  const Eigen::Matrix<Scalar, 3, 4> h = helmert_basis<Scalar, 4>();
+  static const Eigen::Matrix<Scalar, 3, 4> h = helmert_basis<Scalar, 4>();
   const Mat3<Scalar> R = h * f.P.transpose();  // p_k = Σ_i R(i, k) h_i
   const Scalar r2 = sqrt(f.P.row(2).squaredNorm());
   const Scalar m0 = -c1 * ((f.l / f.a0) / f.a0), m1 = -c1 * ((f.l / f.a1) / f.a1);
@@ -135,11 +134,15 @@ template <class Scalar> Mat12<Scalar> exact_projection(const Frame<Scalar>& f, c
   S.template block<1, 3>(3, 0) = S.template block<3, 1>(0, 3).transpose();
   S.template block<1, 3>(4, 0) = S.template block<3, 1>(0, 4).transpose();
   S.template bottomRightCorner<2, 2>().setZero();
-  Eigen::Matrix<Scalar, 12, 5> Q;
-  for (int i = 0; i < 3; ++i) Q.col(i) = kron<Scalar>(h.row(i), f.n);
   const Eigen::Matrix<Scalar, 1, 4> p2 = f.P.row(2) / r2;
-  Q.col(3) = kron<Scalar>(p2, f.t0);
-  Q.col(4) = kron<Scalar>(p2, f.t1);
+  // Q g = Σ_i g_i h_i ⊗ n̂ + p̂_2 ⊗ (g_3 ê_0 + g_4 ê_1), vertex by vertex
+  const auto to_x = [&](const VecN<Scalar, 5>& g) {
+    const Eigen::Matrix<Scalar, 1, 4> a = g.template head<3>().transpose() * h;
+    const Vec3<Scalar> b = g[3] * f.t0 + g[4] * f.t1;
+    Vec12<Scalar> x;
+    for (int j = 0; j < 4; ++j) x.template segment<3>(3 * j) = a[j] * f.n + p2[j] * b;
+    return x;
+  };
   // Two negative eigenvalues when ψ′ ≠ 0 and ψ″ ≥ 0 (S is congruent to M: two 2×2 blocks
   // of negative determinant and c2 ≥ 0).
   if (c1 != Scalar(0) && c2 >= Scalar(0)) {
@@ -148,9 +151,11 @@ template <class Scalar> Mat12<Scalar> exact_projection(const Frame<Scalar>& f, c
     negative_eigenvalue_guesses(S, Vec3<Scalar>(R.col(2) / r2), guess);
     if (negative_eigenpairs(S, guess, lambda, q)) {
       for (int k = 0; k < 2; ++k) S.noalias() -= (lambda[k] * q[k]) * q[k].transpose();
-      return assembled_psd(Q, S);
+      return assembled_psd<12, 3>(S, to_x);
     }
   }
+  Eigen::Matrix<Scalar, 12, 5> Q;
+  for (int i = 0; i < 5; ++i) Q.col(i) = to_x(VecN<Scalar, 5>::Unit(i));
   return projected_in_basis(Q, S);
 }
 
