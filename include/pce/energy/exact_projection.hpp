@@ -117,23 +117,37 @@ template <class Scalar> void negative_eigenvalue_guesses(const MatN<Scalar, 5>& 
   if (g[1] < g[0]) std::swap(g[0], g[1]);
 }
 
-/// Exact projection of a plane kind's Hessian `Jᵀ(c2 ggᵀ + c1 H_l)J` (c1 = σψ′, c2 = ψ″).
-/// Range basis (M basis): `w_k = p_k ⊗ n̂` (k = 0, 1, 2; w_2 = ∇l) and `u_k = p_2 ⊗ ê_k`
-/// (k = 0, 1); `M` has `m_k = −c1 l/a_k²` on w_k, `c2` on w_2, `−c1/a_k` between w_k and u_k.
-template <class Scalar> Mat12<Scalar> exact_projection(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2) {
+/// The plane kinds' reduced problem `S = R M Rᵀ` (5×5) for `Jᵀ(c2 ggᵀ + c1 H_l)J`
+/// (c1 = σψ′, c2 = ψ″) in the orthonormal basis `h_i ⊗ n̂` (i = 0, 1, 2), `p̂_2 ⊗ ê_k`
+/// (k = 0, 1), and `v`, the unit direction of its ψ″ term in the first three coordinates.
+/// Range basis of M: `w_k = p_k ⊗ n̂` (k = 0, 1, 2; w_2 = ∇l) and `u_k = p_2 ⊗ ê_k`;
+/// `M` has `m_k = −c1 l/a_k²` on w_k, `c2` on w_2, `−c1/a_k` between w_k and u_k.
+template <class Scalar>
+void plane_reduced_problem(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2, MatN<Scalar, 5>& S, Vec3<Scalar>& v) {
   using std::sqrt;
   static const Eigen::Matrix<Scalar, 3, 4> h = helmert_basis<Scalar, 4>();
   const Mat3<Scalar> R = h * f.P.transpose();  // p_k = Σ_i R(i, k) h_i
   const Scalar r2 = sqrt(f.P.row(2).squaredNorm());
   const Scalar m0 = -c1 * ((f.l / f.a0) / f.a0), m1 = -c1 * ((f.l / f.a1) / f.a1);
   const Scalar mu0 = -c1 / f.a0, mu1 = -c1 / f.a1;
-  MatN<Scalar, 5> S;
   S.template topLeftCorner<3, 3>() = R * Vec3<Scalar>(m0, m1, c2).asDiagonal() * R.transpose();
   S.template block<3, 1>(0, 3) = (mu0 * r2) * R.col(0);
   S.template block<3, 1>(0, 4) = (mu1 * r2) * R.col(1);
   S.template block<1, 3>(3, 0) = S.template block<3, 1>(0, 3).transpose();
   S.template block<1, 3>(4, 0) = S.template block<3, 1>(0, 4).transpose();
   S.template bottomRightCorner<2, 2>().setZero();
+  v = R.col(2) / r2;
+}
+
+/// Exact projection of a plane kind's Hessian `Jᵀ(c2 ggᵀ + c1 H_l)J` (c1 = σψ′, c2 = ψ″)
+/// through `plane_reduced_problem`.
+template <class Scalar> Mat12<Scalar> exact_projection(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2) {
+  using std::sqrt;
+  static const Eigen::Matrix<Scalar, 3, 4> h = helmert_basis<Scalar, 4>();
+  MatN<Scalar, 5> S;
+  Vec3<Scalar> v;
+  plane_reduced_problem(f, c1, c2, S, v);
+  const Scalar r2 = sqrt(f.P.row(2).squaredNorm());
   const Eigen::Matrix<Scalar, 1, 4> p2 = f.P.row(2) / r2;
   // Q g = Σ_i g_i h_i ⊗ n̂ + p̂_2 ⊗ (g_3 ê_0 + g_4 ê_1), vertex by vertex
   const auto to_x = [&](const VecN<Scalar, 5>& g) {
@@ -148,7 +162,7 @@ template <class Scalar> Mat12<Scalar> exact_projection(const Frame<Scalar>& f, c
   if (c1 != Scalar(0) && c2 >= Scalar(0)) {
     Scalar guess[2], lambda[2];
     VecN<Scalar, 5> q[2];
-    negative_eigenvalue_guesses(S, Vec3<Scalar>(R.col(2) / r2), guess);
+    negative_eigenvalue_guesses(S, v, guess);
     if (negative_eigenpairs(S, guess, lambda, q)) {
       for (int k = 0; k < 2; ++k) S.noalias() -= (lambda[k] * q[k]) * q[k].transpose();
       return assembled_psd<12, 3>(S, to_x);
