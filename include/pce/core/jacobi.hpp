@@ -9,8 +9,10 @@
 #pragma once
 
 #include <pce/core/scaling.hpp>
+#include <pce/core/tridiagonal.hpp>
 #include <pce/core/types.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -93,33 +95,16 @@ template <class Scalar, int N> void symmetric_qr_eigen(MatN<Scalar, N> A, VecN<S
   const PowerOfTwoScale<Scalar> scale(amax);
   A = scale.down(A);
   const Scalar eps = Constants<Scalar>::epsilon();
-  // A column whose entries below the subdiagonal have a norm below ε (ε·max|A| before the
-  // rescaling) is taken as tridiagonal: an absolute perturbation within the accuracy above,
-  // and it keeps β = 2/|v|² finite.
-  const Scalar negligible2 = eps * eps;
-  // 1. A = V T Vᵀ with T tridiagonal (Householder reflections H = I − β v vᵀ).
-  for (int k = 0; k + 2 < N; ++k) {
-    VecN<Scalar, N> v = VecN<Scalar, N>::Zero();
-    Scalar tail2 = Scalar(0);
-    for (int i = k + 2; i < N; ++i) {
-      v[i] = A(i, k);
-      tail2 += v[i] * v[i];
-    }
-    if (!(tail2 > negligible2)) continue;  // column already tridiagonal (to ε)
-    v[k + 1] = A(k + 1, k);
-    const Scalar xnorm = sqrt(v[k + 1] * v[k + 1] + tail2);
-    const Scalar alpha = v[k + 1] > Scalar(0) ? Scalar(-xnorm) : xnorm;
-    v[k + 1] -= alpha;  // v = x − α e1, no cancellation (α has the opposite sign of x1)
-    const Scalar beta = Scalar(2) / (tail2 + v[k + 1] * v[k + 1]);
-    const VecN<Scalar, N> p = beta * (A * v);
-    const VecN<Scalar, N> w = p - (beta * Scalar(0.5) * p.dot(v)) * v;
-    A.noalias() -= v * w.transpose() + w * v.transpose();
-    V.noalias() -= (beta * (V * v)) * v.transpose();
-  }
+  // 1. A = V T Vᵀ with T tridiagonal (`core/tridiagonal.hpp`; a column whose entries below
+  // the subdiagonal have a norm below ε, ε·max|A| before the rescaling, is taken as
+  // tridiagonal: an absolute perturbation within the accuracy above).
+  const Tridiagonalization<Scalar, N> t(A);
+  V = t.matrix();
   Scalar e[N > 1 ? N - 1 : 1];
-  for (int i = 0; i < N; ++i) d[i] = A(i, i);
-  for (int i = 0; i + 1 < N; ++i) e[i] = A(i + 1, i);
-  const Scalar floor = eps * A.cwiseAbs().maxCoeff();
+  Scalar tmax = Scalar(0);
+  for (int i = 0; i < N; ++i) d[i] = t.d[i], tmax = std::max(tmax, Scalar(abs(t.d[i])));
+  for (int i = 0; i + 1 < N; ++i) e[i] = t.e[i], tmax = std::max(tmax, Scalar(abs(t.e[i])));
+  const Scalar floor = eps * tmax;
   // 2. Implicit QR steps on the unreduced trailing block [start, end], deflating from the end.
   int end = N - 1, iterations = 0;
   while (end > 0 && iterations < 30 * N) {
