@@ -12,6 +12,7 @@
 #include <pce/frames/vertex_face.hpp>
 #include <pce/lengths/signed_length.hpp>
 #include <pce/penalties/log_barrier.hpp>
+#include <pce/penalties/quadratic.hpp>
 
 #include <gtest/gtest.h>
 
@@ -177,6 +178,44 @@ TYPED_TEST(ContactRegime, PlaneKindsTakeTheTwoEigenpairPath) {
   EXPECT_GE(tried, 100);
   EXPECT_EQ(taken, tried) << "pairs in the contact regime that fell back to QR";
   EXPECT_LE(worst, 64 * eps);
+}
+
+}  // namespace
+
+namespace {
+
+// pce-fuzz --seed 1 --index 24576 (found by CI's bounded fuzz run): a vertex 1e15 away from
+// its face under a quadratic penalty of activation 1.4e14, far outside the contact regime
+// (ψ″ = 2, σψ′ = −9.7e14). The second approximation was −2.3e18 against λ₂ = −1.9e26 and
+// λ₃ = 1.4e11 (zero to rounding at |S| ~ 1e27); Laguerre's steps away from λ₃ were tiny, so
+// the iteration looked settled right beside λ₃, and its vector passed the residual check:
+// the fast path returned λ₃'s pair as λ₂'s and `exact` differed from `numerical` by 43 %.
+// Now the index check sends it to the QR fallback.
+TEST(NegativeEigenpairsFuzzerFinding, SettledBesideTheWrongEigenvalue) {
+  pce::Vec12<double> x;
+  x << -0x1.4ce43e4d91991p+4, -0x1.73700e6221536p+5, -0x1.c6bf52634p+49, -0x1.9924ed31cedf9p+5, 0x1.80848a3841f7dp+4,
+      -0x1.b7d5df6b31dfap+4, 0x1.7da6e4b2b253ep+5, -0x1.0fa5e0f0c26fdp+3, 0x1.d912c0779ffb8p+1, 0x1.00755fccc6a18p+5,
+      0x1.10be8c1e46dedp+4, 0x1.85172d4bfa894p+5;
+  pce::PairEnergy<double> e;
+  ASSERT_EQ(pce::pair_energy<pce::VertexFace>(x, pce::SignedLength{}, pce::QuadraticPenalty{1, 137790021489215.88}, e),
+            pce::Status::ok);
+  pce::MatN<double, 5> S;
+  pce::Vec3<double> v;
+  pce::detail::plane_reduced_problem(e.frame, double(e.sigma * e.psi.first), e.psi.second, S, v);
+  double guess[2], lambda[2];
+  pce::VecN<double, 5> q[2];
+  pce::detail::negative_eigenvalue_guesses(S, v, guess);
+  if (pce::detail::negative_eigenpairs(S, guess, lambda, q)) {  // if it succeeds, it must be right
+    pce::VecN<double, 5> d;
+    pce::MatN<double, 5> V;
+    pce::detail::symmetric_qr_eigen(S, d, V);
+    pce::MatN<double, 5> P = S;
+    for (int k = 0; k < 2; ++k) P -= lambda[k] * q[k] * q[k].transpose();
+    EXPECT_LE((P - V * d.cwiseMax(0.0).asDiagonal() * V.transpose()).cwiseAbs().maxCoeff() / S.cwiseAbs().maxCoeff(), 1e-13);
+  }
+  const pce::Mat12<double> Pe = pce::projected_hessian(e, pce::Projection::exact);
+  const pce::Mat12<double> Pn = pce::projected_hessian(e, pce::Projection::numerical);
+  EXPECT_LE((Pe - Pn).norm() / Pn.norm(), 1e-12);
 }
 
 }  // namespace

@@ -26,8 +26,9 @@ namespace pce::detail {
 /// outputs unspecified, unless all of these hold: `S` is finite and nonzero; exactly K
 /// of its eigenvalues lie below `−τ` (τ = 4Nε·max|T|, eigenvalues in [−τ, 0) are left
 /// out, an absolute perturbation of the accuracy below); each approximation lies between
-/// the neighbours of its eigenvalue; Laguerre's iteration converges in 6 steps; each
-/// eigenvector's residual is below 16ε·max|T| and the two are far from parallel. On
+/// the neighbours of its eigenvalue; Laguerre's iteration settles in 6 steps; each
+/// eigenvector's residual is below 16ε·max|T|; exactly k eigenvalues lie below the k-th
+/// result minus 64ε·max|T|; and the two vectors are far from parallel. On
 /// success `S − Σ λ_k q_k q_kᵀ` is the PSD part of `S` to about ε·max|S| (absolute).
 template <class Scalar, int N, int K>
 bool negative_eigenpairs(const MatN<Scalar, N>& S, const Scalar (&guess)[K], Scalar (&lambda)[K],
@@ -92,6 +93,11 @@ bool negative_eigenpairs(const MatN<Scalar, N>& S, const Scalar (&guess)[K], Sca
       x[k] += gamma / (ny * ny);
       if (!(abs(gamma) <= Scalar(16) * eps * tmax * ny)) return false;
     }
+    // The index check: a small Laguerre step also happens right next to a *different*
+    // eigenvalue (starting beside one that rounds to zero, the steps away from it grow only
+    // geometrically), so "settled" alone does not prove that x is λ_k. Exactly k
+    // eigenvalues must lie below x − 64ε·max|T| (a fuzzer finding: tests/test_negative_eigenpairs.cpp).
+    if (CharacteristicPolynomial<Scalar, N>(t, Scalar(x[k] - Scalar(64) * eps * tmax)).below != k) return false;
     q[k] = t.apply(y / ny);
     lambda[k] = scale.up(x[k]);
   }
