@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// What the two halves of the fuzz body share (`fuzz_pair.cpp`: decoding, the plane kinds,
-/// the generic projection checks; `fuzz_points.cpp`: the point kinds and closest-feature
-/// evaluation): the byte reader, the case being run and its reproducer, the coordinate
-/// decoders, the penalty decoders and the checks on a set of projected Hessians. See
-/// docs/fuzzing.md.
+/// What the parts of the fuzz body share (`fuzz_pair.cpp`: what does not depend on the
+/// scalar type; `fuzz_plane.hpp`: decoding, the plane kinds, the generic projection checks;
+/// `fuzz_points.hpp`: the point kinds; `fuzz_closest.hpp`: closest-feature evaluation):
+/// the byte reader, the case being run and its reproducer, the coordinate decoders, the
+/// penalty decoders and the checks on a set of projected Hessians. See docs/fuzzing.md.
 #pragma once
 
 #include "fuzz_eigensolvers.hpp"
@@ -273,11 +273,8 @@ enum class Layout { vertex_face, edge_edge, point_edge, point_point };
 
 /// Points of the layout's kind (4, 4, 3 or 2 used) decoded from a template, small
 /// integers, uniform or special values, then edited by up to four operations
-/// (docs/fuzzing.md, "Coordinates"). Defined in fuzz_pair.cpp.
+/// (docs/fuzzing.md, "Coordinates"). Defined in fuzz_plane.hpp.
 template <class S> std::array<pce::Vec3<S>, 4> decode_points(Bytes& b, Layout layout);
-extern template std::array<pce::Vec3<float>, 4> decode_points<float>(Bytes&, Layout);
-extern template std::array<pce::Vec3<double>, 4> decode_points<double>(Bytes&, Layout);
-extern template std::array<pce::Vec3<long double>, 4> decode_points<long double>(Bytes&, Layout);
 
 /// The first N/3 decoded points as one coordinate vector, recorded in `g_case`.
 template <class S, int N> pce::VecN<S, N> decode_x(Bytes& b, Layout layout) {
@@ -379,11 +376,8 @@ void compute_projections(const E& e, const pce::MatN<S, N>& H, bool underflow, p
 
 /// Symmetry of the exact Hessian and of every projection, PSD-ness of every strategy but
 /// `none`, the orderings abs ⪰ analytic ⪰ gauss_newton and exact ⪰ H, and exact ≈ numerical
-/// (docs/fuzzing.md, invariants 14–17). Defined in fuzz_pair.cpp.
+/// (docs/fuzzing.md, invariants 14–17). Defined in fuzz_plane.hpp.
 template <class S> void check_projection_set(const ProjectionSet& ps);
-extern template void check_projection_set<float>(const ProjectionSet&);
-extern template void check_projection_set<double>(const ProjectionSet&);
-extern template void check_projection_set<long double>(const ProjectionSet&);
 
 // ---------------------------------------------------------------------------------------
 // Helpers of the point kinds and closest-feature evaluation.
@@ -503,18 +497,22 @@ template <class S, class E> void check_signed_rejected(pce::Status s, const Snap
 }
 
 
-/// The point kinds and closest-feature evaluation (fuzz_points.cpp): decodes the rest of
+/// The point kinds and closest-feature evaluation (fuzz_points.hpp): decodes the rest of
 /// the case and checks it. `kind` is a `PceFuzzKind` other than the two plane kinds.
 template <class S> void run_new_kind(Bytes& b, int kind);
-extern template void run_new_kind<float>(Bytes&, int);
-extern template void run_new_kind<double>(Bytes&, int);
-extern template void run_new_kind<long double>(Bytes&, int);
 
 /// Closest-feature evaluation of a vertex-face (`vf`) or edge-edge candidate
-/// (fuzz_closest.cpp), after `run_new_kind` decoded the side of the SignedLength request.
+/// (fuzz_closest.hpp), after `run_new_kind` decoded the side of the SignedLength request.
 template <class S> void run_closest(Bytes& b, pce::Side side, bool vf);
-extern template void run_closest<float>(Bytes&, pce::Side, bool);
-extern template void run_closest<double>(Bytes&, pce::Side, bool);
-extern template void run_closest<long double>(Bytes&, pce::Side, bool);
+
+/// The body for one input of scalar type `S` (`pce_fuzz_one` decoded the scalar): decodes
+/// the kind and runs it (fuzz_plane.hpp). Compiled once per scalar type, with every template
+/// of the body for that scalar, in a translation unit of its own (`fuzz_float.cpp`,
+/// `fuzz_double.cpp`, `fuzz_long_double.cpp`): g++ 12 compiles the three scalar types
+/// together several times slower than one after the other, and apart they build in parallel.
+template <class S> void run_scalar(Bytes& b);
+extern template void run_scalar<float>(Bytes&);
+extern template void run_scalar<double>(Bytes&);
+extern template void run_scalar<long double>(Bytes&);
 
 }  // namespace pce_fuzz

@@ -1,13 +1,18 @@
 // SPDX-License-Identifier: MIT
 /// @file
 /// The fuzz body of `docs/fuzzing.md`, the point kinds (`pce::PointEdge`, `pce::PointPoint`)
-/// through `pce::evaluate` and the lower-level functions. Decoding, the helpers and the
-/// projection checks are shared with `fuzz_pair.cpp` and `fuzz_closest.cpp`
-/// (`fuzz_common.hpp`).
+/// through `pce::evaluate` and the lower-level functions, and `run_new_kind<S>`, which
+/// hands the point kinds and closest-feature evaluation to their checks. Decoding, the
+/// helpers and the projection checks are shared with `fuzz_plane.hpp` and
+/// `fuzz_closest.hpp` (`fuzz_common.hpp`); included, like them, only by the translation
+/// unit of each scalar type (`fuzz_float.cpp`, ...), so its helpers stay in an unnamed
+/// namespace.
 ///
 /// As there, the library calls that depend on the penalty type are kept in a small function
 /// (`run_point_penalty`: 3 scalars × 3 penalties × 2 kinds) that stores its results in a
 /// case object; every check is in functions templated on the scalar and the kind only.
+#pragma once
+
 #include "fuzz_common.hpp"
 
 #include <cstdio>
@@ -401,9 +406,5 @@ template <class S> void run_new_kind(Bytes& b, int kind) {
       break;
   }
 }
-
-template void run_new_kind<float>(Bytes&, int);
-template void run_new_kind<double>(Bytes&, int);
-template void run_new_kind<long double>(Bytes&, int);
 
 }  // namespace pce_fuzz

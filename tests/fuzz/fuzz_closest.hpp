@@ -5,10 +5,14 @@
 /// chosen feature and points, the length between the plane (line) distance and the vertex
 /// distances, the outputs on all 12 coordinates against the chosen kind's own, and every
 /// projection. Decoding, the helpers and the projection checks are shared with
-/// `fuzz_pair.cpp` and `fuzz_points.cpp` (`fuzz_common.hpp`).
+/// `fuzz_plane.hpp` and `fuzz_points.hpp` (`fuzz_common.hpp`); included, like them, only by
+/// the translation unit of each scalar type (`fuzz_float.cpp`, ...), so its helpers stay in
+/// an unnamed namespace.
 ///
 /// The penalty-typed library calls are in `run_closest_penalty` (3 scalars × 3 penalties ×
 /// 2 candidates); the checks in `check_closest`, templated on the scalar alone.
+#pragma once
+
 #include "fuzz_common.hpp"
 
 #include <cstdio>
@@ -319,9 +323,5 @@ template <class S> void run_closest(Bytes& b, pce::Side side, bool vf) {
   else
     run_closest_pair<S, pce::EdgeEdge>(b, side);
 }
-
-template void run_closest<float>(Bytes&, pce::Side, bool);
-template void run_closest<double>(Bytes&, pce::Side, bool);
-template void run_closest<long double>(Bytes&, pce::Side, bool);
 
 }  // namespace pce_fuzz

@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: MIT
-// See fuzz_eigensolvers.hpp.
+/// @file
+/// `pce::project_psd` in long double, and the long double eigensolver of the PSD checks,
+/// which shares its 12×12 instantiation of `Eigen::SelfAdjointEigenSolver` (see
+/// `fuzz_eigensolvers.hpp`).
 #include "fuzz_eigensolvers.hpp"
 
 namespace pce_fuzz {
@@ -15,7 +18,5 @@ MinEig min_eigenvalue(const Eigen::Matrix<long double, 12, 12>& M) {
 }  // namespace pce_fuzz
 
 namespace pce {
-PCE_FUZZ_PROJECT_PSD_12(, float)
-PCE_FUZZ_PROJECT_PSD_12(, double)
-PCE_FUZZ_PROJECT_PSD_12(, long double)
+PCE_FUZZ_PROJECT_PSD(, long double)
 }  // namespace pce

@@ -1,0 +1,13 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// The fuzz body for inputs of scalar type `long double` (`run_scalar<long double>`, `fuzz_common.hpp`):
+/// the plane kinds, the point kinds and closest-feature evaluation.
+#include "fuzz_closest.hpp"
+#include "fuzz_plane.hpp"
+#include "fuzz_points.hpp"
+
+namespace pce_fuzz {
+
+template void run_scalar<long double>(Bytes&);
+
+}  // namespace pce_fuzz
