@@ -134,6 +134,25 @@ TYPED_TEST(NegativeEigenpairs, ReportsFailureInsteadOfAWrongAnswer) {
 // well-shaped, the barrier active (L in [0.05, 0.95] d̂), signed length.
 namespace {
 
+/// The plane kinds' two-eigenpair path on one pair: −1 if it reports failure (the QR
+/// fallback), else max|P_fast − P_QR| / max|S| with P_QR from `symmetric_qr_eigen`.
+template <class S> long double plane_fast_path_error(const pce::PairEnergy<S>& e) {
+  pce::MatN<S, 5> Sm;
+  pce::Vec3<S> v;
+  pce::detail::plane_reduced_problem(e.frame, S(e.sigma * e.psi.first), e.psi.second, Sm, v);
+  S guess[2], lambda[2];
+  pce::VecN<S, 5> q[2];
+  pce::detail::negative_eigenvalue_guesses(Sm, v, guess);
+  if (!pce::detail::negative_eigenpairs(Sm, guess, lambda, q)) return -1;
+  pce::VecN<S, 5> d;
+  pce::MatN<S, 5> V;
+  pce::detail::symmetric_qr_eigen(Sm, d, V);
+  pce::MatN<S, 5> P = Sm;
+  for (int k = 0; k < 2; ++k) P -= lambda[k] * q[k] * q[k].transpose();
+  const pce::MatN<S, 5> Pqr = V * d.cwiseMax(S(0)).asDiagonal() * V.transpose();
+  return static_cast<long double>((P - Pqr).cwiseAbs().maxCoeff() / Sm.cwiseAbs().maxCoeff());
+}
+
 template <class S> class ContactRegime : public testing::Test {};
 using FloatDouble = testing::Types<float, double>;
 TYPED_TEST_SUITE(ContactRegime, FloatDouble);
@@ -158,22 +177,11 @@ TYPED_TEST(ContactRegime, PlaneKindsTakeTheTwoEigenpairPath) {
     x << a + s * (b - a) + t * (c - a) + L * n.normalized(), a, b, c;  // a vertex above a face
     pce::PairEnergy<S> e;
     if (pce::pair_energy<pce::VertexFace>(pce::Vec12<S>(x.cast<S>()), pce::SignedLength{}, pce::LogBarrierPenalty{1.0, dhat}, e) != pce::Status::ok) continue;
-    pce::MatN<S, 5> Sm;
-    pce::Vec3<S> v;
-    pce::detail::plane_reduced_problem(e.frame, S(e.sigma * e.psi.first), e.psi.second, Sm, v);
-    S guess[2], lambda[2];
-    pce::VecN<S, 5> q[2];
-    pce::detail::negative_eigenvalue_guesses(Sm, v, guess);
     ++tried;
-    if (!pce::detail::negative_eigenpairs(Sm, guess, lambda, q)) continue;
+    const long double err = plane_fast_path_error(e);
+    if (err < 0) continue;
     ++taken;
-    pce::VecN<S, 5> dq;
-    pce::MatN<S, 5> V;
-    pce::detail::symmetric_qr_eigen(Sm, dq, V);
-    pce::MatN<S, 5> P = Sm;
-    for (int k = 0; k < 2; ++k) P -= lambda[k] * q[k] * q[k].transpose();
-    const pce::MatN<S, 5> Pqr = V * dq.cwiseMax(S(0)).asDiagonal() * V.transpose();
-    worst = std::max(worst, static_cast<long double>((P - Pqr).cwiseAbs().maxCoeff() / Sm.cwiseAbs().maxCoeff()));
+    worst = std::max(worst, err);
   }
   EXPECT_GE(tried, 100);
   EXPECT_EQ(taken, tried) << "pairs in the contact regime that fell back to QR";
@@ -199,20 +207,7 @@ TEST(NegativeEigenpairsFuzzerFinding, SettledBesideTheWrongEigenvalue) {
   pce::PairEnergy<double> e;
   ASSERT_EQ(pce::pair_energy<pce::VertexFace>(x, pce::SignedLength{}, pce::QuadraticPenalty{1, 137790021489215.88}, e),
             pce::Status::ok);
-  pce::MatN<double, 5> S;
-  pce::Vec3<double> v;
-  pce::detail::plane_reduced_problem(e.frame, double(e.sigma * e.psi.first), e.psi.second, S, v);
-  double guess[2], lambda[2];
-  pce::VecN<double, 5> q[2];
-  pce::detail::negative_eigenvalue_guesses(S, v, guess);
-  if (pce::detail::negative_eigenpairs(S, guess, lambda, q)) {  // if it succeeds, it must be right
-    pce::VecN<double, 5> d;
-    pce::MatN<double, 5> V;
-    pce::detail::symmetric_qr_eigen(S, d, V);
-    pce::MatN<double, 5> P = S;
-    for (int k = 0; k < 2; ++k) P -= lambda[k] * q[k] * q[k].transpose();
-    EXPECT_LE((P - V * d.cwiseMax(0.0).asDiagonal() * V.transpose()).cwiseAbs().maxCoeff() / S.cwiseAbs().maxCoeff(), 1e-13);
-  }
+  EXPECT_LE(plane_fast_path_error(e), 1e-13);  // −1 (falls back) or right
   const pce::Mat12<double> Pe = pce::projected_hessian(e, pce::Projection::exact);
   const pce::Mat12<double> Pn = pce::projected_hessian(e, pce::Projection::numerical);
   EXPECT_LE((Pe - Pn).norm() / Pn.norm(), 1e-12);
