@@ -5,13 +5,13 @@
 #pragma once
 
 #include <pce/core/jacobi.hpp>
-#include <pce/core/negative_eigenpairs.hpp>
 #include <pce/core/tridiagonal.hpp>
 #include <pce/core/types.hpp>
 #include <pce/energy/closest_feature.hpp>
 #include <pce/energy/exact_projection.hpp>
 #include <pce/energy/mollified_energy.hpp>
 #include <pce/energy/pair_energy.hpp>
+#include <pce/energy/plane_eigenpairs.hpp>
 #include <pce/energy/point_edge_energy.hpp>
 #include <pce/energy/point_point_energy.hpp>
 #include <pce/energy/psd_projection.hpp>

@@ -13,16 +13,15 @@
 ///
 ///     ∇²E = Q (R M Rᵀ) Qᵀ,    proj(∇²E) = Q proj(R M Rᵀ) Qᵀ.
 ///
-/// For the plane kinds `S = R M Rᵀ` has at most two negative eigenvalues, and first-order
-/// perturbation theory in the contact regime (|ψ′| l ≪ |ψ′| a ≪ ψ″ a², `docs/math.md` §9)
-/// approximates them in closed form; `core/negative_eigenpairs.hpp` refines them and their
-/// eigenvectors, and `proj(S) = S − Σ_{λ<0} λ q qᵀ`. Where that does not apply (or any of
-/// its checks fails) `S` is diagonalised by Householder tridiagonalisation and implicit QR
-/// steps (`core/jacobi.hpp`).
+/// For the plane kinds `S = R M Rᵀ` has exactly two negative eigenvalues in the contact
+/// regime, and `proj(∇²E) = ∇²E − Σ λ_k (Q q_k)(Q q_k)ᵀ` needs only those two eigenpairs,
+/// which `energy/plane_eigenpairs.hpp` finds in closed form up to a scalar Newton iteration.
+/// Where that does not apply (or its proof fails) `S` is diagonalised by Householder
+/// tridiagonalisation and implicit QR steps (`core/jacobi.hpp`).
 #pragma once
 
 #include <pce/core/jacobi.hpp>
-#include <pce/core/negative_eigenpairs.hpp>
+#include <pce/energy/plane_eigenpairs.hpp>
 #include <pce/frames/frame.hpp>
 
 #include <cmath>
@@ -67,88 +66,45 @@ MatN<Scalar, Dofs> projected_in_basis(const Eigen::Matrix<Scalar, Dofs, K>& Q, c
   return sum.matrix();
 }
 
-/// `Σ (Q g)(Q g)ᵀ` over the columns `g` of the diagonally pivoted Cholesky factor of a
-/// positive semidefinite `S` of rank ≤ R, stopped when no diagonal entry above
-/// `Kε·max S_ii` is left; `to_x(g)` computes `Q g`. Formed as `G Gᵀ`, symmetric bit for bit.
-template <int Dofs, int R, class Scalar, int K, class ToX>
-MatN<Scalar, Dofs> assembled_psd(MatN<Scalar, K> S, const ToX& to_x) {
-  using std::sqrt;
-  Eigen::Matrix<Scalar, Dofs, R> G = Eigen::Matrix<Scalar, Dofs, R>::Zero();
-  const Scalar floor = Scalar(K) * Constants<Scalar>::epsilon() * S.diagonal().maxCoeff();
-  for (int r = 0; r < R; ++r) {
-    int p = 0;
-    for (int i = 1; i < K; ++i)
-      if (S(i, i) > S(p, p)) p = i;
-    if (!(S(p, p) > floor)) break;
-    const VecN<Scalar, K> g = S.col(p) / sqrt(S(p, p));
-    G.col(r) = to_x(g);
-    S.noalias() -= g * g.transpose();
-  }
-  return (G * G.transpose()).eval();
-}
-
-/// Closed-form approximations (ascending) of the two negative eigenvalues of the plane
-/// kinds' `S = [[A, B], [Bᵀ, 0]]` (A 3×3, B 3×2), first order in the contact regime: with
-/// `v` the unit direction of A's dominant ψ″ term, `B′ = (I − v vᵀ) B` has singular values
-/// σ_k and left singular vectors x_k, and `λ_k ≈ −σ_k + x_kᵀ A x_k / (2σ_k²)` (unnormalised
-/// x_k = B′ y_k).
-template <class Scalar> void negative_eigenvalue_guesses(const MatN<Scalar, 5>& S, const Vec3<Scalar>& v, Scalar (&g)[2]) {
-  using std::sqrt;
-  Eigen::Matrix<Scalar, 3, 2> B = S.template block<3, 2>(0, 3);
-  B -= v * (v.transpose() * B);
-  const Scalar a = B.col(0).squaredNorm(), c = B.col(1).squaredNorm(), b = B.col(0).dot(B.col(1));
-  const Scalar half = (a - c) / Scalar(2), root = sqrt(half * half + b * b), mean = (a + c) / Scalar(2);
-  Eigen::Matrix<Scalar, 2, 1> y0(Scalar(1), Scalar(0));  // eigenvector of BᵀB, larger eigenvalue
-  if (root > Scalar(0)) {
-    if (half >= Scalar(0))
-      y0 << half + root, b;
-    else
-      y0 << b, root - half;
-    y0.normalize();
-  }
-  const Eigen::Matrix<Scalar, 2, 1> y1(-y0[1], y0[0]);
-  const Scalar s2[2] = {Scalar(mean + root), Scalar(mean - root)};
-  const Vec3<Scalar> x[2] = {B * y0, B * y1};
-  const Mat3<Scalar> A = S.template topLeftCorner<3, 3>();
-  for (int k = 0; k < 2; ++k) {
-    const Scalar s = s2[k] > Scalar(0) ? Scalar(sqrt(s2[k])) : Scalar(0);
-    g[k] = s > Scalar(0) ? Scalar(-s + x[k].dot(A * x[k]) / (Scalar(2) * s2[k])) : Scalar(0);
-  }
-  if (g[1] < g[0]) std::swap(g[0], g[1]);
-}
-
 /// The plane kinds' reduced problem `S = R M Rᵀ` (5×5) for `Jᵀ(c2 ggᵀ + c1 H_l)J`
 /// (c1 = σψ′, c2 = ψ″) in the orthonormal basis `h_i ⊗ n̂` (i = 0, 1, 2), `p̂_2 ⊗ ê_k`
-/// (k = 0, 1), and `v`, the unit direction of its ψ″ term in the first three coordinates.
-/// Range basis of M: `w_k = p_k ⊗ n̂` (k = 0, 1, 2; w_2 = ∇l) and `u_k = p_2 ⊗ ê_k`;
-/// `M` has `m_k = −c1 l/a_k²` on w_k, `c2` on w_2, `−c1/a_k` between w_k and u_k.
-template <class Scalar>
-void plane_reduced_problem(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2, MatN<Scalar, 5>& S, Vec3<Scalar>& v) {
-  using std::sqrt;
-  static const Eigen::Matrix<Scalar, 3, 4> h = helmert_basis<Scalar, 4>();
-  const Mat3<Scalar> R = h * f.P.transpose();  // p_k = Σ_i R(i, k) h_i
-  const Scalar r2 = sqrt(f.P.row(2).squaredNorm());
-  const Scalar m0 = -c1 * ((f.l / f.a0) / f.a0), m1 = -c1 * ((f.l / f.a1) / f.a1);
-  const Scalar mu0 = -c1 / f.a0, mu1 = -c1 / f.a1;
-  S.template topLeftCorner<3, 3>() = R * Vec3<Scalar>(m0, m1, c2).asDiagonal() * R.transpose();
-  S.template block<3, 1>(0, 3) = (mu0 * r2) * R.col(0);
-  S.template block<3, 1>(0, 4) = (mu1 * r2) * R.col(1);
-  S.template block<1, 3>(3, 0) = S.template block<3, 1>(0, 3).transpose();
-  S.template block<1, 3>(4, 0) = S.template block<3, 1>(0, 4).transpose();
-  S.template bottomRightCorner<2, 2>().setZero();
-  v = R.col(2) / r2;
-}
+/// (k = 0, 1): with `r_k = R₃ e_k` (R₃ = h Pᵀ), `S = [[Σ d_k r_k r_kᵀ, [e₀r₀, e₁r₁]], [·ᵀ, 0]]`,
+/// `d = (m_0, m_1, c2)`, `e_k = μ_k |p_2|`, `m_k = −c1 l/a_k²`, `μ_k = −c1/a_k` (M28).
+template <class Scalar> struct PlaneReducedProblem {
+  Mat3<Scalar> R;     ///< R₃ = h Pᵀ, columns r_k (p_k = Σ_i R₃(i, k) h_i)
+  Scalar d[3], e[2];  ///< the weights above
+  Scalar p2_norm;     ///< |p_2|
+  PlaneReducedProblem(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2) {
+    using std::sqrt;
+    static const Eigen::Matrix<Scalar, 3, 4> h = helmert_basis<Scalar, 4>();
+    R = h * f.P.transpose();
+    p2_norm = sqrt(f.P.row(2).squaredNorm());
+    d[0] = -c1 * ((f.l / f.a0) / f.a0), d[1] = -c1 * ((f.l / f.a1) / f.a1), d[2] = c2;
+    e[0] = (-c1 / f.a0) * p2_norm, e[1] = (-c1 / f.a1) * p2_norm;
+  }
+  /// S itself
+  MatN<Scalar, 5> matrix() const {
+    MatN<Scalar, 5> S;
+    S.template topLeftCorner<3, 3>() = R * Vec3<Scalar>(d[0], d[1], d[2]).asDiagonal() * R.transpose();
+    S.template block<3, 1>(0, 3) = e[0] * R.col(0);
+    S.template block<3, 1>(0, 4) = e[1] * R.col(1);
+    S.template block<1, 3>(3, 0) = S.template block<3, 1>(0, 3).transpose();
+    S.template block<1, 3>(4, 0) = S.template block<3, 1>(0, 4).transpose();
+    S.template bottomRightCorner<2, 2>().setZero();
+    return S;
+  }
+};
 
-/// Exact projection of a plane kind's Hessian `Jᵀ(c2 ggᵀ + c1 H_l)J` (c1 = σψ′, c2 = ψ″)
-/// through `plane_reduced_problem`.
-template <class Scalar> Mat12<Scalar> exact_projection(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2) {
-  using std::sqrt;
+/// Exact projection of a plane kind's Hessian `Jᵀ(c2 ggᵀ + c1 H_l)J` (c1 = σψ′, c2 = ψ″),
+/// given as the terms `hessian` it is the sum of (`energy_hessian`): when σψ′ ≠ 0 and
+/// ψ″ ≥ 0, S has exactly two negative eigenvalues (§9.3) and the result is
+/// `∇²E − Σ λ_k (Q q_k)(Q q_k)ᵀ` from `plane_negative_eigenpairs`; otherwise, or if that
+/// cannot prove its answer, `Q proj(S) Qᵀ` by the QR algorithm.
+template <class Scalar>
+Mat12<Scalar> exact_projection(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2, SymmetricSum<Scalar, 12> hessian) {
   static const Eigen::Matrix<Scalar, 3, 4> h = helmert_basis<Scalar, 4>();
-  MatN<Scalar, 5> S;
-  Vec3<Scalar> v;
-  plane_reduced_problem(f, c1, c2, S, v);
-  const Scalar r2 = sqrt(f.P.row(2).squaredNorm());
-  const Eigen::Matrix<Scalar, 1, 4> p2 = f.P.row(2) / r2;
+  const PlaneReducedProblem<Scalar> pr(f, c1, c2);
+  const Eigen::Matrix<Scalar, 1, 4> p2 = f.P.row(2) / pr.p2_norm;
   // Q g = Σ_i g_i h_i ⊗ n̂ + p̂_2 ⊗ (g_3 ê_0 + g_4 ê_1), vertex by vertex
   const auto to_x = [&](const VecN<Scalar, 5>& g) {
     const Eigen::Matrix<Scalar, 1, 4> a = g.template head<3>().transpose() * h;
@@ -157,20 +113,17 @@ template <class Scalar> Mat12<Scalar> exact_projection(const Frame<Scalar>& f, c
     for (int j = 0; j < 4; ++j) x.template segment<3>(3 * j) = a[j] * f.n + p2[j] * b;
     return x;
   };
-  // Two negative eigenvalues when ψ′ ≠ 0 and ψ″ ≥ 0 (S is congruent to M: two 2×2 blocks
-  // of negative determinant and c2 ≥ 0).
   if (c1 != Scalar(0) && c2 >= Scalar(0)) {
-    Scalar guess[2], lambda[2];
+    Scalar lambda[2];
     VecN<Scalar, 5> q[2];
-    negative_eigenvalue_guesses(S, v, guess);
-    if (negative_eigenpairs(S, guess, lambda, q)) {
-      for (int k = 0; k < 2; ++k) S.noalias() -= (lambda[k] * q[k]) * q[k].transpose();
-      return assembled_psd<12, 3>(S, to_x);
+    if (plane_negative_eigenpairs(pr.R, pr.d, pr.e, lambda, q)) {
+      for (int k = 0; k < 2; ++k) hessian.rank_one(Scalar(-lambda[k]), to_x(q[k]));
+      return hessian.matrix();
     }
   }
   Eigen::Matrix<Scalar, 12, 5> Q;
   for (int i = 0; i < 5; ++i) Q.col(i) = to_x(VecN<Scalar, 5>::Unit(i));
-  return projected_in_basis(Q, S);
+  return projected_in_basis(Q, pr.matrix());
 }
 
 /// Exact projection of `Jᵀ Hc J` for a dense frame Hessian `Hc` (the mollified energy,

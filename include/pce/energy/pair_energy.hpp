@@ -131,23 +131,28 @@ template <class Scalar> struct PlaneVectors {
     u[1] = kron<Scalar>(f.P.row(2), f.t1);
   }
 };
+
+/// The terms of `energy_hessian(e)`, not yet summed (`Projection::exact` adds two more).
+template <class Scalar> SymmetricSum<Scalar, 12> hessian_terms(const PairEnergy<Scalar>& e) {
+  const Frame<Scalar>& f = e.frame;
+  const PlaneVectors<Scalar> v(f);
+  const Scalar c1 = e.sigma * e.psi.first;
+  const Scalar a[2] = {f.a0, f.a1};
+  SymmetricSum<Scalar, 12> sum;
+  sum.rank_one(e.psi.second, v.w[2]);
+  for (int k = 0; k < 2; ++k) {
+    const Scalar m = -c1 * ((f.l / a[k]) / a[k]), mu = -c1 / a[k];
+    sum.rank_two(v.w[k], (Scalar(m / Scalar(2)) * v.w[k] + mu * v.u[k]).eval());
+  }
+  return sum;
+}
 }  // namespace detail
 
 /// Exact Hessian ∇²E = Jᵀ(ψ″ggᵀ + σψ′H_l)J, written as the rank-one and rank-two terms it
 /// is (`docs/math.md` §6): `ψ″ w₂w₂ᵀ + Σ_k [m_k w_k w_kᵀ + μ_k (w_k u_kᵀ + u_k w_kᵀ)]` with
 /// `m_k = −σψ′ l/a_k²`, `μ_k = −σψ′/a_k` (the families of (M14); exact zeros stay zero).
 template <class Scalar> Mat12<Scalar> energy_hessian(const PairEnergy<Scalar>& e) {
-  const Frame<Scalar>& f = e.frame;
-  const detail::PlaneVectors<Scalar> v(f);
-  const Scalar c1 = e.sigma * e.psi.first;
-  const Scalar a[2] = {f.a0, f.a1};
-  detail::SymmetricSum<Scalar, 12> sum;
-  sum.rank_one(e.psi.second, v.w[2]);
-  for (int k = 0; k < 2; ++k) {
-    const Scalar m = -c1 * ((f.l / a[k]) / a[k]), mu = -c1 / a[k];
-    sum.rank_two(v.w[k], (Scalar(m / Scalar(2)) * v.w[k] + mu * v.u[k]).eval());
-  }
-  return sum.matrix();
+  return detail::hessian_terms(e).matrix();
 }
 
 /// Closed-form eigensystem of the frame Hessian `ψ″ggᵀ + σψ′H_l` (9×9, frame space),
@@ -192,7 +197,8 @@ template <class Scalar> Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>
     case Projection::numerical: return project_psd(energy_hessian(e));
     case Projection::analytic: return detail::filtered_hessian(e, clamp);
     case Projection::abs: return detail::filtered_hessian(e, flip);
-    case Projection::exact: return detail::exact_projection(e.frame, Scalar(e.sigma * e.psi.first), e.psi.second);
+    case Projection::exact:
+      return detail::exact_projection(e.frame, Scalar(e.sigma * e.psi.first), e.psi.second, detail::hessian_terms(e));
     case Projection::gauss_newton: {  // rank one: max(ψ″,0) ∇L∇Lᵀ, ∇L = σ Jᵀ g
       Vec12<Scalar> gL;
       for (int j = 0; j < 4; ++j) gL.template segment<3>(3 * j) = (e.sigma * e.frame.P(2, j)) * e.frame.n;
