@@ -106,7 +106,8 @@ void print_ratios(std::ostream& os, const Collected& c, bool cpu) {
   os << "\nRatio summary (" << (cpu ? "CPU" : "real")
      << " time per pair, this run, best repetition). Requirements, for double, not asserted:\n"
         "  [1] analytic/hessian <= 1.25 and analytic/numerical <= 1/15 (closed form vs the 12x12 baseline)\n"
-        "  [2] exact/analytic <= 2 and exact/numerical <= 1/8 (the exact projection at closed-form cost)\n";
+        "  [2] exact/analytic <= 2 and exact/numerical <= 1/8 (the exact projection at closed-form cost;\n"
+        "      required of the plane kinds, vertex_face and edge_edge: for the point kinds the columns say how close)\n";
   std::snprintf(line, sizeof line, "%-12s %-7s %9s %9s %9s %9s %10s %9s %9s %9s %9s  %s\n", "pair", "scalar", "hess ns",
                 "analyt ns", "exact ns", "numer ns", "analytic/", "exact/", "numer/", "numer/", "abs/", "requirements");
   os << line;
@@ -133,7 +134,8 @@ void print_ratios(std::ostream& os, const Collected& c, bool cpu) {
       if (std::strcmp(s, "double") == 0) {
         std::string r1 = "n/a", r2 = "n/a";
         if (has_he && has_an && has_nu) r1 = (an <= 1.25 * he && an * 15.0 <= nu) ? "met" : "MISSED";
-        if (has_ex && has_an && has_nu) r2 = (ex <= 2.0 * an && ex * 8.0 <= nu) ? "met" : "MISSED";
+        const bool plane = std::strcmp(p, "vertex_face") == 0 || std::strcmp(p, "edge_edge") == 0;
+        if (has_ex && has_an && has_nu) r2 = (ex <= 2.0 * an && ex * 8.0 <= nu) ? "met" : plane ? "MISSED" : "not met";
         req = "[1] " + r1 + " [2] " + r2;
       }
       std::snprintf(line, sizeof line, "%-12s %-7s %9s %9s %9s %9s %10s %9s %9s %9s %9s  %s\n", p, s,
