@@ -122,7 +122,7 @@ bool plane_negative_eigenpairs(const Mat3<Scalar>& R, const Scalar (&d_in)[3], c
     const Scalar b2 = y0 * y0 + y1 * y1, nq2 = u.squaredNorm() + b2;
     if (!(nq2 > Scalar(0))) return false;
     x[k] = (d[0] * t0 * t0 + d[1] * t1 * t1 + d[2] * t2 * t2 + Scalar(2) * l * b2) / nq2;
-    q[k] << u, y0, y1;
+    q[k][0] = u[0], q[k][1] = u[1], q[k][2] = u[2], q[k][3] = y0, q[k][4] = y1;
     q[k] /= sqrt(nq2);
   }
   q[1] -= q[0].dot(q[1]) * q[0];
