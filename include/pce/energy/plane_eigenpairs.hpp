@@ -30,9 +30,9 @@ namespace pce::detail {
 /// columns of `R`), as `lambda` (ascending) and orthonormal 5-vectors `q`, by Newton's
 /// method on the secular function (M31) from the approximations (M30) and closed-form
 /// eigenvectors (M32). Returns false, outputs unspecified, unless the results are proven
-/// (M33): each residual `|S q_k − λ_k q_k|` is below `256ε·s` (`s` = the largest of
-/// `|d_k||r_k|²` and `|e_k||r_k|`, the size of S's terms), each `λ_k` below `−512ε·s`, and
-/// `q_1, q_2` orthonormal, so that S has two distinct eigenvalues within `363ε·s` of them,
+/// (M33): each residual `|S q_k − λ_k q_k|` is below `64ε·s` (`s` = the largest of
+/// `|d_k||r_k|²` and `|e_k||r_k|`, the size of S's terms), each `λ_k` below `−128ε·s`, and
+/// `q_1, q_2` orthonormal, so that S has two distinct eigenvalues within `91ε·s` of them,
 /// both negative. Written for the contact regime (`d₂ = ψ″ > 0` dominant, `e_k ≠ 0`, as the
 /// Sylvester argument of §9.3 requires for exactly two negative eigenvalues); elsewhere it
 /// may return false, never an unproven answer.
@@ -132,7 +132,7 @@ bool plane_negative_eigenpairs(const Mat3<Scalar>& R, const Scalar (&d_in)[3], c
   // (M33) the proof: residuals of the orthonormal pair against the size of S's terms.
   const Scalar size = std::max(std::max(abs(d[0]) * G00, abs(d[1]) * G11),
                                std::max(abs(d[2]) * rho, std::max(abs(e[0]) * sqrt(G00), abs(e[1]) * sqrt(G11))));
-  const Scalar tol = Scalar(256) * eps * size;
+  const Scalar tol = Scalar(64) * eps * size;
   for (int k = 0; k < 2; ++k) {
     const Vec3<Scalar> u = q[k].template head<3>();
     const Scalar t0 = r0.dot(u), t1 = r1.dot(u), t2 = r2.dot(u);
