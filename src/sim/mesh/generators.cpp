@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: MIT
+#include <pce/sim/generators.hpp>
+#include <pce/sim/input_error.hpp>
+
+#include <cmath>
+#include <string>
+
+namespace pce::sim {
+
+namespace {
+void require(bool ok, const char* generator, const std::string& what) {
+  if (!ok) throw InputError(generator, "", what);
+}
+}  // namespace
+
+Mesh grid(double width, double height, int nx, int ny) {
+  require(std::isfinite(width) && width > 0 && std::isfinite(height) && height > 0, "grid",
+          "width and height must be finite and positive");
+  require(nx >= 1 && ny >= 1 && nx <= 4096 && ny <= 4096, "grid", "the resolution must be between 1 and 4096 quads per side");
+  Mesh m;
+  m.positions.resize(3, (nx + 1) * (ny + 1));
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i)
+      m.positions.col(j * (nx + 1) + i) << (double(i) / nx - 0.5) * width, (double(j) / ny - 0.5) * height, 0.0;
+  m.triangles.resize(3, 2 * nx * ny);
+  int t = 0;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const int a = j * (nx + 1) + i, b = a + 1, c = a + nx + 1, d = c + 1;  // a b / c d, counter-clockwise seen from +z
+      if ((i + j) % 2 == 0) {
+        m.triangles.col(t++) << a, b, d;
+        m.triangles.col(t++) << a, d, c;
+      } else {
+        m.triangles.col(t++) << a, b, c;
+        m.triangles.col(t++) << b, d, c;
+      }
+    }
+  m.segments.resize(2, 0);
+  return m;
+}
+
+Mesh strands(int count, int segments, double length, double spacing, double curl) {
+  require(count >= 1 && count <= 1 << 20, "strands", "the strand count must be between 1 and 2^20");
+  require(segments >= 1 && segments <= 1 << 16, "strands", "the segment count must be between 1 and 2^16");
+  require(std::isfinite(length) && length > 0 && std::isfinite(spacing) && spacing > 0, "strands",
+          "length and spacing must be finite and positive");
+  require(std::isfinite(curl) && curl >= 0, "strands", "curl must be finite and non-negative");
+  const int side = static_cast<int>(std::ceil(std::sqrt(double(count))));
+  const double pi = std::acos(-1.0);
+  Mesh m;
+  m.positions.resize(3, count * (segments + 1));
+  m.segments.resize(2, count * segments);
+  for (int k = 0; k < count; ++k) {
+    const double x0 = (k % side - 0.5 * (side - 1)) * spacing, y0 = (k / side - 0.5 * (side - 1)) * spacing;
+    const double phase = 2.399963229728653 * k;  // the golden angle: no two neighbours in phase
+    for (int s = 0; s <= segments; ++s) {
+      const double z = -length * s / segments, angle = phase + 4 * pi * s / segments;
+      m.positions.col(k * (segments + 1) + s) << x0 + curl * std::cos(angle), y0 + curl * std::sin(angle), z;
+      if (s < segments) m.segments.col(k * segments + s) << k * (segments + 1) + s, k * (segments + 1) + s + 1;
+    }
+  }
+  m.triangles.resize(3, 0);
+  return m;
+}
+
+}  // namespace pce::sim
