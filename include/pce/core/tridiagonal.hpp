@@ -8,7 +8,6 @@
 #include <pce/core/types.hpp>
 
 #include <cmath>
-#include <limits>
 
 namespace pce::detail {
 

@@ -25,7 +25,6 @@
 #include <pce/frames/frame.hpp>
 
 #include <cmath>
-#include <utility>
 
 namespace pce::detail {
 
