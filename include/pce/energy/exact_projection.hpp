@@ -94,13 +94,14 @@ template <class Scalar> struct PlaneReducedProblem {
   }
 };
 
-/// Exact projection of a plane kind's Hessian `Jᵀ(c2 ggᵀ + c1 H_l)J` (c1 = σψ′, c2 = ψ″),
-/// given as the terms `hessian` it is the sum of (`energy_hessian`): when σψ′ ≠ 0 and
-/// ψ″ ≥ 0, S has exactly two negative eigenvalues (§9.3) and the result is
-/// `∇²E − Σ λ_k (Q q_k)(Q q_k)ᵀ` from `plane_negative_eigenpairs`; otherwise, or if that
-/// cannot prove its answer, `Q proj(S) Qᵀ` by the QR algorithm.
-template <class Scalar>
-Mat12<Scalar> exact_projection(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2, SymmetricSum<Scalar, 12> hessian) {
+/// Exact projection of a plane kind's Hessian `Jᵀ(c2 ggᵀ + c1 H_l)J` (c1 = σψ′, c2 = ψ″);
+/// `hessian_terms()` returns the terms that Hessian is the sum of (`energy_hessian`), and is
+/// called only when they are used: when σψ′ ≠ 0 and ψ″ ≥ 0, S has exactly two negative
+/// eigenvalues (§9.3) and the result is `∇²E − Σ λ_k (Q q_k)(Q q_k)ᵀ` from
+/// `plane_negative_eigenpairs`; otherwise, or if that cannot prove its answer,
+/// `Q proj(S) Qᵀ` by the QR algorithm.
+template <class Scalar, class HessianTerms>
+Mat12<Scalar> exact_projection(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2, const HessianTerms& hessian_terms) {
   static const Eigen::Matrix<Scalar, 3, 4> h = helmert_basis<Scalar, 4>();
   const PlaneReducedProblem<Scalar> pr(f, c1, c2);
   const Eigen::Matrix<Scalar, 1, 4> p2 = f.P.row(2) / pr.p2_norm;
@@ -116,6 +117,7 @@ Mat12<Scalar> exact_projection(const Frame<Scalar>& f, const Scalar& c1, const S
     Scalar lambda[2];
     VecN<Scalar, 5> q[2];
     if (plane_negative_eigenpairs(pr.R, pr.d, pr.e, lambda, q)) {
+      SymmetricSum<Scalar, 12> hessian = hessian_terms();
       for (int k = 0; k < 2; ++k) hessian.rank_one(Scalar(-lambda[k]), to_x(q[k]));
       return hessian.matrix();
     }

@@ -198,7 +198,8 @@ template <class Scalar> Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>
     case Projection::analytic: return detail::filtered_hessian(e, clamp);
     case Projection::abs: return detail::filtered_hessian(e, flip);
     case Projection::exact:
-      return detail::exact_projection(e.frame, Scalar(e.sigma * e.psi.first), e.psi.second, detail::hessian_terms(e));
+      return detail::exact_projection(e.frame, Scalar(e.sigma * e.psi.first), e.psi.second,
+                                      [&e] { return detail::hessian_terms(e); });
     case Projection::gauss_newton: {  // rank one: max(ψ″,0) ∇L∇Lᵀ, ∇L = σ Jᵀ g
       Vec12<Scalar> gL;
       for (int j = 0; j < 4; ++j) gL.template segment<3>(3 * j) = (e.sigma * e.frame.P(2, j)) * e.frame.n;
