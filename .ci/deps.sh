@@ -1,5 +1,5 @@
 # Debian packages the build needs; sourced by .ci/run and .ci/demo.
-PCE_DEBIAN_PACKAGES="g++ cmake ninja-build libeigen3-dev libboost-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev"
+PCE_DEBIAN_PACKAGES="g++ cmake ninja-build pkg-config libeigen3-dev libboost-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev libfcl-dev libccd-dev libcgal-dev libsuitesparse-dev libcli11-dev libstb-dev"
 
 pce_install_deps() {
   local sudo=""

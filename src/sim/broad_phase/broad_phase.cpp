@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: MIT
+#include <pce/sim/broad_phase.hpp>
+#include <pce/sim/candidates.hpp>
+
+namespace pce::sim {
+
+const char* to_string(BroadPhaseKind kind) {
+  switch (kind) {
+    case BroadPhaseKind::fcl: return "fcl";
+    case BroadPhaseKind::brute: return "brute";
+  }
+  return "unknown";
+}
+
+namespace {
+/// The O(n²) reference (`brute_force_candidates`), one primitive kind at a time.
+class BruteForce final : public BroadPhase {
+ public:
+  void vertex_face(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& triangles, double distance,
+                   std::vector<std::array<int, 2>>& out) override {
+    out = brute_force_candidates(x, triangles, Eigen::Matrix2Xi(2, 0), distance).vertex_face;
+  }
+  void edge_edge(const Eigen::Matrix3Xd& x, const Eigen::Matrix2Xi& edges, double distance,
+                 std::vector<std::array<int, 2>>& out) override {
+    out = brute_force_candidates(x, Eigen::Matrix3Xi(3, 0), edges, distance).edge_edge;
+  }
+};
+}  // namespace
+
+std::unique_ptr<BroadPhase> make_fcl_broad_phase();  // broad_phase/fcl.cpp
+
+std::unique_ptr<BroadPhase> make_broad_phase(BroadPhaseKind kind) {
+  if (kind == BroadPhaseKind::brute) return std::make_unique<BruteForce>();
+  return make_fcl_broad_phase();
+}
+
+}  // namespace pce::sim

@@ -1,0 +1,30 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// How effects are built from a scene: every effect file defines one `make_<name>`
+/// factory; `scene/registry.cpp` maps the scene's effect names to them. Internal.
+#pragma once
+
+#include "../scene/params.hpp"
+
+#include <pce/sim/broad_phase.hpp>
+#include <pce/sim/effect.hpp>
+#include <pce/sim/obstacle.hpp>
+
+#include <memory>
+#include <vector>
+
+namespace pce::sim {
+
+/// What a factory may read: the built model (masses included), the obstacles, the scene's
+/// step size, the broad phase to use and the thread count.
+struct BuildContext {
+  const Model* model = nullptr;
+  const std::vector<Obstacle>* obstacles = nullptr;
+  double dt = 0;
+  BroadPhaseKind broad_phase = BroadPhaseKind::fcl;
+  int threads = 1;
+};
+
+using EffectFactory = std::unique_ptr<Effect> (*)(const Params& params, const BuildContext& ctx);
+
+}  // namespace pce::sim

@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// An effect is one term of the incremental potential the solver minimises (gravity,
+/// stretching, bending, pins, damping, contact, …). The solver loops over the scene's
+/// effects through this interface without knowing any of them by name; only the effects a
+/// scene declares are constructed (`pce/sim/scene.hpp`), so nothing else costs time.
+///
+/// One virtual call per effect and Newton iteration, never per element or pair.
+#pragma once
+
+#include <pce/sim/block_hessian.hpp>
+#include <pce/sim/model.hpp>
+
+#include <limits>
+#include <map>
+#include <string>
+
+namespace pce::sim {
+
+/// Numbers an effect reports for the frame's statistics (`stats.json`), e.g. contact counts.
+using EffectCounters = std::map<std::string, double>;
+
+class Effect {
+ public:
+  virtual ~Effect() = default;
+  /// The scene's name of the effect (`"stretching"`, `"self_vertex_face"`, …).
+  virtual const char* name() const = 0;
+  /// Once per time step, before Newton: update prescribed data (pin targets, releases,
+  /// obstacle poses, candidate pairs).
+  virtual void begin_step(const StepContext& /*ctx*/) {}
+  /// Declares the vertex tuples the Hessian couples (after `begin_step`).
+  virtual void declare(Pattern& pattern) const = 0;
+  /// Returns the energy at `x` (3×n); when `gradient` is non-null adds ∇E to it, when
+  /// `hessian` is non-null adds a positive-semidefinite approximation of ∇²E to it.
+  virtual double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) = 0;
+  /// Largest fraction t ∈ (0, 1] of the step `dx` from `x` that this effect allows (a
+  /// barrier keeps every active length above 0); 1 for effects without a domain limit.
+  virtual double max_step(const Eigen::Matrix3Xd& /*x*/, const Eigen::Matrix3Xd& /*dx*/) {
+    return 1.0;
+  }
+  /// Called after each accepted Newton update; returns false when the effect needs a new
+  /// `begin_step`-time query (a contact effect whose candidates went stale).
+  virtual bool still_valid(const Eigen::Matrix3Xd& /*x*/) { return true; }
+  /// Re-runs the per-step query at the current positions (after `still_valid` said no).
+  virtual void refresh(const Eigen::Matrix3Xd& /*x*/) {}
+  /// Counters for the frame's statistics (contact counts, minimum distance, …).
+  virtual void report(EffectCounters& /*counters*/) const {}
+};
+
+}  // namespace pce::sim

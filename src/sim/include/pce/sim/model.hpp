@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// The simulated system: every deformable mesh of a scene concatenated into one set of
+/// vertices (the unknowns), with the topology the effects and contacts need and the lumped
+/// vertex masses. Kinematic obstacles are not part of it (`pce/sim/obstacle.hpp`).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace pce::sim {
+
+/// Where one scene mesh lives inside the model.
+struct MeshRange {
+  std::string name;       ///< the scene's mesh name
+  int first_vertex = 0;   ///< global index of its vertex 0
+  int vertex_count = 0;
+  int first_triangle = 0;
+  int triangle_count = 0;
+  int first_segment = 0;
+  int segment_count = 0;
+};
+
+/// All deformable vertices and elements, in global vertex indices.
+struct Model {
+  Eigen::Matrix3Xd rest;       ///< rest positions (the scene's frame 0), one column per vertex
+  Eigen::Matrix3Xi triangles;  ///< cloth triangles
+  Eigen::Matrix2Xi segments;   ///< strand segments
+  Eigen::Matrix2Xi edges;      ///< unique triangle edges followed by the strand segments
+  Eigen::VectorXd mass;        ///< lumped vertex masses (kg), > 0
+  std::vector<MeshRange> meshes;
+
+  int vertex_count() const { return static_cast<int>(rest.cols()); }
+};
+
+/// What every effect may read when a time step begins.
+struct StepContext {
+  int frame = 0;                ///< the frame being computed (1 for the first step)
+  double time = 0;              ///< time at the end of the step (s)
+  double dt = 0;                ///< step size (s)
+  const Model* model = nullptr;
+  const Eigen::Matrix3Xd* x_start = nullptr;  ///< positions at the start of the step
+  const Eigen::Matrix3Xd* v_start = nullptr;  ///< velocities at the start of the step
+};
+
+}  // namespace pce::sim

@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// Kinematic obstacles: a sphere, a box, a capsule or a triangle mesh whose pose follows a
+/// prescribed path. They are not unknowns of the solve; the `obstacle_contact` effect pushes
+/// the deformable vertices out of them and the renderer draws them.
+#pragma once
+
+#include <pce/sim/mesh.hpp>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <limits>
+#include <string>
+
+namespace pce::sim {
+
+enum class ShapeKind { sphere, box, capsule, mesh };
+
+/// A rigid path: from `start` to `stop` (s) the obstacle translates with `velocity` (m/s) and
+/// rotates about its own centre with `angular_velocity` (rad/s, axis × rate); it rests
+/// before `start` and after `stop`.
+struct Motion {
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
+  double start = 0;
+  double stop = std::numeric_limits<double>::infinity();
+};
+
+struct Obstacle {
+  std::string name;
+  ShapeKind kind = ShapeKind::sphere;
+  double radius = 0;                                   ///< sphere, capsule
+  double half_length = 0;                              ///< capsule: half its axis, along local z
+  Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();  ///< box
+  Mesh mesh;                                           ///< kind mesh: triangles in local coordinates
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< centre at t = 0
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  ///< orientation at t = 0
+  Motion motion;
+
+  /// World pose at time `t` (s): x_world = pose * x_local.
+  Eigen::Isometry3d pose(double t) const;
+};
+
+/// Signed distance from world point `p` to the obstacle's surface at pose `pose` (negative
+/// inside) with the outward unit normal at the closest surface point. Closed forms for
+/// sphere, box and capsule; for a mesh, the unsigned distance to the nearest triangle.
+struct SurfaceDistance {
+  double distance = 0;
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+};
+SurfaceDistance surface_distance(const Obstacle& o, const Eigen::Isometry3d& pose, const Eigen::Vector3d& p);
+
+/// A triangle mesh of the obstacle's surface in world coordinates at `pose`, for drawing
+/// and for mesh obstacles' contact (spheres and capsules tessellated, `resolution` segments
+/// around).
+Mesh surface_mesh(const Obstacle& o, const Eigen::Isometry3d& pose, int resolution = 24);
+
+}  // namespace pce::sim

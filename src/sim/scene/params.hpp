@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// Typed, checked access to one JSON object of a scene, for the scene parser and the
+/// effect factories. Every failed check throws `InputError(file, path, expected)` naming
+/// the field's JSON path (`effects[2].penalty.dhat`) and what was expected, so effects
+/// never touch JSON or format errors themselves. Internal to pce::sim.
+#pragma once
+
+#include <pce/sim/input_error.hpp>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include <initializer_list>
+#include <limits>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace pce::sim {
+
+class Params {
+ public:
+  /// `object` must be a JSON object (checked); `path` is its JSON path ("" for the root).
+  Params(const nlohmann::json& object, std::string file, std::string path);
+
+  const std::string& file() const { return file_; }
+  const std::string& path() const { return path_; }
+  const nlohmann::json& json() const { return *j_; }
+  bool has(const std::string& key) const;
+  /// The JSON path of `key` inside this object.
+  std::string path_of(const std::string& key) const;
+  /// Throws InputError naming `key` and `what`.
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const;
+
+  /// A finite number; `lo`/`hi` are inclusive bounds (checked) and the default is used
+  /// when the key is absent (required when no default is given).
+  double number(const std::string& key, std::optional<double> fallback = std::nullopt,
+                double lo = -std::numeric_limits<double>::max(),
+                double hi = std::numeric_limits<double>::max()) const;
+  /// A number > 0.
+  double positive(const std::string& key, std::optional<double> fallback = std::nullopt) const;
+  /// A number ≥ 0.
+  double nonnegative(const std::string& key, std::optional<double> fallback = std::nullopt) const;
+  /// An integer in [lo, hi].
+  long integer(const std::string& key, std::optional<long> fallback = std::nullopt, long lo = 0,
+               long hi = std::numeric_limits<int>::max()) const;
+  bool boolean(const std::string& key, std::optional<bool> fallback = std::nullopt) const;
+  std::string string(const std::string& key, std::optional<std::string> fallback = std::nullopt) const;
+  /// A string that must be one of `choices`.
+  std::string choice(const std::string& key, std::initializer_list<const char*> choices,
+                     std::optional<std::string> fallback = std::nullopt) const;
+  /// A 3-array of finite numbers.
+  Eigen::Vector3d vec3(const std::string& key, std::optional<Eigen::Vector3d> fallback = std::nullopt) const;
+  /// An array of integers in [0, hi).
+  std::vector<int> indices(const std::string& key, long hi) const;
+  /// The nested object at `key` (required).
+  Params object(const std::string& key) const;
+  /// The array at `key` (empty when absent and `required` is false).
+  const nlohmann::json& array(const std::string& key, bool required = false) const;
+  /// The i-th element of array `key`, which must be an object.
+  Params element(const std::string& key, std::size_t i) const;
+  /// Throws for any key not in `known` (catches typos such as "stifness").
+  void only(std::initializer_list<const char*> known) const;
+
+ private:
+  const nlohmann::json& at(const std::string& key) const;
+  const nlohmann::json* j_;
+  std::string file_, path_;
+};
+
+}  // namespace pce::sim
