@@ -61,7 +61,7 @@ template <class Scalar> struct ClosestFeatureEnergy {
   PairEnergy<Scalar> plane;        ///< `point_plane` / `line_line`
   PointEdgeEnergy<Scalar> edge;    ///< `point_edge`
   PointPointEnergy<Scalar> point;  ///< `point_point`
-  Scalar length;                   ///< the distance between the primitives
+  Scalar length{};                 ///< the distance between the primitives
   PenaltyDerivatives<Scalar> psi;  ///< ψ, ψ′, ψ″ at `length`
 };
 

@@ -1,0 +1,302 @@
+// SPDX-License-Identifier: MIT
+// Self contact through pce's pair energies: the effects `self_vertex_face` and
+// `self_edge_edge` (docs/simulation.md, "From candidates to energies").
+//
+// Per time step: the broad phase finds the candidate pairs within the query radius
+// r = d + m (activation distance d, margin m = d) around the inertial prediction
+// x̃ = xⁿ + h vⁿ; the candidate set then stays fixed while every vertex stays within m/2 of
+// where it was queried (checked after each Newton update, re-queried otherwise), so any pair
+// that comes within d of contact is in the set. Per Newton iteration each candidate is
+// evaluated by pce:
+//  * plane mode (the paper's): the frame of the pair; the pair is active when the closest
+//    points of the plane (line) distance lie inside the triangle (both segments) and
+//    L < d, with L = |l| (unsigned) or L = side·l (signed, side recorded from xⁿ when the
+//    pair entered the candidate set and kept while it stays there);
+//  * closest-feature mode: pce::closest_feature_energy, the distance between the primitives.
+// The Hessian is pce's projection chosen per effect (`hessian`). Pairs are evaluated in
+// parallel (OpenMP) into per-pair buffers and scattered serially into the block Hessian.
+#include "factory.hpp"
+#include "penalty_spec.hpp"
+
+#include <pce/energy/closest_feature.hpp>
+#include <pce/energy/pair_energy.hpp>
+#include <pce/frames/edge_edge.hpp>
+#include <pce/frames/vertex_face.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace pce::sim {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+struct ContactSpec {
+  PenaltySpec penalty;
+  bool signed_length = false;
+  bool closest_features = false;
+  Projection hessian = Projection::analytic;
+};
+
+/// Per-pair result of one evaluation, written by exactly one thread.
+struct PairOut {
+  double energy = 0;
+  double length = std::numeric_limits<double>::infinity();
+  bool active = false;
+  Vec12<double> g;
+  Mat12<double> H;
+};
+
+template <bool VF> class SelfContact final : public Effect {
+ public:
+  SelfContact(const ContactSpec& spec, const BuildContext& ctx)
+      : spec_(spec), model_(ctx.model), broad_phase_(make_broad_phase(ctx.broad_phase)) {}
+
+  const char* name() const override { return VF ? "self_vertex_face" : "self_edge_edge"; }
+
+  void begin_step(const StepContext& ctx) override {
+    x_start_ = ctx.x_start;
+    query_at_ = *ctx.x_start + ctx.dt * *ctx.v_start;
+    stats_ = {};
+    query();
+  }
+
+  bool still_valid(const Eigen::Matrix3Xd& x) override {
+    return (x - query_at_).colwise().norm().maxCoeff() <= 0.5 * margin();
+  }
+
+  void refresh(const Eigen::Matrix3Xd& x) override {
+    query_at_ = x;
+    query();
+  }
+
+  void declare(Pattern& pattern) const override {
+    for (const auto& c : pairs_) pattern.add(vertices(c));
+  }
+
+  double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) override {
+    const auto t0 = Clock::now();
+    const bool want_h = hessian != nullptr;
+    const long n = static_cast<long>(pairs_.size());
+    if (out_.size() < pairs_.size()) out_.resize(pairs_.size());
+    visit_penalty(spec_.penalty, [&](const auto& penalty) {
+#pragma omp parallel for schedule(dynamic, 64)
+      for (long k = 0; k < n; ++k) evaluate_pair(x, k, penalty, want_h, out_[static_cast<std::size_t>(k)]);
+    });
+    stats_.pair_ms += ms_since(t0);
+    const auto t1 = Clock::now();
+    double energy = 0;
+    long active = 0;
+    double min_length = std::numeric_limits<double>::infinity();
+    for (long k = 0; k < n; ++k) {
+      const PairOut& o = out_[static_cast<std::size_t>(k)];
+      if (!o.active) continue;
+      ++active;
+      energy += o.energy;
+      min_length = std::min(min_length, o.length);
+      const auto v = vertices(pairs_[static_cast<std::size_t>(k)]);
+      if (gradient)
+        for (int j = 0; j < 4; ++j) gradient->col(v[static_cast<std::size_t>(j)]) += o.g.segment<3>(3 * j);
+      if (hessian) hessian->add<4>(v, o.H);
+    }
+    stats_.scatter_ms += ms_since(t1);
+    stats_.active = active;
+    stats_.min_length = min_length;
+    if (!std::isfinite(energy)) return std::numeric_limits<double>::infinity();
+    return energy;
+  }
+
+  double max_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) override {
+    if (!spec_.penalty.barrier()) return 1.0;
+    // Conservative: along x + t dx the distance between two primitives changes by at most
+    // t (max |dx| over the first's vertices + max |dx| over the second's); keep 10 % of
+    // the current distance (closest features) and the candidate set valid.
+    double t = 1.0;
+    const double drift = (x - query_at_).colwise().norm().maxCoeff();
+    const double dmax = dx.colwise().norm().maxCoeff();
+    if (dmax > 0) t = std::min(t, std::max(0.0, 0.5 * margin() - drift) / dmax);
+    for (const auto& c : pairs_) {
+      const auto v = vertices(c);
+      const Vec12<double> xp = gather(x, v);
+      ClosestFeatureEnergy<double> ce;
+      QuadraticPenalty probe{1.0, 0.0};
+      if (closest_feature_energy<Kind>(xp, UnsignedLength{}, probe, ce) != Status::ok) continue;
+      double ma = 0, mb = 0;  // largest motion on each primitive
+      for (int j = 0; j < 4; ++j) {
+        const double d = dx.col(v[static_cast<std::size_t>(j)]).norm();
+        double& m = j < first_side_count() ? ma : mb;
+        m = std::max(m, d);
+      }
+      if (ma + mb > 0) t = std::min(t, 0.9 * ce.length / (ma + mb));
+    }
+    return std::max(t, 0.0);
+  }
+
+  void report(EffectCounters& c) const override {
+    const std::string kind = VF ? "vertex_face" : "edge_edge";
+    c[kind + "_candidates"] = static_cast<double>(pairs_.size());
+    c[kind + "_contacts"] = static_cast<double>(stats_.active);
+    c[kind + "_min_distance"] = stats_.min_length;
+    c["broad_phase_ms"] = stats_.broad_phase_ms;
+    c["broad_phase_queries"] = stats_.queries;
+    c["pair_ms"] = stats_.pair_ms;
+    c["scatter_ms"] = stats_.scatter_ms;
+  }
+
+ private:
+  using Kind = std::conditional_t<VF, VertexFace, EdgeEdge>;
+  static constexpr int first_side_count() { return VF ? 1 : 2; }
+
+  double margin() const { return spec_.penalty.distance; }
+
+  std::array<int, 4> vertices(const std::array<int, 2>& c) const {
+    if constexpr (VF) {
+      const auto t = model_->triangles.col(c[1]);
+      return {c[0], t[0], t[1], t[2]};
+    } else {
+      const auto a = model_->edges.col(c[0]), b = model_->edges.col(c[1]);
+      return {a[0], a[1], b[0], b[1]};
+    }
+  }
+
+  static Vec12<double> gather(const Eigen::Matrix3Xd& x, const std::array<int, 4>& v) {
+    Vec12<double> xp;
+    for (int j = 0; j < 4; ++j) xp.segment<3>(3 * j) = x.col(v[static_cast<std::size_t>(j)]);
+    return xp;
+  }
+
+  static bool inside(const Frame<double>& f) {
+    if constexpr (VF) return f.beta >= 0 && f.gamma >= 0 && f.beta + f.gamma <= 1;
+    else return f.beta >= 0 && f.beta <= 1 && f.gamma <= 0 && f.gamma >= -1;
+  }
+
+  void query() {
+    const auto t0 = Clock::now();
+    const double r = spec_.penalty.distance + margin();
+    std::vector<std::array<int, 2>> fresh;
+    if constexpr (VF) broad_phase_->vertex_face(query_at_, model_->triangles, r, fresh);
+    else broad_phase_->edge_edge(query_at_, model_->edges, r, fresh);
+    // Sides: kept for pairs already tracked, recorded from xⁿ for new ones (both lists
+    // are sorted, so one merge pass).
+    std::vector<signed char> sides(fresh.size(), 1);
+    if (spec_.signed_length) {
+      std::size_t old = 0;
+      for (std::size_t k = 0; k < fresh.size(); ++k) {
+        while (old < pairs_.size() && pairs_[old] < fresh[k]) ++old;
+        if (old < pairs_.size() && pairs_[old] == fresh[k]) {
+          sides[k] = sides_[old];
+          continue;
+        }
+        Frame<double> f;
+        if (Kind::frame(gather(*x_start_, vertices(fresh[k])), f) == Status::ok && f.l < 0) sides[k] = -1;
+      }
+    }
+    pairs_ = std::move(fresh);
+    sides_ = std::move(sides);
+    stats_.queries += 1;
+    stats_.broad_phase_ms += ms_since(t0);
+  }
+
+  template <class Penalty>
+  void evaluate_pair(const Eigen::Matrix3Xd& x, long k, const Penalty& penalty, bool want_h, PairOut& o) const {
+    o.active = false;
+    const auto v = vertices(pairs_[static_cast<std::size_t>(k)]);
+    const Vec12<double> xp = gather(x, v);
+    const double d = spec_.penalty.distance;
+    if (spec_.closest_features) {
+      ClosestFeatureEnergy<double> ce;
+      const Status s = closest_feature_energy<Kind>(xp, UnsignedLength{}, penalty, ce);
+      if (s == Status::out_of_domain) return fail_infinite(o);
+      if (s != Status::ok || !(ce.length < d)) return;
+      o.active = true;
+      o.length = ce.length;
+      o.energy = ce.psi.value;
+      o.g = energy_gradient(ce);
+      if (want_h) o.H = projected_hessian(ce, spec_.hessian);
+      return;
+    }
+    Frame<double> f;
+    if (Kind::frame(xp, f) != Status::ok || !inside(f)) return;
+    const double sigma = spec_.signed_length ? static_cast<double>(sides_[static_cast<std::size_t>(k)]) : (f.l < 0 ? -1.0 : 1.0);
+    const double L = sigma * f.l;
+    // Beyond the activation distance, or (signed) deeper than the query radius: inactive.
+    if (!(L < d) || L < -(d + margin())) return;
+    PairEnergy<double> e;
+    Status s;
+    if (spec_.signed_length)
+      s = pair_energy<Kind>(xp, SignedLength{sigma < 0 ? Side::negative : Side::positive}, penalty, e);
+    else
+      s = pair_energy<Kind>(xp, UnsignedLength{}, penalty, e);
+    if (s == Status::out_of_domain) return fail_infinite(o);
+    if (s != Status::ok) return;
+    o.active = true;
+    o.length = e.length;
+    o.energy = e.psi.value;
+    o.g = energy_gradient(e);
+    if (want_h) o.H = projected_hessian(e, spec_.hessian);
+  }
+
+  static void fail_infinite(PairOut& o) {
+    // A barrier evaluated at L ≤ 0: infinite energy, which the line search rejects.
+    o.active = true;
+    o.energy = std::numeric_limits<double>::infinity();
+    o.length = 0;
+    o.g.setZero();
+    o.H.setZero();
+  }
+
+  struct Stats {
+    double broad_phase_ms = 0, pair_ms = 0, scatter_ms = 0, queries = 0;
+    long active = 0;
+    double min_length = std::numeric_limits<double>::infinity();
+  };
+
+  ContactSpec spec_;
+  const Model* model_;
+  std::unique_ptr<BroadPhase> broad_phase_;
+  const Eigen::Matrix3Xd* x_start_ = nullptr;
+  Eigen::Matrix3Xd query_at_;
+  std::vector<std::array<int, 2>> pairs_;
+  std::vector<signed char> sides_;
+  std::vector<PairOut> out_;
+  Stats stats_;
+};
+
+ContactSpec parse_contact(const Params& p) {
+  p.only({"type", "penalty", "length", "hessian", "closest_features"});
+  ContactSpec s;
+  s.penalty = parse_penalty(p.object("penalty"));
+  s.signed_length = p.choice("length", {"unsigned", "signed"}, std::string("unsigned")) == "signed";
+  s.closest_features = p.boolean("closest_features", false);
+  const std::string h = p.choice("hessian", {"analytic", "exact", "numerical", "gauss_newton", "abs"}, std::string("analytic"));
+  s.hessian = h == "exact"          ? Projection::exact
+              : h == "numerical"    ? Projection::numerical
+              : h == "gauss_newton" ? Projection::gauss_newton
+              : h == "abs"          ? Projection::abs
+                                    : Projection::analytic;
+  if (s.closest_features && s.signed_length)
+    p.fail("length", "closest-feature evaluation measures the distance between the primitives, which is unsigned: use \"unsigned\" or \"closest_features\": false");
+  if (s.penalty.barrier() && !s.closest_features)
+    p.fail("closest_features", "the log barrier needs the distance between the primitives: set \"closest_features\": true");
+  return s;
+}
+
+}  // namespace
+
+std::unique_ptr<Effect> make_self_vertex_face(const Params& params, const BuildContext& ctx) {
+  const ContactSpec s = parse_contact(params);
+  if (ctx.model->triangles.cols() == 0) params.fail("type", "self_vertex_face needs a mesh with triangles");
+  return std::make_unique<SelfContact<true>>(s, ctx);
+}
+
+std::unique_ptr<Effect> make_self_edge_edge(const Params& params, const BuildContext& ctx) {
+  const ContactSpec s = parse_contact(params);
+  if (ctx.model->edges.cols() < 2) params.fail("type", "self_edge_edge needs at least two edges");
+  return std::make_unique<SelfContact<false>>(s, ctx);
+}
+
+}  // namespace pce::sim

@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// Scene files (JSON, contract §2 of `../shared/design/contracts.md`, documented field by
+/// field in `docs/simulation.md`): meshes, obstacles, solver settings and, explicitly, the
+/// effects. Only the listed effects are constructed; a scene without contact effects builds
+/// no broad phase, a scene without bending allocates no bending data.
+///
+/// Every invalid input is reported by one `InputError` naming the file, the JSON path and
+/// what was expected (`hammock.json: effects[3].penalty.distance: expected a number > 0,
+/// got -1`); nothing is built or written before the whole scene is accepted.
+#pragma once
+
+#include <pce/sim/simulation.hpp>
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace pce::sim {
+
+/// Command-line values that override the scene's.
+struct SceneOverrides {
+  std::optional<int> frames;
+  std::optional<std::string> hessian;      ///< every contact effect's Hessian strategy
+  std::optional<BroadPhaseKind> broad_phase;
+  std::optional<int> threads;
+  std::optional<bool> single_solve;
+  std::optional<double> tolerance;
+};
+
+/// A loaded scene: the simulation plus what the output side needs.
+struct Scene {
+  std::filesystem::path file;
+  Simulation simulation;
+  int output_every = 1;                 ///< write every k-th frame's mesh (the last always)
+  Eigen::Vector3d view_direction = Eigen::Vector3d(-1.0, -2.0, -0.9);  ///< picture camera
+};
+
+/// Parses, validates and builds `file`; throws `InputError` on any invalid input
+/// (including a missing or malformed mesh file).
+std::unique_ptr<Scene> load_scene(const std::filesystem::path& file, const SceneOverrides& overrides = {});
+
+/// The same from a JSON text; `name` is the file name used in errors and `base` the
+/// directory relative mesh paths start from.
+std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::string& name,
+                                       const std::filesystem::path& base, const SceneOverrides& overrides = {});
+
+/// The effect names a scene may use, in registry order.
+std::vector<std::string> effect_names();
+
+}  // namespace pce::sim

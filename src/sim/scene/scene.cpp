@@ -1,0 +1,283 @@
+// SPDX-License-Identifier: MIT
+// Scene parsing, validation and building (scene.hpp). Parsing and validation finish before
+// anything is built, and building never writes files.
+#include <pce/sim/scene.hpp>
+
+#include "params.hpp"
+#include "registry.hpp"
+
+#include <pce/sim/generators.hpp>
+#include <pce/sim/obj.hpp>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace pce::sim {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+Eigen::Matrix3d parse_rotation(const Params& p) {
+  p.only({"axis", "degrees"});
+  const Eigen::Vector3d axis = p.vec3("axis");
+  if (!(axis.norm() > 0)) p.fail("axis", "expected a non-zero axis");
+  const double degrees = p.number("degrees");
+  return Eigen::AngleAxisd(degrees * kPi / 180.0, axis.normalized()).toRotationMatrix();
+}
+
+Transform parse_transform(const Params& p) {
+  p.only({"translation", "rotation", "scale"});
+  Transform t;
+  t.translation = p.vec3("translation", Eigen::Vector3d::Zero());
+  if (p.has("rotation")) t.rotation = parse_rotation(p.object("rotation"));
+  t.scale = p.positive("scale", 1.0);
+  return t;
+}
+
+/// Reads a mesh file relative to the scene; errors name the scene field and the mesh file.
+Mesh read_mesh(const Params& p, const std::string& key, const std::filesystem::path& base) {
+  const std::string rel = p.string(key);
+  const std::filesystem::path path = base / rel;
+  if (!std::filesystem::exists(path)) p.fail(key, "mesh file not found: " + path.string());
+  try {
+    return read_obj(path);
+  } catch (const InputError& e) {
+    p.fail(key, std::string("malformed mesh: ") + e.what());
+  }
+}
+
+Mesh parse_generator(const Params& g) {
+  const std::string type = g.choice("type", {"grid", "strands"});
+  if (type == "grid") {
+    g.only({"type", "width", "height", "nx", "ny"});
+    return grid(g.positive("width"), g.positive("height"), static_cast<int>(g.integer("nx", std::nullopt, 1, 2000)),
+                static_cast<int>(g.integer("ny", std::nullopt, 1, 2000)));
+  }
+  g.only({"type", "count", "segments", "length", "spacing", "curl"});
+  return strands(static_cast<int>(g.integer("count", std::nullopt, 1, 100000)),
+                 static_cast<int>(g.integer("segments", std::nullopt, 1, 100000)), g.positive("length"),
+                 g.positive("spacing"), g.nonnegative("curl", 0.0));
+}
+
+struct MeshSpec {
+  std::string name;
+  Mesh mesh;
+  double density = 0;         ///< kg/m² (cloth)
+  double linear_density = 0;  ///< kg/m (strands)
+};
+
+MeshSpec parse_mesh(const Params& p, const std::filesystem::path& base) {
+  p.only({"name", "file", "generator", "transform", "density", "linear_density"});
+  MeshSpec s;
+  s.name = p.string("name");
+  if (p.has("file") == p.has("generator")) p.fail("file", "expected exactly one of \"file\" or \"generator\"");
+  s.mesh = p.has("file") ? read_mesh(p, "file", base) : parse_generator(p.object("generator"));
+  if (p.has("transform")) apply(parse_transform(p.object("transform")), s.mesh);
+  try {
+    validate(s.mesh, p.file());
+  } catch (const InputError& e) {
+    p.fail(p.has("file") ? "file" : "generator", e.what());
+  }
+  s.density = p.positive("density", 0.1);
+  s.linear_density = p.positive("linear_density", 0.005);
+  return s;
+}
+
+Obstacle parse_obstacle(const Params& p, const std::filesystem::path& base) {
+  Obstacle o;
+  o.name = p.string("name");
+  const std::string shape = p.choice("shape", {"sphere", "box", "capsule", "mesh"});
+  if (shape == "sphere") {
+    p.only({"name", "shape", "radius", "position", "rotation", "motion"});
+    o.kind = ShapeKind::sphere;
+    o.radius = p.positive("radius");
+  } else if (shape == "box") {
+    p.only({"name", "shape", "half_extents", "position", "rotation", "motion"});
+    o.kind = ShapeKind::box;
+    o.half_extents = p.vec3("half_extents");
+    if (!(o.half_extents.minCoeff() > 0)) p.fail("half_extents", "expected three numbers > 0");
+  } else if (shape == "capsule") {
+    p.only({"name", "shape", "radius", "half_length", "position", "rotation", "motion"});
+    o.kind = ShapeKind::capsule;
+    o.radius = p.positive("radius");
+    o.half_length = p.positive("half_length");
+  } else {
+    p.only({"name", "shape", "file", "transform", "position", "rotation", "motion"});
+    o.kind = ShapeKind::mesh;
+    o.mesh = read_mesh(p, "file", base);
+    if (p.has("transform")) apply(parse_transform(p.object("transform")), o.mesh);
+    try {
+      validate(o.mesh, p.file());
+    } catch (const InputError& e) {
+      p.fail("file", e.what());
+    }
+    if (o.mesh.triangles.cols() == 0) p.fail("file", "a mesh obstacle needs triangles");
+  }
+  o.position = p.vec3("position", Eigen::Vector3d::Zero());
+  if (p.has("rotation")) o.rotation = parse_rotation(p.object("rotation"));
+  if (p.has("motion")) {
+    const Params m = p.object("motion");
+    m.only({"velocity", "angular_velocity", "start", "stop"});
+    o.motion.velocity = m.vec3("velocity", Eigen::Vector3d::Zero());
+    o.motion.angular_velocity = m.vec3("angular_velocity", Eigen::Vector3d::Zero());
+    o.motion.start = m.nonnegative("start", 0.0);
+    o.motion.stop = m.has("stop") ? m.nonnegative("stop") : std::numeric_limits<double>::infinity();
+    if (o.motion.stop < o.motion.start) m.fail("stop", "expected stop >= start");
+  }
+  return o;
+}
+
+/// Concatenates the meshes into the model and lumps the masses.
+Model build_model(const std::vector<MeshSpec>& meshes, const Params& root) {
+  Model m;
+  int nv = 0, nt = 0, ns = 0;
+  for (const auto& s : meshes) {
+    nv += static_cast<int>(s.mesh.vertex_count());
+    nt += static_cast<int>(s.mesh.triangles.cols());
+    ns += static_cast<int>(s.mesh.segments.cols());
+  }
+  m.rest.resize(3, nv);
+  m.triangles.resize(3, nt);
+  m.segments.resize(2, ns);
+  m.mass = Eigen::VectorXd::Zero(nv);
+  int v0 = 0, t0 = 0, s0 = 0;
+  for (std::size_t k = 0; k < meshes.size(); ++k) {
+    const MeshSpec& s = meshes[k];
+    const int cv = static_cast<int>(s.mesh.vertex_count()), ct = static_cast<int>(s.mesh.triangles.cols()),
+              cs = static_cast<int>(s.mesh.segments.cols());
+    m.meshes.push_back({s.name, v0, cv, t0, ct, s0, cs});
+    m.rest.middleCols(v0, cv) = s.mesh.positions;
+    m.triangles.middleCols(t0, ct) = s.mesh.triangles.array() + v0;
+    m.segments.middleCols(s0, cs) = s.mesh.segments.array() + v0;
+    for (int t = 0; t < ct; ++t) {
+      const auto tri = s.mesh.triangles.col(t);
+      const double area = 0.5 * (s.mesh.positions.col(tri[1]) - s.mesh.positions.col(tri[0]))
+                                     .cross(s.mesh.positions.col(tri[2]) - s.mesh.positions.col(tri[0]))
+                                     .norm();
+      for (int j = 0; j < 3; ++j) m.mass[v0 + tri[j]] += s.density * area / 3.0;
+    }
+    for (int e = 0; e < cs; ++e) {
+      const auto seg = s.mesh.segments.col(e);
+      const double len = (s.mesh.positions.col(seg[1]) - s.mesh.positions.col(seg[0])).norm();
+      for (int j = 0; j < 2; ++j) m.mass[v0 + seg[j]] += s.linear_density * len / 2.0;
+    }
+    for (int i = 0; i < cv; ++i)
+      if (!(m.mass[v0 + i] > 0))
+        throw InputError(root.file(), "meshes[" + std::to_string(k) + "]",
+                         "vertex " + std::to_string(i) + " belongs to no triangle or segment of positive size (it would have no mass)");
+    v0 += cv;
+    t0 += ct;
+    s0 += cs;
+  }
+  const Eigen::Matrix2Xi tri_edges = unique_edges(m.triangles);
+  m.edges.resize(2, tri_edges.cols() + m.segments.cols());
+  m.edges << tri_edges, m.segments;
+  return m;
+}
+
+}  // namespace
+
+std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::string& name,
+                                       const std::filesystem::path& base, const SceneOverrides& overrides) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(name, "", std::string("not valid JSON: ") + e.what());
+  }
+  const Params root(j, name, "");
+  root.only({"description", "dt", "frames", "solver", "meshes", "obstacles", "effects", "output_every", "view_direction"});
+  auto scene = std::make_unique<Scene>();
+  Simulation& sim = scene->simulation;
+  sim.solver.dt = root.positive("dt");
+  sim.frames = static_cast<int>(root.integer("frames", std::nullopt, 1, 10000000));
+  scene->output_every = static_cast<int>(root.integer("output_every", 1L, 1, 10000000));
+  if (root.has("view_direction")) {
+    scene->view_direction = root.vec3("view_direction");
+    if (!(scene->view_direction.norm() > 0)) root.fail("view_direction", "expected a non-zero direction");
+  }
+  BroadPhaseKind broad_phase = BroadPhaseKind::fcl;
+  if (root.has("solver")) {
+    const Params s = root.object("solver");
+    s.only({"mode", "tolerance", "max_iterations", "linear_solver", "threads", "broad_phase"});
+    sim.solver.single_solve = s.choice("mode", {"newton", "single_solve"}, std::string("newton")) == "single_solve";
+    sim.solver.tolerance = s.positive("tolerance", sim.solver.tolerance);
+    sim.solver.max_iterations = static_cast<int>(s.integer("max_iterations", 50L, 1, 100000));
+    const std::string ls = s.choice("linear_solver", {"direct", "ldlt", "cg"}, std::string("direct"));
+    sim.solver.linear = ls == "cg" ? LinearSolver::cg : ls == "ldlt" ? LinearSolver::ldlt : LinearSolver::direct;
+    sim.solver.threads = static_cast<int>(s.integer("threads", 0L, 0, 1024));
+    broad_phase = s.choice("broad_phase", {"fcl", "brute"}, std::string("fcl")) == "brute" ? BroadPhaseKind::brute
+                                                                                            : BroadPhaseKind::fcl;
+  }
+  if (overrides.frames) sim.frames = *overrides.frames;
+  if (overrides.threads) sim.solver.threads = *overrides.threads;
+  if (overrides.single_solve) sim.solver.single_solve = *overrides.single_solve;
+  if (overrides.tolerance) sim.solver.tolerance = *overrides.tolerance;
+  if (overrides.broad_phase) broad_phase = *overrides.broad_phase;
+
+  // Meshes (unique names), then the model.
+  const nlohmann::json& meshes = root.array("meshes", true);
+  if (meshes.empty()) root.fail("meshes", "expected at least one mesh");
+  std::vector<MeshSpec> specs;
+  std::set<std::string> names;
+  for (std::size_t k = 0; k < meshes.size(); ++k) {
+    const Params p = root.element("meshes", k);
+    specs.push_back(parse_mesh(p, base));
+    if (!names.insert(specs.back().name).second) p.fail("name", "duplicate mesh name \"" + specs.back().name + "\"");
+  }
+  sim.model = build_model(specs, root);
+
+  const nlohmann::json& obstacles = root.array("obstacles");
+  for (std::size_t k = 0; k < obstacles.size(); ++k) {
+    const Params p = root.element("obstacles", k);
+    sim.obstacles.push_back(parse_obstacle(p, base));
+    if (!names.insert(sim.obstacles.back().name).second)
+      p.fail("name", "duplicate name \"" + sim.obstacles.back().name + "\"");
+  }
+
+  // Effects: only the listed ones are built.
+  BuildContext ctx;
+  ctx.model = &sim.model;
+  ctx.obstacles = &sim.obstacles;
+  ctx.dt = sim.solver.dt;
+  ctx.broad_phase = broad_phase;
+  ctx.threads = sim.solver.threads;
+  nlohmann::json effects = root.array("effects", true);  // a copy: overrides are applied to it
+  if (effects.empty()) root.fail("effects", "expected at least one effect");
+  std::set<std::string> declared;
+  for (std::size_t k = 0; k < effects.size(); ++k) {
+    const Params p(effects[k], name, "effects[" + std::to_string(k) + "]");
+    const std::string type = p.string("type");
+    const RegisteredEffect* reg = nullptr;
+    std::string known;
+    for (const auto& r : effect_registry()) {
+      if (type == r.name) reg = &r;
+      known += (known.empty() ? "" : ", ") + std::string(r.name);
+    }
+    if (!reg) p.fail("type", "unknown effect \"" + type + "\" (expected one of: " + known + ")");
+    if (!declared.insert(type).second) p.fail("type", "effect \"" + type + "\" is declared twice");
+    if (reg->pair_contact && overrides.hessian) effects[k]["hessian"] = *overrides.hessian;
+    const Params q(effects[k], name, "effects[" + std::to_string(k) + "]");
+    sim.effects.push_back(reg->make(q, ctx));
+  }
+  sim.x = sim.model.rest;
+  sim.v = Eigen::Matrix3Xd::Zero(3, sim.model.vertex_count());
+  return scene;
+}
+
+std::unique_ptr<Scene> load_scene(const std::filesystem::path& file, const SceneOverrides& overrides) {
+  std::ifstream in(file);
+  if (!in) throw InputError(file.string(), "", "cannot open the scene file");
+  std::stringstream text;
+  text << in.rdbuf();
+  auto scene = load_scene_text(text.str(), file.string(), file.parent_path(), overrides);
+  scene->file = file;
+  return scene;
+}
+
+}  // namespace pce::sim

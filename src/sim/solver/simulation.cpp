@@ -1,0 +1,216 @@
+// SPDX-License-Identifier: MIT
+// Backward Euler by projected Newton on the incremental potential (simulation.hpp).
+#include <pce/sim/simulation.hpp>
+
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
+#ifdef PCE_SIM_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace pce::sim {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+using SpMat = Eigen::SparseMatrix<double>;
+}  // namespace
+
+/// The linear solver and the global Hessian, kept between steps (no allocation per
+/// iteration once the pattern is built).
+struct Simulation::LinearState {
+  BlockHessian H;
+  bool analyzed = false;
+#ifdef PCE_SIM_HAVE_CHOLMOD
+  Eigen::CholmodDecomposition<SpMat, Eigen::Upper> cholmod;
+#endif
+  Eigen::SimplicialLDLT<SpMat, Eigen::Upper> ldlt;
+  Eigen::ConjugateGradient<SpMat, Eigen::Upper> cg;
+
+  /// Solves H dx = rhs; false when the factorisation or the iteration fails.
+  bool solve(LinearSolver kind, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx) {
+    const SpMat& A = H.matrix();
+    switch (kind) {
+      case LinearSolver::cg:
+        cg.setTolerance(1e-8);
+        cg.setMaxIterations(static_cast<Eigen::Index>(4 * rhs.size()));
+        cg.compute(A);
+        dx = cg.solve(rhs);
+        return cg.info() == Eigen::Success || dx.allFinite();
+      case LinearSolver::direct:
+#ifdef PCE_SIM_HAVE_CHOLMOD
+        if (!analyzed) cholmod.analyzePattern(A);
+        analyzed = true;
+        cholmod.factorize(A);
+        if (cholmod.info() != Eigen::Success) return false;
+        dx = cholmod.solve(rhs);
+        return cholmod.info() == Eigen::Success;
+#else
+        [[fallthrough]];
+#endif
+      case LinearSolver::ldlt:
+        if (!analyzed) ldlt.analyzePattern(A);
+        analyzed = true;
+        ldlt.factorize(A);
+        if (ldlt.info() != Eigen::Success) return false;
+        dx = ldlt.solve(rhs);
+        return ldlt.info() == Eigen::Success;
+    }
+    return false;
+  }
+};
+
+double Simulation::potential(const Eigen::Matrix3Xd& y, std::vector<double>* effect_ms) {
+  const Eigen::Map<const Eigen::VectorXd> d(y.data() - 0, y.size());
+  const Eigen::Map<const Eigen::VectorXd> t(x_tilde_.data(), x_tilde_.size());
+  double E = 0.5 * (mass3_.array() * (d - t).array().square()).sum();
+  for (std::size_t k = 0; k < effects.size(); ++k) {
+    const auto t0 = Clock::now();
+    E += effects[k]->evaluate(y, nullptr, nullptr);
+    if (effect_ms) (*effect_ms)[k] += ms_since(t0);
+  }
+  return E;
+}
+
+FrameStats Simulation::step() {
+  const auto t_frame = Clock::now();
+  if (!linear_) linear_ = std::make_shared<LinearState>();
+  if (solver.threads > 0) omp_set_num_threads(solver.threads);
+  LinearState& ls = *linear_;
+  const int n = model.vertex_count();
+  const double h = solver.dt;
+  FrameStats st;
+  st.frame = frame + 1;
+  std::vector<double> effect_ms(effects.size(), 0.0);
+
+  // Per-step constants: M/h² per coordinate, the inertial target, the length scale.
+  mass3_.resize(3 * n);
+  for (int i = 0; i < n; ++i) mass3_.segment<3>(3 * i).setConstant(model.mass[i] / (h * h));
+  const Eigen::Matrix3Xd x_start = x, v_start = v;
+  x_tilde_ = x + h * v;
+  scale_ = std::max((model.rest.rowwise().maxCoeff() - model.rest.rowwise().minCoeff()).norm(), 1e-12);
+
+  StepContext ctx;
+  ctx.frame = frame + 1;
+  ctx.time = time + h;
+  ctx.dt = h;
+  ctx.model = &model;
+  ctx.x_start = &x_start;
+  ctx.v_start = &v_start;
+  for (std::size_t k = 0; k < effects.size(); ++k) {
+    const auto t0 = Clock::now();
+    effects[k]->begin_step(ctx);
+    effect_ms[k] += ms_since(t0);
+  }
+  const auto rebuild_pattern = [&] {
+    const auto t0 = Clock::now();
+    Pattern pattern;
+    for (const auto& e : effects) e->declare(pattern);
+    ls.H.set_pattern(n, pattern);
+    ls.analyzed = false;
+    st.assembly_ms += ms_since(t0);
+  };
+  rebuild_pattern();
+
+  Eigen::Matrix3Xd y = x_start, g(3, n), dxm(3, n), y1(3, n);
+  Eigen::VectorXd dx(3 * n), rhs(3 * n);
+  const int cap = solver.single_solve ? 1 : std::max(1, solver.max_iterations);
+  double E_accepted = 0;
+  for (int it = 0; it < cap; ++it) {
+    // Gradient and Hessian: inertia, then every effect.
+    auto t0 = Clock::now();
+    ls.H.set_zero();
+    ls.H.add_diagonal(mass3_);
+    st.assembly_ms += ms_since(t0);
+    g = (y - x_tilde_);
+    for (int i = 0; i < n; ++i) g.col(i) *= model.mass[i] / (h * h);
+    double E = 0.5 * ((y - x_tilde_).colwise().squaredNorm().transpose().array() * model.mass.array()).sum() / (h * h);
+    for (std::size_t k = 0; k < effects.size(); ++k) {
+      t0 = Clock::now();
+      E += effects[k]->evaluate(y, &g, &ls.H);
+      effect_ms[k] += ms_since(t0);
+    }
+    if (!std::isfinite(E) || !g.allFinite())
+      throw std::runtime_error("frame " + std::to_string(st.frame) + ": non-finite energy or gradient at Newton iteration " +
+                               std::to_string(it + 1));
+    // Newton direction.
+    t0 = Clock::now();
+    rhs = -Eigen::Map<const Eigen::VectorXd>(g.data(), g.size());
+    const bool solved = ls.solve(solver.linear, rhs, dx);
+    st.solve_ms += ms_since(t0);
+    if (!solved || !dx.allFinite())
+      throw std::runtime_error("frame " + std::to_string(st.frame) + ": the linear solve failed at Newton iteration " +
+                               std::to_string(it + 1));
+    ++st.newton_iterations;
+    dxm = Eigen::Map<const Eigen::Matrix3Xd>(dx.data(), 3, n);
+    st.residual = dxm.colwise().norm().maxCoeff() / (h * scale_);
+    E_accepted = E;
+    if (!solver.single_solve && st.residual < solver.tolerance) break;
+    // Backtracking line search from the largest step every effect allows.
+    t0 = Clock::now();
+    double alpha = 1.0;
+    for (auto& e : effects) alpha = std::min(alpha, e->max_step(y, dxm));
+    const double slope = -rhs.dot(dx);  // gᵀΔx < 0 for a descent direction
+    bool accepted = false;
+    for (int tries = 0; tries < 40 && alpha > 0; ++tries, alpha *= 0.5) {
+      y1 = y + alpha * dxm;
+      const double E1 = potential(y1, &effect_ms);
+      if (std::isfinite(E1) && E1 <= E + 1e-4 * alpha * slope) {
+        y = y1;
+        E_accepted = E1;
+        accepted = true;
+        break;
+      }
+    }
+    st.line_search_ms += ms_since(t0);
+    if (!accepted) {
+      ++st.line_search_failures;
+      break;
+    }
+    // Contact effects whose candidates went stale query again; the pattern follows.
+    bool changed = false;
+    for (std::size_t k = 0; k < effects.size(); ++k)
+      if (!effects[k]->still_valid(y)) {
+        t0 = Clock::now();
+        effects[k]->refresh(y);
+        effect_ms[k] += ms_since(t0);
+        changed = true;
+      }
+    if (changed) rebuild_pattern();
+    if (it + 1 == cap && !solver.single_solve) st.hit_iteration_cap = true;
+  }
+  if (!y.allFinite())
+    throw std::runtime_error("frame " + std::to_string(st.frame) + ": the state became non-finite");
+  v = (y - x_start) / h;
+  x = y;
+  ++frame;
+  time += h;
+  st.energy = E_accepted;
+
+  // Statistics: per-effect time, merged counters, the stage split.
+  for (std::size_t k = 0; k < effects.size(); ++k) {
+    st.effect_ms.emplace_back(effects[k]->name(), effect_ms[k]);
+    EffectCounters c;
+    effects[k]->report(c);
+    for (const auto& [key, value] : c) {
+      auto it = st.counters.find(key);
+      if (it == st.counters.end()) st.counters[key] = value;
+      else if (key.find("min_distance") != std::string::npos) it->second = std::min(it->second, value);
+      else it->second += value;
+    }
+  }
+  const auto counter = [&](const char* key) { const auto it = st.counters.find(key); return it == st.counters.end() ? 0.0 : it->second; };
+  st.broad_phase_ms = counter("broad_phase_ms");
+  st.pair_ms = counter("pair_ms");
+  st.assembly_ms += counter("scatter_ms");
+  st.wall_ms = ms_since(t_frame);
+  return st;
+}
+
+}  // namespace pce::sim

@@ -1,0 +1,158 @@
+// SPDX-License-Identifier: MIT
+// Scene files: every kind of invalid input is one InputError naming the file, the JSON
+// path and what was expected; only declared effects are built; the shipped scenes load.
+#include <pce/sim/input_error.hpp>
+#include <pce/sim/scene.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace pce::sim;
+using nlohmann::json;
+
+namespace {
+
+json minimal() {
+  return json::parse(R"({
+    "dt": 0.025, "frames": 2,
+    "meshes": [{"name": "cloth", "generator": {"type": "grid", "width": 1, "height": 1, "nx": 4, "ny": 4}}],
+    "effects": [{"type": "gravity"}, {"type": "stretching", "stiffness": 10}]
+  })");
+}
+
+/// Loads `j` and returns the InputError's path (fails the test when it loads).
+std::string error_path(const json& j, std::string* message = nullptr) {
+  try {
+    load_scene_text(j.dump(), "scene.json", PCE_TEST_TMP);
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "scene.json");
+    if (message) *message = e.what();
+    return e.where();
+  }
+  ADD_FAILURE() << "scene loaded: " << j.dump();
+  return "";
+}
+
+void write(const std::filesystem::path& p, const std::string& text) {
+  std::ofstream(p) << text;
+}
+
+}  // namespace
+
+TEST(Scene, MinimalLoadsAndBuildsOnlyDeclaredEffects) {
+  const auto s = load_scene_text(minimal().dump(), "scene.json", PCE_TEST_TMP);
+  ASSERT_EQ(s->simulation.effects.size(), 2u);
+  EXPECT_STREQ(s->simulation.effects[0]->name(), "gravity");
+  EXPECT_STREQ(s->simulation.effects[1]->name(), "stretching");
+  EXPECT_EQ(s->simulation.model.vertex_count(), 25);
+  EXPECT_NEAR(s->simulation.model.mass.sum(), 0.1, 1e-12);  // 1 m² at the default 0.1 kg/m²
+}
+
+TEST(Scene, UnknownEffect) {
+  json j = minimal();
+  j["effects"][1]["type"] = "stretchin";
+  std::string msg;
+  EXPECT_EQ(error_path(j, &msg), "effects[1].type");
+  EXPECT_NE(msg.find("unknown effect \"stretchin\""), std::string::npos) << msg;
+}
+
+TEST(Scene, MissingField) {
+  json j = minimal();
+  j.erase("dt");
+  EXPECT_EQ(error_path(j), "dt");
+  j = minimal();
+  j["effects"][1].erase("stiffness");
+  EXPECT_EQ(error_path(j), "effects[1].stiffness");
+}
+
+TEST(Scene, WrongType) {
+  json j = minimal();
+  j["frames"] = "ten";
+  std::string msg;
+  EXPECT_EQ(error_path(j, &msg), "frames");
+  EXPECT_NE(msg.find("expected an integer, got a string"), std::string::npos) << msg;
+  j = minimal();
+  j["meshes"][0]["generator"]["nx"] = 4.5;
+  EXPECT_EQ(error_path(j), "meshes[0].generator.nx");
+}
+
+TEST(Scene, NonFiniteOrNegativeParameter) {
+  json j = minimal();
+  j["dt"] = -0.01;
+  EXPECT_EQ(error_path(j), "dt");
+  j = minimal();
+  j["effects"][1]["stiffness"] = -1.0;
+  EXPECT_EQ(error_path(j), "effects[1].stiffness");
+  // JSON has no NaN literal; an overflowing number is read as infinity and rejected.
+  std::string text = minimal().dump();
+  text.replace(text.find("0.025"), 5, "1e999");
+  try {
+    load_scene_text(text, "scene.json", PCE_TEST_TMP);
+    ADD_FAILURE() << "loaded an infinite dt";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), "dt");
+  }
+}
+
+TEST(Scene, UnknownFieldIsATypo) {
+  json j = minimal();
+  j["effects"][1]["stifness"] = 3;
+  EXPECT_EQ(error_path(j), "effects[1].stifness");
+}
+
+TEST(Scene, MissingMeshFile) {
+  json j = minimal();
+  j["meshes"][0] = json::parse(R"({"name": "m", "file": "no_such_mesh.obj"})");
+  std::string msg;
+  EXPECT_EQ(error_path(j, &msg), "meshes[0].file");
+  EXPECT_NE(msg.find("not found"), std::string::npos) << msg;
+}
+
+TEST(Scene, MalformedObj) {
+  write(std::filesystem::path(PCE_TEST_TMP) / "malformed.obj", "v 0 0 0\nv 1 0 0\nv 0 1 zero\nf 1 2 3\n");
+  json j = minimal();
+  j["meshes"][0] = json::parse(R"({"name": "m", "file": "malformed.obj"})");
+  std::string msg;
+  EXPECT_EQ(error_path(j, &msg), "meshes[0].file");
+  EXPECT_NE(msg.find("line 3"), std::string::npos) << msg;
+}
+
+TEST(Scene, OutOfRangeIndex) {
+  write(std::filesystem::path(PCE_TEST_TMP) / "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n");
+  json j = minimal();
+  j["meshes"][0] = json::parse(R"({"name": "m", "file": "range.obj"})");
+  EXPECT_EQ(error_path(j), "meshes[0].file");
+  j = minimal();
+  j["effects"].push_back(json::parse(R"({"type": "pins", "groups": [{"vertices": [0, 25]}]})"));
+  EXPECT_EQ(error_path(j), "effects[2].groups[0].vertices[1]");
+}
+
+TEST(Scene, ContactOptionsAreChecked) {
+  json j = minimal();
+  j["effects"].push_back(json::parse(
+      R"({"type": "self_vertex_face", "penalty": {"type": "quadratic", "stiffness": 10, "distance": 0.01},
+          "length": "signed", "closest_features": true})"));
+  EXPECT_EQ(error_path(j), "effects[2].length");
+  j["effects"][2]["length"] = "unsigned";
+  j["effects"][2]["penalty"]["type"] = "log_barrier";
+  j["effects"][2]["closest_features"] = false;
+  EXPECT_EQ(error_path(j), "effects[2].closest_features");  // the barrier needs true distances
+  j["effects"][2]["penalty"]["distance"] = 0.0;
+  j["effects"][2]["closest_features"] = true;
+  EXPECT_EQ(error_path(j), "effects[2].penalty.distance");
+}
+
+TEST(Scene, ShippedScenesLoad) {
+  const std::filesystem::path dir = std::filesystem::path(PCE_SOURCE_DIR) / "examples" / "scenes";
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".json") continue;
+    SCOPED_TRACE(entry.path().string());
+    EXPECT_NO_THROW(load_scene(entry.path()));
+    ++count;
+  }
+  EXPECT_GE(count, 1);
+}
