@@ -117,6 +117,26 @@ bool edges_close(const Eigen::Matrix3Xd& x, int a0, int a1, int b0, int b1, doub
   return ((blo - ahi).array() <= distance).all() && ((alo - bhi).array() <= distance).all();
 }
 
+/// Sorts pairs lexicographically: a counting sort on the first index (bounded by `n`),
+/// then each bucket — a few dozen pairs — by the second. Linear in the pair count where
+/// `std::sort` of a million pairs costs tens of milliseconds.
+void sort_pairs(std::vector<std::array<int, 2>>& pairs, int n, std::vector<std::array<int, 2>>& scratch,
+                std::vector<int>& start) {
+  start.assign(static_cast<std::size_t>(n) + 1, 0);
+  for (const auto& p : pairs) ++start[static_cast<std::size_t>(p[0]) + 1];
+  for (int i = 0; i < n; ++i) start[static_cast<std::size_t>(i) + 1] += start[static_cast<std::size_t>(i)];
+  scratch.resize(pairs.size());
+  for (const auto& p : pairs) scratch[static_cast<std::size_t>(start[static_cast<std::size_t>(p[0])]++)] = p;
+  // start[i] is now the end of bucket i (the beginning of bucket i + 1).
+  auto first = scratch.begin();
+  for (int i = 0; i < n; ++i) {
+    const auto last = scratch.begin() + start[static_cast<std::size_t>(i)];
+    if (last - first > 1) std::sort(first, last);
+    first = last;
+  }
+  pairs.swap(scratch);
+}
+
 struct VertexFaceQuery {
   const Eigen::Matrix3Xd* x;
   const Eigen::Matrix3Xi* triangles;
@@ -173,7 +193,7 @@ class FclBroadPhase final : public BroadPhase {
     triangles_.commit();
     VertexFaceQuery q{&x, &triangles, distance, &out};
     triangles_.manager()->collide(vertices_.manager(), &q, vertex_face_pair);
-    std::sort(out.begin(), out.end());
+    sort_pairs(out, n, scratch_, start_);
   }
 
   void edge_edge(const Eigen::Matrix3Xd& x, const Eigen::Matrix2Xi& edges, double distance,
@@ -192,7 +212,7 @@ class FclBroadPhase final : public BroadPhase {
     edges_.commit();
     EdgeEdgeQuery q{&x, &edges, distance, &out};
     edges_.manager()->collide(&q, edge_edge_pair);
-    std::sort(out.begin(), out.end());
+    sort_pairs(out, m, scratch_, start_);
   }
 
  private:
@@ -202,6 +222,8 @@ class FclBroadPhase final : public BroadPhase {
   Eigen::Matrix3Xi vf_triangles_;
   Eigen::Matrix2Xi ee_edges_;
   Tree vertices_, triangles_, edges_;
+  std::vector<std::array<int, 2>> scratch_;  // sort buffers, reused between queries
+  std::vector<int> start_;
 };
 
 }  // namespace
