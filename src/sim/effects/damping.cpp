@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: MIT
+// Damping as an incremental potential: E = Σᵢ mᵢ c/(2h) |xᵢ − xᵢⁿ|², whose force
+// −mᵢ c (xᵢ − xᵢⁿ)/h = −c mᵢ vᵢ is a linear drag on the step's velocity (backward Euler).
+#include "elastic.hpp"
+
+namespace pce::sim {
+
+namespace {
+
+class Damping final : public Effect {
+ public:
+  Damping(const Model& model, double c, double dt) : model_(&model), c_(c), h_(dt), x_start_(model.rest) {}
+  const char* name() const override { return "damping"; }
+  void begin_step(const StepContext& ctx) override {
+    if (ctx.x_start) x_start_ = *ctx.x_start;  // same size: no allocation
+    if (ctx.dt > 0) h_ = ctx.dt;
+  }
+  void declare(Pattern& /*pattern*/) const override {}  // diagonal blocks always exist
+  /// E = Σᵢ mᵢ c/(2h)|xᵢ − xᵢⁿ|², ∇ᵢE = mᵢ c/h (xᵢ − xᵢⁿ), ∇²ᵢᵢE = mᵢ c/h I.
+  double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) override {
+    if (c_ == 0) return 0.0;
+    const Eigen::VectorXd& m = model_->mass;
+    const double s = c_ / h_;
+    double energy = 0;
+    for (Eigen::Index i = 0; i < x.cols(); ++i) {
+      const Eigen::Vector3d d = x.col(i) - x_start_.col(i);
+      energy += 0.5 * s * m[i] * d.squaredNorm();
+      if (gradient) gradient->col(i) += s * m[i] * d;
+      if (hessian) hessian->add_block(static_cast<int>(i), static_cast<int>(i), s * m[i] * Eigen::Matrix3d::Identity());
+    }
+    return energy;
+  }
+
+ private:
+  const Model* model_;
+  double c_, h_;
+  Eigen::Matrix3Xd x_start_;
+};
+
+}  // namespace
+
+std::unique_ptr<Effect> make_damping(const Params& params, const BuildContext& ctx) {
+  params.only({"type", "coefficient"});
+  const double c = params.nonnegative("coefficient");
+  if (!(ctx.dt > 0)) throw InputError(params.file(), params.path(), "damping needs the scene's step size dt > 0");
+  return std::make_unique<Damping>(*ctx.model, c, ctx.dt);
+}
+
+}  // namespace pce::sim

@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// Factories of the elastic and kinematic effects (one file each in `effects/`): gravity,
+/// cloth stretching and bending, strand stretching and bending, pins, damping. The scene's
+/// registry maps the effect names to them. Internal.
+///
+/// Scene forms (SI units; every key not listed is an error):
+/// - `{"type":"gravity", "acceleration":[ax,ay,az] (m/s², default [0,0,-9.81])}`
+/// - `{"type":"stretching", "model":"arap" (default), "stiffness": μ > 0 (N/m)}`
+/// - `{"type":"bending", "stiffness": k > 0 (N·m, i.e. J)}`
+/// - `{"type":"strand_stretching", "stiffness": k > 0 (N)}`
+/// - `{"type":"strand_bending", "stiffness": k > 0 (N·m²)}`
+/// - `{"type":"pins", "stiffness": k > 0 (N/m, default 1e5), "groups": [{"vertices":[i,…]
+///   | "box":{"min":[…],"max":[…]}, "mesh":"name" (optional), "release_frame": N ≥ 1
+///   (optional)}, …]}`
+/// - `{"type":"damping", "coefficient": c ≥ 0 (1/s)}`
+#pragma once
+
+#include "factory.hpp"
+
+namespace pce::sim {
+
+/// E = −Σᵢ mᵢ g·xᵢ.
+std::unique_ptr<Effect> make_gravity(const Params& params, const BuildContext& ctx);
+/// E = Σ_t μ A_t ‖F_t − R(F_t)‖²_F (as-rigid-as-possible membrane, closed-form PSD Hessian).
+std::unique_ptr<Effect> make_stretching(const Params& params, const BuildContext& ctx);
+/// E = Σ_hinges 3k (θ − θ₀)² |ē|²/(Ā₁ + Ā₂) (discrete shells), Gauss–Newton Hessian.
+std::unique_ptr<Effect> make_bending(const Params& params, const BuildContext& ctx);
+/// E = Σ_segments ½ k (|e| − L)²/L, exactly projected Hessian.
+std::unique_ptr<Effect> make_strand_stretching(const Params& params, const BuildContext& ctx);
+/// E = Σ_joints k (φ − φ₀)²/ℓ̄ over the turning angle φ of consecutive segments.
+std::unique_ptr<Effect> make_strand_bending(const Params& params, const BuildContext& ctx);
+/// E = ½ k Σ_{pinned i} |xᵢ − x̄ᵢ|² over groups not yet released.
+std::unique_ptr<Effect> make_pins(const Params& params, const BuildContext& ctx);
+/// E = Σᵢ mᵢ c/(2h) |xᵢ − xᵢⁿ|² (drag force −c m v).
+std::unique_ptr<Effect> make_damping(const Params& params, const BuildContext& ctx);
+
+}  // namespace pce::sim

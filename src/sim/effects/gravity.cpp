@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+// Gravity: E = −Σᵢ mᵢ g·xᵢ, a linear potential (zero Hessian, nothing declared).
+#include "elastic.hpp"
+
+namespace pce::sim {
+
+namespace {
+
+class Gravity final : public Effect {
+ public:
+  Gravity(const Model& model, const Eigen::Vector3d& g) : model_(&model), g_(g) {}
+  const char* name() const override { return "gravity"; }
+  void declare(Pattern& /*pattern*/) const override {}
+  /// E = −Σᵢ mᵢ g·xᵢ, ∇ᵢE = −mᵢ g.
+  double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* /*hessian*/) override {
+    const Eigen::VectorXd& m = model_->mass;
+    const double energy = -(g_.transpose() * x * m)(0);
+    if (gradient) gradient->noalias() -= g_ * m.transpose();
+    return energy;
+  }
+
+ private:
+  const Model* model_;
+  Eigen::Vector3d g_;
+};
+
+}  // namespace
+
+std::unique_ptr<Effect> make_gravity(const Params& params, const BuildContext& ctx) {
+  params.only({"type", "acceleration"});
+  const Eigen::Vector3d g = params.vec3("acceleration", Eigen::Vector3d(0, 0, -9.81));
+  return std::make_unique<Gravity>(*ctx.model, g);
+}
+
+}  // namespace pce::sim

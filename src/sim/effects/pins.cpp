@@ -1,0 +1,107 @@
+// SPDX-License-Identifier: MIT
+// Pins: stiff zero-length springs to the rest positions, E = ½ k Σ_{pinned i} |xᵢ − x̄ᵢ|²
+// (x̄ = model.rest), grouped so that a group can be released at a frame (the hammock drops
+// its sheets that way). A group is active for frames < release_frame (always without one).
+#include "elastic.hpp"
+
+#include <string>
+#include <vector>
+
+namespace pce::sim {
+
+namespace {
+
+struct PinGroup {
+  std::vector<int> vertices;
+  long release_frame = 0;  ///< 0: never released
+  bool active = true;
+};
+
+class Pins final : public Effect {
+ public:
+  Pins(const Model& model, std::vector<PinGroup> groups, double k)
+      : model_(&model), groups_(std::move(groups)), k_(k) {}
+  const char* name() const override { return "pins"; }
+  void begin_step(const StepContext& ctx) override {
+    for (PinGroup& g : groups_) g.active = g.release_frame == 0 || ctx.frame < g.release_frame;
+  }
+  void declare(Pattern& pattern) const override {
+    for (const PinGroup& g : groups_)
+      if (g.active)
+        for (int i : g.vertices) pattern.add(i);
+  }
+  /// E = ½ k Σ |xᵢ − x̄ᵢ|², ∇ᵢE = k (xᵢ − x̄ᵢ), ∇²ᵢᵢE = k I over the active groups.
+  double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) override {
+    double energy = 0;
+    const Eigen::Matrix3d K = k_ * Eigen::Matrix3d::Identity();
+    for (const PinGroup& g : groups_) {
+      if (!g.active) continue;
+      for (int i : g.vertices) {
+        const Eigen::Vector3d d = x.col(i) - model_->rest.col(i);
+        energy += 0.5 * k_ * d.squaredNorm();
+        if (gradient) gradient->col(i) += k_ * d;
+        if (hessian) hessian->add_block(i, i, K);
+      }
+    }
+    return energy;
+  }
+  void report(EffectCounters& counters) const override {
+    double pinned = 0;
+    for (const PinGroup& g : groups_)
+      if (g.active) pinned += static_cast<double>(g.vertices.size());
+    counters["pinned_vertices"] = pinned;
+  }
+
+ private:
+  const Model* model_;
+  std::vector<PinGroup> groups_;
+  double k_;
+};
+
+}  // namespace
+
+std::unique_ptr<Effect> make_pins(const Params& params, const BuildContext& ctx) {
+  params.only({"type", "stiffness", "groups"});
+  const double k = params.positive("stiffness", 1e5);
+  const Model& model = *ctx.model;
+  const std::size_t count = params.array("groups", true).size();
+  if (count == 0) params.fail("groups", "expected at least one pin group");
+  std::vector<PinGroup> groups;
+  for (std::size_t gi = 0; gi < count; ++gi) {
+    const Params g = params.element("groups", gi);
+    g.only({"vertices", "box", "mesh", "release_frame"});
+    PinGroup group;
+    if (g.has("release_frame")) group.release_frame = g.integer("release_frame", std::nullopt, 1);  // ≥ 1
+    // The vertex range a group may name: one mesh's (local indices) or the whole model's.
+    int first = 0, size = model.vertex_count();
+    if (g.has("mesh")) {
+      const std::string mesh = g.string("mesh");
+      bool found = false;
+      for (const MeshRange& r : model.meshes)
+        if (r.name == mesh) {
+          first = r.first_vertex, size = r.vertex_count, found = true;
+          break;
+        }
+      if (!found) g.fail("mesh", "no mesh named \"" + mesh + "\"");
+    }
+    if (g.has("vertices") == g.has("box")) g.fail(g.has("box") ? "box" : "vertices", "expected exactly one of \"vertices\" and \"box\"");
+    if (g.has("vertices")) {
+      for (int i : g.indices("vertices", size)) group.vertices.push_back(first + i);
+      if (group.vertices.empty()) g.fail("vertices", "expected at least one vertex index");
+    } else {
+      const Params box = g.object("box");
+      box.only({"min", "max"});
+      const Eigen::Vector3d lo = box.vec3("min"), hi = box.vec3("max");
+      if (!(lo.array() <= hi.array()).all()) box.fail("max", "expected max >= min in every coordinate");
+      for (int i = first; i < first + size; ++i) {
+        const Eigen::Vector3d p = model.rest.col(i);
+        if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all()) group.vertices.push_back(i);
+      }
+      if (group.vertices.empty()) g.fail("box", "the box contains no vertex of the rest shape");
+    }
+    groups.push_back(std::move(group));
+  }
+  return std::make_unique<Pins>(model, std::move(groups), k);
+}
+
+}  // namespace pce::sim

@@ -1,0 +1,84 @@
+// SPDX-License-Identifier: MIT
+// Strand stretching, a spring per segment: E = ½ k (|e| − L)²/L (e = x1 − x0, L the rest
+// length, k in newtons: the force is k times the strain). With n = e/|e|:
+//   ∇_{x1}E = k (|e| − L)/L · n = −∇_{x0}E,
+//   ∇²_{x1x1}E = (k/L) [n nᵀ + (1 − L/|e|)(I − n nᵀ)],
+// whose eigenvalues are k/L (along n) and (k/L)(1 − L/|e|) twice; the projection clamps the
+// latter at 0 (exact PSD projection of the 6×6 [[H, −H], [−H, H]]).
+#include "elastic.hpp"
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace pce::sim {
+
+namespace {
+
+struct Spring {
+  std::array<int, 2> v;
+  double length;  ///< rest length L
+  Eigen::Vector3d rest_direction;  ///< n at rest, the fallback when |e| = 0
+};
+
+class StrandStretching final : public Effect {
+ public:
+  StrandStretching(std::vector<Spring> springs, double k) : springs_(std::move(springs)), k_(k) {}
+  const char* name() const override { return "strand_stretching"; }
+  void declare(Pattern& pattern) const override {
+    for (const Spring& s : springs_) pattern.add(s.v);
+  }
+  /// E = Σ ½ k (|e| − L)²/L with the exactly projected Hessian (file comment).
+  double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) override {
+    double energy = 0;
+    for (const Spring& s : springs_) {
+      const Eigen::Vector3d e = x.col(s.v[1]) - x.col(s.v[0]);
+      const double l = e.norm(), L = s.length, kl = k_ / L;
+      energy += 0.5 * kl * (l - L) * (l - L);
+      const Eigen::Vector3d n = l > 1e-12 * L ? Eigen::Vector3d(e / l) : s.rest_direction;
+      if (gradient) {
+        const Eigen::Vector3d f = kl * (l - L) * n;
+        gradient->col(s.v[1]) += f;
+        gradient->col(s.v[0]) -= f;
+      }
+      if (hessian) {
+        const double transverse = l > L ? 1 - L / l : 0.0;
+        const Eigen::Matrix3d nn = n * n.transpose();
+        const Eigen::Matrix3d B = kl * (nn + transverse * (Eigen::Matrix3d::Identity() - nn));
+        Eigen::Matrix<double, 6, 6> H;
+        H << B, -B, -B, B;
+        hessian->add<2>(s.v, H);
+      }
+    }
+    return energy;
+  }
+
+ private:
+  std::vector<Spring> springs_;
+  double k_;
+};
+
+}  // namespace
+
+std::unique_ptr<Effect> make_strand_stretching(const Params& params, const BuildContext& ctx) {
+  params.only({"type", "stiffness"});
+  const double k = params.positive("stiffness");
+  const Model& model = *ctx.model;
+  std::vector<Spring> springs;
+  springs.reserve(static_cast<std::size_t>(model.segments.cols()));
+  for (Eigen::Index j = 0; j < model.segments.cols(); ++j) {
+    Spring s;
+    s.v = {model.segments(0, j), model.segments(1, j)};
+    const Eigen::Vector3d e = model.rest.col(s.v[1]) - model.rest.col(s.v[0]);
+    s.length = e.norm();
+    if (!(s.length > 0))
+      throw InputError(params.file(), params.path(),
+                       "segment " + std::to_string(j) + " has zero rest length (strand stretching needs a rest shape)");
+    s.rest_direction = e / s.length;
+    springs.push_back(s);
+  }
+  return std::make_unique<StrandStretching>(std::move(springs), k);
+}
+
+}  // namespace pce::sim

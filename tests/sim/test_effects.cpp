@@ -1,0 +1,553 @@
+// SPDX-License-Identifier: MIT
+// pce::sim elastic and kinematic effects (src/sim/effects): for every effect the gradient
+// against central differences of the energy, the Hessian against central differences of
+// the gradient where it is exact, the Hessian's positive semi-definiteness everywhere
+// (random, compressed, degenerate states), the declared pattern covering every block the
+// effect adds (BlockHessian throws otherwise), and one InputError per kind of bad parameter
+// naming its JSON path. DISABLED_Timing is the microbenchmark (run with
+// --gtest_also_run_disabled_tests --gtest_filter=*Timing*).
+#include "effects/elastic.hpp"
+
+#include <pce/sim/generators.hpp>
+#include <pce/sim/input_error.hpp>
+#include <pce/sim/mesh.hpp>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <string>
+
+namespace {
+using namespace pce::sim;
+using Eigen::Matrix3Xd;
+using Eigen::MatrixXd;
+
+Model cloth(int nx = 3, int ny = 3, double bump = 0.0, unsigned seed = 1) {
+  const Mesh m = grid(1.0, 1.0, nx, ny);
+  Model model;
+  model.rest = m.positions;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (Eigen::Index i = 0; i < model.rest.cols(); ++i) model.rest(2, i) += bump * u(rng);
+  model.triangles = m.triangles;
+  model.edges = unique_edges(m.triangles);
+  model.mass = Eigen::VectorXd::Ones(model.rest.cols());
+  model.meshes.push_back({"cloth", 0, static_cast<int>(m.vertex_count()), 0, static_cast<int>(m.triangles.cols()), 0, 0});
+  return model;
+}
+
+Model hair(int count = 2, int segments = 4, double curl = 0.0) {
+  const Mesh m = strands(count, segments, 1.0, 0.2, curl);
+  Model model;
+  model.rest = m.positions;
+  model.segments = m.segments;
+  model.edges = m.segments;
+  model.mass = Eigen::VectorXd::Constant(model.rest.cols(), 0.5);
+  model.meshes.push_back({"hair", 0, static_cast<int>(m.vertex_count()), 0, 0, 0, static_cast<int>(m.segments.cols())});
+  return model;
+}
+
+std::unique_ptr<Effect> build(EffectFactory factory, const std::string& text, const Model& model, double dt = 0.01) {
+  const nlohmann::json j = nlohmann::json::parse(text);
+  const Params p(j, "test.json", "effects[0]");
+  BuildContext ctx;
+  ctx.model = &model;
+  ctx.dt = dt;
+  return factory(p, ctx);
+}
+
+/// The JSON path of the InputError building `text` throws ("(no error)" when none).
+std::string error_at(EffectFactory factory, const std::string& text, const Model& model) {
+  try {
+    build(factory, text, model);
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "test.json");
+    return e.where();
+  }
+  return "(no error)";
+}
+
+Matrix3Xd perturbed(const Matrix3Xd& x, double amplitude, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  Matrix3Xd y = x;
+  for (Eigen::Index i = 0; i < y.size(); ++i) y.data()[i] += amplitude * u(rng);
+  return y;
+}
+
+/// A rotation about a generic axis and a translation: rigid motions keep every angle.
+Matrix3Xd rigid(const Matrix3Xd& x, double scale = 1.0) {
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  return ((scale * R) * x).colwise() + Eigen::Vector3d(0.3, -0.2, 0.5);
+}
+
+double energy(Effect& e, const Matrix3Xd& x) { return e.evaluate(x, nullptr, nullptr); }
+
+Matrix3Xd gradient(Effect& e, const Matrix3Xd& x) {
+  Matrix3Xd g = Matrix3Xd::Zero(3, x.cols());
+  e.evaluate(x, &g, nullptr);
+  return g;
+}
+
+/// The full symmetric matrix of an assembled upper triangle.
+MatrixXd dense(const BlockHessian& H) {
+  const Eigen::SparseMatrix<double> full = H.matrix().selfadjointView<Eigen::Upper>();
+  return MatrixXd(full);
+}
+
+/// The Hessian assembled into the pattern the effect declares (throws for an undeclared
+/// block), as a dense symmetric matrix.
+MatrixXd hessian(Effect& e, const Matrix3Xd& x) {
+  Pattern pattern;
+  e.declare(pattern);
+  BlockHessian H;
+  H.set_pattern(static_cast<int>(x.cols()), pattern);
+  H.set_zero();
+  e.evaluate(x, nullptr, &H);
+  return dense(H);
+}
+
+Matrix3Xd fd_gradient(Effect& e, const Matrix3Xd& x, double h = 1e-6) {
+  Matrix3Xd g(3, x.cols());
+  for (Eigen::Index k = 0; k < x.size(); ++k) {
+    Matrix3Xd p = x, m = x;
+    p.data()[k] += h;
+    m.data()[k] -= h;
+    g.data()[k] = (energy(e, p) - energy(e, m)) / (2 * h);
+  }
+  return g;
+}
+
+MatrixXd fd_hessian(Effect& e, const Matrix3Xd& x, double h = 1e-6) {
+  MatrixXd H(x.size(), x.size());
+  for (Eigen::Index k = 0; k < x.size(); ++k) {
+    Matrix3Xd p = x, m = x;
+    p.data()[k] += h;
+    m.data()[k] -= h;
+    const Matrix3Xd d = (gradient(e, p) - gradient(e, m)) / (2 * h);
+    H.col(k) = Eigen::Map<const Eigen::VectorXd>(d.data(), d.size());
+  }
+  return 0.5 * (H + H.transpose());
+}
+
+double min_eigenvalue(const MatrixXd& H) { return Eigen::SelfAdjointEigenSolver<MatrixXd>(H).eigenvalues().minCoeff(); }
+
+/// ‖a − b‖ / max(‖b‖, floor)
+double rel_error(const MatrixXd& a, const MatrixXd& b, double floor = 1e-8) {
+  return (a - b).norm() / std::max(b.norm(), floor);
+}
+
+void expect_gradient_matches(Effect& e, const Matrix3Xd& x, double tol = 1e-6) {
+  const Matrix3Xd g = gradient(e, x), f = fd_gradient(e, x);
+  EXPECT_TRUE(g.allFinite());
+  EXPECT_LT(rel_error(g, f), tol) << "analytic\n" << g << "\nfinite differences\n" << f;
+}
+
+void expect_psd(Effect& e, const Matrix3Xd& x) {
+  const MatrixXd H = hessian(e, x);
+  ASSERT_TRUE(H.allFinite());
+  EXPECT_GE(min_eigenvalue(H), -1e-9 * std::max(1.0, H.norm()));
+}
+
+void expect_hessian_matches(Effect& e, const Matrix3Xd& x, double tol = 1e-5) {
+  const MatrixXd H = hessian(e, x), F = fd_hessian(e, x);
+  EXPECT_LT(rel_error(H, F), tol);
+}
+
+// --- gravity --------------------------------------------------------------------------
+
+TEST(Gravity, EnergyGradientAndNoHessian) {
+  Model m = cloth();
+  m.mass.setLinSpaced(m.mass.size(), 0.5, 2.0);
+  auto e = build(make_gravity, R"({"type":"gravity","acceleration":[1,2,-9]})", m);
+  const Matrix3Xd x = perturbed(m.rest, 0.1, 3);
+  double expected = 0;
+  for (Eigen::Index i = 0; i < x.cols(); ++i) expected -= m.mass[i] * Eigen::Vector3d(1, 2, -9).dot(x.col(i));
+  EXPECT_NEAR(energy(*e, x), expected, 1e-12 * std::abs(expected));
+  expect_gradient_matches(*e, x);
+  EXPECT_EQ(hessian(*e, x).norm(), 0.0);
+  auto d = build(make_gravity, R"({"type":"gravity"})", m);  // default −9.81 ẑ
+  EXPECT_NEAR(gradient(*d, x)(2, 4), 9.81 * m.mass[4], 1e-12);
+}
+
+TEST(Gravity, BadParameters) {
+  const Model m = cloth();
+  EXPECT_EQ(error_at(make_gravity, R"({"type":"gravity","acceleration":[0,-9.81]})", m), "effects[0].acceleration");
+  EXPECT_EQ(error_at(make_gravity, R"({"type":"gravity","g":[0,0,-9.81]})", m), "effects[0].g");
+}
+
+// --- stretching -------------------------------------------------------------------------
+
+TEST(Stretching, ZeroAtRestAndUnderRigidMotion) {
+  const Model m = cloth(3, 3, 0.1);
+  auto e = build(make_stretching, R"({"type":"stretching","stiffness":10})", m);
+  EXPECT_NEAR(energy(*e, m.rest), 0.0, 1e-24);
+  EXPECT_NEAR(energy(*e, rigid(m.rest)), 0.0, 1e-20);
+  EXPECT_LT(gradient(*e, rigid(m.rest)).norm(), 1e-10);
+  // A uniform stretch by s = 1.5: σ₁ = σ₂ = 1.5, E = μ Σ A · 2 (s − 1)².
+  double area = 0;
+  for (Eigen::Index t = 0; t < m.triangles.cols(); ++t)
+    area += 0.5 * (m.rest.col(m.triangles(1, t)) - m.rest.col(m.triangles(0, t)))
+                      .cross(m.rest.col(m.triangles(2, t)) - m.rest.col(m.triangles(0, t)))
+                      .norm();
+  EXPECT_NEAR(energy(*e, rigid(m.rest, 1.5)), 10 * area * 2 * 0.25, 1e-10);
+}
+
+TEST(Stretching, GradientMatchesFiniteDifferences) {
+  const Model m = cloth(3, 3, 0.05);
+  auto e = build(make_stretching, R"({"type":"stretching","model":"arap","stiffness":7})", m);
+  for (unsigned seed = 1; seed <= 4; ++seed) expect_gradient_matches(*e, perturbed(rigid(m.rest, 0.8 + 0.2 * seed), 0.1, seed));
+}
+
+TEST(Stretching, HessianIsExactWhenStretched) {
+  // σ₁, σ₂ > 1 and σ₁ + σ₂ > 2 in every triangle: no eigenvalue is clamped.
+  const Model m = cloth(3, 3, 0.05);
+  auto e = build(make_stretching, R"({"type":"stretching","stiffness":7})", m);
+  expect_hessian_matches(*e, perturbed(rigid(m.rest, 1.4), 0.02, 5));
+}
+
+TEST(Stretching, HessianIsPsdEverywhere) {
+  const Model m = cloth(3, 3, 0.05);
+  auto e = build(make_stretching, R"({"type":"stretching","stiffness":7})", m);
+  for (unsigned seed = 1; seed <= 4; ++seed) expect_psd(*e, perturbed(rigid(m.rest, 0.25 * seed), 0.2, seed));
+  // Compressed (every σ < 1): the true Hessian is indefinite, the projection is not.
+  const Matrix3Xd squeezed = perturbed(rigid(m.rest, 0.6), 0.01, 9);
+  EXPECT_LT(min_eigenvalue(fd_hessian(*e, squeezed)), -1e-3);
+  expect_psd(*e, squeezed);
+}
+
+TEST(Stretching, DegenerateTrianglesStayFinite) {
+  const Model m = cloth(2, 2);
+  auto e = build(make_stretching, R"({"type":"stretching","stiffness":7})", m);
+  Matrix3Xd line = m.rest;
+  line.row(1).setZero();  // every triangle flattened onto a line: σ₂ = 0
+  Matrix3Xd point = Matrix3Xd::Zero(3, m.rest.cols());  // F = 0
+  for (const Matrix3Xd& x : {line, point}) {
+    EXPECT_TRUE(std::isfinite(energy(*e, x)));
+    EXPECT_TRUE(gradient(*e, x).allFinite());
+    expect_psd(*e, x);
+  }
+  // F = 0: E = μ Σ 2A
+  EXPECT_NEAR(energy(*e, point), 7 * 2 * 1.0, 1e-12);
+}
+
+TEST(Stretching, BadParameters) {
+  const Model m = cloth();
+  EXPECT_EQ(error_at(make_stretching, R"({"type":"stretching","stiffness":-1})", m), "effects[0].stiffness");
+  EXPECT_EQ(error_at(make_stretching, R"({"type":"stretching"})", m), "effects[0].stiffness");
+  EXPECT_EQ(error_at(make_stretching, R"({"type":"stretching","stiffness":1,"model":"neo"})", m), "effects[0].model");
+  EXPECT_EQ(error_at(make_stretching, R"({"type":"stretching","stifness":1})", m), "effects[0].stifness");
+  Model flat = cloth(1, 1);
+  flat.rest.col(3) = flat.rest.col(0);  // a zero-area rest triangle
+  EXPECT_EQ(error_at(make_stretching, R"({"type":"stretching","stiffness":1})", flat), "effects[0]");
+}
+
+// --- bending ----------------------------------------------------------------------------
+
+TEST(Bending, HingesOfTheGrid) {
+  const Model m = cloth(3, 3);
+  auto e = build(make_bending, R"({"type":"bending","stiffness":1})", m);
+  EffectCounters c;
+  e->report(c);
+  EXPECT_EQ(c["hinges"], 33 - 12);  // interior edges: all 33 minus the 12 on the boundary
+  EXPECT_NEAR(energy(*e, m.rest), 0.0, 1e-30);
+}
+
+TEST(Bending, GradientMatchesFiniteDifferences) {
+  const Model m = cloth(3, 3, 0.1);
+  auto e = build(make_bending, R"({"type":"bending","stiffness":0.3})", m);
+  for (unsigned seed = 1; seed <= 4; ++seed) expect_gradient_matches(*e, perturbed(m.rest, 0.08, seed));
+}
+
+TEST(Bending, HessianIsExactAtTheRestAngle) {
+  const Model m = cloth(3, 3, 0.1);
+  auto e = build(make_bending, R"({"type":"bending","stiffness":0.3})", m);
+  const Matrix3Xd x = rigid(m.rest);
+  EXPECT_NEAR(energy(*e, x), 0.0, 1e-20);
+  expect_hessian_matches(*e, x);
+  expect_psd(*e, x);
+}
+
+TEST(Bending, EnergyOfAKnownFold) {
+  // Two triangles folded by 90° about their shared diagonal: E = k (π/2)² 3|e|²/(A₁ + A₂).
+  Model m = cloth(1, 1);
+  auto e = build(make_bending, R"({"type":"bending","stiffness":2})", m);
+  ASSERT_EQ(m.triangles.cols(), 2);
+  // Find the shared edge and the wings, then rotate one wing about the edge by 90°.
+  int shared[2], n = 0, wing = -1;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      if (m.triangles(a, 0) == m.triangles(b, 1)) shared[n++] = m.triangles(a, 0);
+  for (int b = 0; b < 3; ++b)
+    if (m.triangles(b, 1) != shared[0] && m.triangles(b, 1) != shared[1]) wing = m.triangles(b, 1);
+  const Eigen::Vector3d p = m.rest.col(shared[0]), axis = (m.rest.col(shared[1]) - p).normalized();
+  Matrix3Xd x = m.rest;
+  x.col(wing) = p + Eigen::AngleAxisd(M_PI / 2, axis) * (m.rest.col(wing) - p);
+  const double len2 = (m.rest.col(shared[1]) - p).squaredNorm();
+  EXPECT_NEAR(energy(*e, x), 2 * (M_PI / 2) * (M_PI / 2) * 3 * len2 / 1.0, 1e-12);
+  expect_gradient_matches(*e, x);
+}
+
+TEST(Bending, HessianIsPsdAndDegenerateHingesStayFinite) {
+  const Model m = cloth(3, 3, 0.1);
+  auto e = build(make_bending, R"({"type":"bending","stiffness":0.3})", m);
+  for (unsigned seed = 1; seed <= 3; ++seed) expect_psd(*e, perturbed(m.rest, 0.3, seed));
+  Matrix3Xd x = m.rest;
+  x.col(5) = x.col(6);  // collapses the triangles around the edge (5, 6)
+  EXPECT_TRUE(std::isfinite(energy(*e, x)));
+  EXPECT_TRUE(gradient(*e, x).allFinite());
+  expect_psd(*e, x);
+  EffectCounters c;
+  e->report(c);
+  EXPECT_GT(c["degenerate_hinges"], 0);
+}
+
+TEST(Bending, BadParameters) {
+  const Model m = cloth();
+  EXPECT_EQ(error_at(make_bending, R"({"type":"bending","stiffness":0})", m), "effects[0].stiffness");
+  EXPECT_EQ(error_at(make_bending, R"({"type":"bending","stiffness":"1"})", m), "effects[0].stiffness");
+  EXPECT_EQ(error_at(make_bending, R"({"type":"bending","stiffness":1,"rest_angle":0})", m), "effects[0].rest_angle");
+}
+
+// --- strand stretching ------------------------------------------------------------------
+
+TEST(StrandStretching, GradientHessianAndProjection) {
+  const Model m = hair(2, 4, 0.05);
+  auto e = build(make_strand_stretching, R"({"type":"strand_stretching","stiffness":50})", m);
+  EXPECT_NEAR(energy(*e, rigid(m.rest)), 0.0, 1e-20);
+  for (unsigned seed = 1; seed <= 3; ++seed) expect_gradient_matches(*e, perturbed(m.rest, 0.05, seed));
+  expect_hessian_matches(*e, perturbed(rigid(m.rest, 1.3), 0.005, 4));  // every segment stretched: exact
+  const Matrix3Xd squeezed = perturbed(rigid(m.rest, 0.7), 0.005, 5);
+  EXPECT_LT(min_eigenvalue(fd_hessian(*e, squeezed)), -1e-3);
+  expect_psd(*e, squeezed);
+  // A segment of zero current length: finite.
+  Matrix3Xd x = m.rest;
+  x.col(1) = x.col(0);
+  EXPECT_TRUE(gradient(*e, x).allFinite());
+  expect_psd(*e, x);
+  // One segment stretched by 10 %: E = ½ k (0.1 L)²/L.
+  Model one = hair(1, 1);
+  auto s = build(make_strand_stretching, R"({"type":"strand_stretching","stiffness":50})", one);
+  EXPECT_NEAR(energy(*s, one.rest * 1.1), 0.5 * 50 * 0.01, 1e-12);
+}
+
+TEST(StrandStretching, BadParameters) {
+  const Model m = hair();
+  EXPECT_EQ(error_at(make_strand_stretching, R"({"type":"strand_stretching","stiffness":-3})", m), "effects[0].stiffness");
+  EXPECT_EQ(error_at(make_strand_stretching, R"({"type":"strand_stretching","k":3})", m), "effects[0].k");
+}
+
+// --- strand bending ---------------------------------------------------------------------
+
+TEST(StrandBending, JointsGradientAndExactHessianAtRest) {
+  const Model m = hair(2, 5, 0.05);
+  auto e = build(make_strand_bending, R"({"type":"strand_bending","stiffness":0.01})", m);
+  EffectCounters c;
+  e->report(c);
+  EXPECT_EQ(c["joints"], 2 * 4);
+  EXPECT_NEAR(energy(*e, rigid(m.rest)), 0.0, 1e-20);
+  for (unsigned seed = 1; seed <= 3; ++seed) expect_gradient_matches(*e, perturbed(m.rest, 0.03, seed));
+  expect_hessian_matches(*e, rigid(m.rest));
+  for (unsigned seed = 1; seed <= 3; ++seed) expect_psd(*e, perturbed(m.rest, 0.1, seed));
+}
+
+TEST(StrandBending, KnownAngle) {
+  // Three vertices with a right angle, rest straight: E = k (π/2)²/ℓ̄.
+  Model m = hair(1, 2);
+  auto e = build(make_strand_bending, R"({"type":"strand_bending","stiffness":0.5})", m);
+  Matrix3Xd x = m.rest;
+  const double L = (m.rest.col(1) - m.rest.col(0)).norm();
+  x.col(2) = x.col(1) + Eigen::Vector3d(L, 0, 0);
+  EXPECT_NEAR(energy(*e, x), 0.5 * (M_PI / 2) * (M_PI / 2) / L, 1e-12);
+  expect_gradient_matches(*e, x);
+}
+
+TEST(StrandBending, StraightStrandsStayFiniteAndStiffBothWays) {
+  const Model straight = hair(1, 4);
+  auto e = build(make_strand_bending, R"({"type":"strand_bending","stiffness":0.01})", straight);
+  // Exactly straight at rest: zero gradient, finite Hessian, stiff in both transverse
+  // directions (the Hessian of k φ²/ℓ̄ is isotropic about the tangent there).
+  EXPECT_EQ(gradient(*e, straight.rest).norm(), 0.0);
+  const MatrixXd H = hessian(*e, straight.rest);
+  ASSERT_TRUE(H.allFinite());
+  const Eigen::Index mid = 3 * 2;  // vertex 2, a middle joint
+  EXPECT_NEAR(H(mid, mid), H(mid + 1, mid + 1), 1e-12 * H.norm());
+  EXPECT_GT(H(mid, mid), 0);
+  // Nearly straight: the Hessian agrees with finite differences up to the dropped in-plane
+  // term, O(φ).
+  const Matrix3Xd bent = perturbed(straight.rest, 1e-4, 3);
+  expect_gradient_matches(*e, bent, 1e-4);
+  EXPECT_LT(rel_error(hessian(*e, bent), fd_hessian(*e, bent, 1e-7)), 2e-2);
+  // Curly rest shape, straight current shape (φ = 0 ≠ φ₀): the direction of ∇φ is not
+  // defined; gradient and Hessian stay finite.
+  const Model curly = hair(1, 4, 0.05);
+  auto f = build(make_strand_bending, R"({"type":"strand_bending","stiffness":0.01})", curly);
+  EXPECT_TRUE(gradient(*f, straight.rest).allFinite());
+  expect_psd(*f, straight.rest);
+  // Folded back onto itself (φ = π).
+  Matrix3Xd folded = straight.rest;
+  folded.col(2) = folded.col(0);
+  EXPECT_TRUE(gradient(*e, folded).allFinite());
+  expect_psd(*e, folded);
+}
+
+TEST(StrandBending, BadParameters) {
+  const Model m = hair();
+  EXPECT_EQ(error_at(make_strand_bending, R"({"type":"strand_bending","stiffness":-1})", m), "effects[0].stiffness");
+  EXPECT_EQ(error_at(make_strand_bending, R"({"type":"strand_bending","stiffness":1,"rest":0})", m), "effects[0].rest");
+}
+
+// --- pins -------------------------------------------------------------------------------
+
+TEST(Pins, EnergyGradientHessianAndRelease) {
+  const Model m = cloth(3, 3);
+  auto e = build(make_pins,
+                 R"({"type":"pins","stiffness":100,"groups":[{"vertices":[0,3]},
+                     {"box":{"min":[-1,0.4,-1],"max":[1,1,1]},"release_frame":3}]})",
+                 m);
+  EffectCounters c;
+  e->report(c);
+  EXPECT_EQ(c["pinned_vertices"], 2 + 4);  // the top row y = 0.5 has 4 vertices
+  const Matrix3Xd x = perturbed(m.rest, 0.1, 2);
+  double expected = 0;
+  for (int i : {0, 3, 12, 13, 14, 15}) expected += 50 * (x.col(i) - m.rest.col(i)).squaredNorm();
+  EXPECT_NEAR(energy(*e, x), expected, 1e-12);
+  expect_gradient_matches(*e, x);
+  expect_hessian_matches(*e, x);
+  StepContext step;
+  step.frame = 2;
+  e->begin_step(step);
+  EXPECT_NEAR(energy(*e, x), expected, 1e-12);
+  step.frame = 3;  // released from frame 3 on
+  e->begin_step(step);
+  e->report(c);
+  EXPECT_EQ(c["pinned_vertices"], 2);
+  EXPECT_NEAR(energy(*e, x), 50 * ((x.col(0) - m.rest.col(0)).squaredNorm() + (x.col(3) - m.rest.col(3)).squaredNorm()), 1e-12);
+  expect_hessian_matches(*e, x);
+}
+
+TEST(Pins, MeshLocalIndicesAndDefaultStiffness) {
+  Model m = cloth(1, 1);  // 4 vertices, then a second mesh of 2 more
+  m.rest.conservativeResize(3, 6);
+  m.rest.col(4) << 5, 5, 5;
+  m.rest.col(5) << 6, 6, 6;
+  m.mass = Eigen::VectorXd::Ones(6);
+  m.meshes.push_back({"other", 4, 2, 2, 0, 0, 0});
+  auto e = build(make_pins, R"({"type":"pins","groups":[{"mesh":"other","vertices":[1]}]})", m);
+  Matrix3Xd x = m.rest;
+  x(0, 5) += 0.01;
+  EXPECT_NEAR(energy(*e, x), 0.5 * 1e5 * 1e-4, 1e-9);
+  auto b = build(make_pins, R"({"type":"pins","groups":[{"mesh":"other","box":{"min":[0,0,0],"max":[9,9,9]}}]})", m);
+  EffectCounters c;
+  b->report(c);
+  EXPECT_EQ(c["pinned_vertices"], 2);
+}
+
+TEST(Pins, BadParameters) {
+  const Model m = cloth(1, 1);
+  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0,4]}]})", m), "effects[0].groups[0].vertices[1]");
+  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0]},{"box":{"min":[5,5,5],"max":[6,6,6]}}]})", m),
+            "effects[0].groups[1].box");
+  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","stiffness":-1,"groups":[{"vertices":[0]}]})", m), "effects[0].stiffness");
+  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0],"release_frame":0}]})", m),
+            "effects[0].groups[0].release_frame");
+  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0],"mesh":"nope"}]})", m), "effects[0].groups[0].mesh");
+  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0],"box":{"min":[0,0,0],"max":[1,1,1]}}]})", m),
+            "effects[0].groups[0].box");
+  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertex":[0]}]})", m), "effects[0].groups[0].vertex");
+  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"box":{"min":[1,0,0],"max":[0,1,1]}}]})", m),
+            "effects[0].groups[0].box.max");
+  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[]})", m), "effects[0].groups");
+  EXPECT_EQ(error_at(make_pins, R"({"type":"pins"})", m), "effects[0].groups");
+}
+
+// --- damping ----------------------------------------------------------------------------
+
+TEST(Damping, DragOnTheStepVelocity) {
+  Model m = cloth(2, 2);
+  m.mass.setLinSpaced(m.mass.size(), 1.0, 3.0);
+  auto e = build(make_damping, R"({"type":"damping","coefficient":0.5})", m, 0.01);
+  const Matrix3Xd start = perturbed(m.rest, 0.1, 7);
+  StepContext step;
+  step.frame = 1;
+  step.dt = 0.02;
+  step.x_start = &start;
+  e->begin_step(step);
+  const Matrix3Xd x = perturbed(start, 0.01, 8);
+  // Force = −c m v with v = (x − xⁿ)/h.
+  const Matrix3Xd g = gradient(*e, x);
+  for (Eigen::Index i = 0; i < x.cols(); ++i)
+    EXPECT_LT((g.col(i) - 0.5 * m.mass[i] * (x.col(i) - start.col(i)) / 0.02).norm(), 1e-12);
+  expect_gradient_matches(*e, x);
+  expect_hessian_matches(*e, x);
+  auto none = build(make_damping, R"({"type":"damping","coefficient":0})", m);
+  EXPECT_EQ(energy(*none, x), 0.0);
+}
+
+TEST(Damping, BadParameters) {
+  const Model m = cloth(1, 1);
+  EXPECT_EQ(error_at(make_damping, R"({"type":"damping","coefficient":-0.1})", m), "effects[0].coefficient");
+  EXPECT_EQ(error_at(make_damping, R"({"type":"damping","coeff":0.1})", m), "effects[0].coeff");
+}
+
+// --- all together: one pattern covers every effect's blocks ----------------------------
+
+TEST(Effects, SharedPatternCoversEverything) {
+  const Model m = cloth(4, 3, 0.05);
+  std::vector<std::unique_ptr<Effect>> effects;
+  effects.push_back(build(make_gravity, R"({"type":"gravity"})", m));
+  effects.push_back(build(make_stretching, R"({"type":"stretching","stiffness":5})", m));
+  effects.push_back(build(make_bending, R"({"type":"bending","stiffness":0.1})", m));
+  effects.push_back(build(make_pins, R"({"type":"pins","groups":[{"vertices":[0,4]}]})", m));
+  effects.push_back(build(make_damping, R"({"type":"damping","coefficient":1})", m));
+  Pattern pattern;
+  for (const auto& e : effects) e->declare(pattern);
+  BlockHessian H;
+  H.set_pattern(m.vertex_count(), pattern);
+  H.set_zero();
+  const Matrix3Xd x = perturbed(m.rest, 0.05, 4);
+  Matrix3Xd g = Matrix3Xd::Zero(3, x.cols());
+  for (const auto& e : effects) EXPECT_NO_THROW(e->evaluate(x, &g, &H));
+  EXPECT_TRUE(g.allFinite());
+  EXPECT_GE(min_eigenvalue(dense(H)), -1e-9 * H.matrix().norm());
+}
+
+// --- microbenchmark (not run by ctest) -------------------------------------------------
+
+template <class F> double seconds(F&& f, int repeats) {
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int r = 0; r < repeats; ++r) f();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+TEST(Effects, DISABLED_Timing) {
+  const Model m = cloth(100, 100, 0.01);
+  const Matrix3Xd x = perturbed(m.rest, 0.003, 1);
+  for (const char* which : {"stretching", "bending"}) {
+    const bool stretch = std::string(which) == "stretching";
+    auto e = stretch ? build(make_stretching, R"({"type":"stretching","stiffness":5})", m)
+                     : build(make_bending, R"({"type":"bending","stiffness":0.1})", m);
+    Pattern pattern;
+    e->declare(pattern);
+    BlockHessian H;
+    H.set_pattern(m.vertex_count(), pattern);
+    Matrix3Xd g = Matrix3Xd::Zero(3, x.cols());
+    EffectCounters c;
+    e->report(c);
+    const double elements = stretch ? static_cast<double>(m.triangles.cols()) : c["hinges"];
+    const int repeats = 50;
+    double sink = 0;
+    const double t_full = seconds([&] { sink += e->evaluate(x, &g, &H); }, repeats);
+    const double t_energy = seconds([&] { sink += e->evaluate(x, nullptr, nullptr); }, repeats);
+    std::printf("%s: %.0f elements, energy+gradient+Hessian (assembled) %.1f ns/element, energy only %.1f ns/element (%g)\n",
+                which, elements, 1e9 * t_full / (repeats * elements), 1e9 * t_energy / (repeats * elements), sink);
+  }
+}
+
+}  // namespace
