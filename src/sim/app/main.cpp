@@ -110,6 +110,7 @@ int main(int argc, char** argv) {
   int frames = 0, threads = -1;
   double tolerance = 0;
   bool single_solve = false, no_frames = false;
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);  // later values win
   app.add_option("scene", scene_file, "scene file (JSON)")->required();
   app.add_option("--out", out_dir, "output directory (default: pce-sim-out/<scene name>)");
   app.add_option("--frames", frames, "frames to simulate (overrides the scene)")->check(CLI::PositiveNumber);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <pce/sim/broad_phase.hpp>
 #include <pce/sim/candidates.hpp>
+#include <pce/sim/instrumentation.hpp>
 
 namespace pce::sim {
 
@@ -29,7 +30,13 @@ class BruteForce final : public BroadPhase {
 
 std::unique_ptr<BroadPhase> make_fcl_broad_phase();  // broad_phase/fcl.cpp
 
+Instrumentation& instrumentation() {
+  static Instrumentation counters;
+  return counters;
+}
+
 std::unique_ptr<BroadPhase> make_broad_phase(BroadPhaseKind kind) {
+  ++instrumentation().broad_phases_built;
   if (kind == BroadPhaseKind::brute) return std::make_unique<BruteForce>();
   return make_fcl_broad_phase();
 }

@@ -14,6 +14,7 @@
 // Marino & Fedkiw 2003, "Simulation of clothing with folds and wrinkles", §4).
 // Hessian: the Gauss–Newton part 2 k w ∇θ ∇θᵀ, PSD by construction; it drops
 // 2 k w (θ − θ₀) ∇²θ, which vanishes at the rest angle.
+#include <pce/sim/instrumentation.hpp>
 #include "elastic.hpp"
 
 #include <algorithm>
@@ -149,6 +150,7 @@ std::unique_ptr<Effect> make_bending(const Params& params, const BuildContext& c
     }
     i = j;
   }
+  instrumentation().bending_hinges_allocated += static_cast<long>(hinges.size());
   return std::make_unique<Bending>(std::move(hinges));
 }
 

@@ -22,6 +22,7 @@
 #include <pce/energy/pair_energy.hpp>
 #include <pce/frames/edge_edge.hpp>
 #include <pce/frames/vertex_face.hpp>
+#include <pce/sim/instrumentation.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -87,6 +88,7 @@ template <bool VF> class SelfContact final : public Effect {
 #pragma omp parallel for schedule(dynamic, 64)
       for (long k = 0; k < n; ++k) evaluate_pair(x, k, penalty, want_h, out_[static_cast<std::size_t>(k)]);
     });
+    (VF ? instrumentation().vertex_face_pairs_evaluated : instrumentation().edge_edge_pairs_evaluated) += n;
     stats_.pair_ms += ms_since(t0);
     const auto t1 = Clock::now();
     double energy = 0;
@@ -198,6 +200,7 @@ template <bool VF> class SelfContact final : public Effect {
     pairs_ = std::move(fresh);
     sides_ = std::move(sides);
     stats_.queries += 1;
+    ++instrumentation().broad_phase_queries;
     stats_.broad_phase_ms += ms_since(t0);
   }
 
@@ -210,7 +213,9 @@ template <bool VF> class SelfContact final : public Effect {
     if (spec_.closest_features) {
       ClosestFeatureEnergy<double> ce;
       const Status s = closest_feature_energy<Kind>(xp, UnsignedLength{}, penalty, ce);
-      if (s == Status::out_of_domain) return fail_infinite(o);
+      // A barrier at distance 0 (out of its domain, or a point kind's `degenerate`, which
+      // is reported only at distance exactly 0) is infinite energy.
+      if (s == Status::out_of_domain || (s == Status::degenerate && spec_.penalty.barrier())) return fail_infinite(o);
       if (s != Status::ok || !(ce.length < d)) return;
       o.active = true;
       o.length = ce.length;

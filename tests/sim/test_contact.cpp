@@ -1,0 +1,159 @@
+// SPDX-License-Identifier: MIT
+// Self contact effects: gradients against central differences, PSD Hessians for every
+// strategy, signed sides recorded at entry and kept while tracked, barrier step limits.
+#include <pce/sim/instrumentation.hpp>
+#include <pce/sim/scene.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <Eigen/Eigenvalues>
+
+using namespace pce::sim;
+using nlohmann::json;
+
+namespace {
+
+/// Two small sheets, the second `gap` above the first and turned by 10°.
+std::unique_ptr<Scene> two_sheets(const json& contact, double gap) {
+  json j = json::parse(R"({
+    "dt": 0.01, "frames": 1,
+    "meshes": [
+      {"name": "a", "generator": {"type": "grid", "width": 0.2, "height": 0.2, "nx": 4, "ny": 4}},
+      {"name": "b", "generator": {"type": "grid", "width": 0.2, "height": 0.2, "nx": 4, "ny": 4},
+       "transform": {"rotation": {"axis": [0, 0, 1], "degrees": 10}}}
+    ],
+    "effects": []
+  })");
+  j["meshes"][1]["transform"]["translation"] = {0.003, -0.002, gap};
+  j["effects"].push_back(contact);
+  return load_scene_text(j.dump(), "contact.json", PCE_TEST_TMP);
+}
+
+json contact(const char* type, const char* length, const char* hessian, bool closest, const char* penalty = "quadratic") {
+  json c = {{"type", type}, {"length", length}, {"hessian", hessian}, {"closest_features", closest}};
+  c["penalty"] = {{"type", penalty}, {"stiffness", 50.0}, {"distance", 0.02}};
+  return c;
+}
+
+/// Starts a step at the scene's positions (zero velocity) so the effect queries its pairs.
+void begin(Scene& s) {
+  static Eigen::Matrix3Xd x, v;
+  x = s.simulation.x;
+  v = Eigen::Matrix3Xd::Zero(3, x.cols());
+  StepContext ctx;
+  ctx.frame = 1;
+  ctx.time = 0.01;
+  ctx.dt = 0.01;
+  ctx.model = &s.simulation.model;
+  ctx.x_start = &x;
+  ctx.v_start = &v;
+  s.simulation.effects[0]->begin_step(ctx);
+}
+
+Eigen::MatrixXd dense_hessian(Effect& e, const Eigen::Matrix3Xd& x) {
+  Pattern p;
+  e.declare(p);
+  BlockHessian H;
+  H.set_pattern(static_cast<int>(x.cols()), p);
+  Eigen::Matrix3Xd g = Eigen::Matrix3Xd::Zero(3, x.cols());
+  e.evaluate(x, &g, &H);
+  const Eigen::SparseMatrix<double> full = H.matrix().selfadjointView<Eigen::Upper>();
+  return Eigen::MatrixXd(full);
+}
+
+/// Moves sheet b's vertices (the second half) up by dz.
+Eigen::Matrix3Xd lift_b(const Eigen::Matrix3Xd& x, double dz) {
+  Eigen::Matrix3Xd y = x;
+  const Eigen::Index half = x.cols() / 2;
+  y.row(2).tail(half).array() += dz;
+  return y;
+}
+
+}  // namespace
+
+class ContactDerivatives : public ::testing::TestWithParam<std::tuple<const char*, const char*, bool>> {};
+
+TEST_P(ContactDerivatives, GradientMatchesCentralDifferencesAndHessianIsPsd) {
+  const auto [type, length, closest] = GetParam();
+  for (const char* hessian : {"analytic", "exact", "numerical", "gauss_newton", "abs"}) {
+    SCOPED_TRACE(std::string(type) + " " + length + " " + hessian + (closest ? " closest" : " plane"));
+    auto s = two_sheets(contact(type, length, hessian, closest), 0.008);
+    begin(*s);
+    Effect& e = *s->simulation.effects[0];
+    Eigen::Matrix3Xd x = s->simulation.x;
+    // a little out-of-plane noise so edge-edge pairs have frames
+    for (Eigen::Index i = 0; i < x.cols(); ++i) x(2, i) += 1e-3 * std::sin(1.7 * static_cast<double>(i));
+    Eigen::Matrix3Xd g = Eigen::Matrix3Xd::Zero(3, x.cols());
+    const double E = e.evaluate(x, &g, nullptr);
+    EXPECT_GT(E, 0.0);
+    EffectCounters c;
+    e.report(c);
+    const std::string kind = std::string(type) == "self_vertex_face" ? "vertex_face" : "edge_edge";
+    EXPECT_GT(c[kind + "_contacts"], 0.0);
+    const double h = 1e-7;
+    double worst = 0, scale = g.cwiseAbs().maxCoeff();
+    for (Eigen::Index i = 0; i < x.size(); ++i) {
+      Eigen::Matrix3Xd xp = x, xm = x;
+      xp.data()[i] += h;
+      xm.data()[i] -= h;
+      const double fd = (e.evaluate(xp, nullptr, nullptr) - e.evaluate(xm, nullptr, nullptr)) / (2 * h);
+      worst = std::max(worst, std::abs(fd - g.data()[i]));
+    }
+    EXPECT_LT(worst, 1e-5 * scale);
+    const Eigen::MatrixXd H = dense_hessian(e, x);
+    const double lmin = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(H).eigenvalues().minCoeff();
+    EXPECT_GE(lmin, -1e-9 * H.cwiseAbs().maxCoeff());
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Kinds, ContactDerivatives,
+                         ::testing::Values(std::make_tuple("self_vertex_face", "unsigned", false),
+                                           std::make_tuple("self_vertex_face", "signed", false),
+                                           std::make_tuple("self_vertex_face", "unsigned", true),
+                                           std::make_tuple("self_edge_edge", "unsigned", false),
+                                           std::make_tuple("self_edge_edge", "signed", false),
+                                           std::make_tuple("self_edge_edge", "unsigned", true)));
+
+TEST(Contact, SignedSideIsRecordedAtEntryAndKeptWhileTracked) {
+  auto s = two_sheets(contact("self_vertex_face", "signed", "analytic", false), 0.008);
+  begin(*s);
+  Effect& e = *s->simulation.effects[0];
+  const Eigen::Matrix3Xd above = s->simulation.x;
+  const Eigen::Matrix3Xd below = lift_b(above, -0.016);  // b now 0.008 below a: it passed through
+  const double E_above = e.evaluate(above, nullptr, nullptr);
+  const double E_below = e.evaluate(below, nullptr, nullptr);
+  // Same |l| both times; the signed length remembers b came from above and penalises the
+  // crossing far more (L = −0.008 instead of +0.008).
+  EXPECT_GT(E_below, 5.0 * E_above);
+  e.refresh(below);  // a re-query keeps the sides of the pairs it still finds
+  EXPECT_DOUBLE_EQ(e.evaluate(below, nullptr, nullptr), E_below);
+
+  auto u = two_sheets(contact("self_vertex_face", "unsigned", "analytic", false), 0.008);
+  begin(*u);
+  Effect& eu = *u->simulation.effects[0];
+  EXPECT_NEAR(eu.evaluate(below, nullptr, nullptr), eu.evaluate(above, nullptr, nullptr),
+              1e-9 * eu.evaluate(above, nullptr, nullptr));
+}
+
+TEST(Contact, BarrierStepNeverReachesZeroDistance) {
+  auto s = two_sheets(contact("self_vertex_face", "unsigned", "analytic", true, "log_barrier"), 0.008);
+  begin(*s);
+  Effect& e = *s->simulation.effects[0];
+  const Eigen::Matrix3Xd x = s->simulation.x;
+  const Eigen::Matrix3Xd dx = lift_b(x, -0.05) - x;  // straight through the other sheet
+  const double t = e.max_step(x, dx);
+  EXPECT_GT(t, 0.0);
+  EXPECT_LT(t, 0.16);  // the sheets touch at t = 0.16
+  EXPECT_TRUE(std::isfinite(e.evaluate(x + t * dx, nullptr, nullptr)));
+  EXPECT_FALSE(std::isfinite(e.evaluate(lift_b(x, -0.008), nullptr, nullptr)));  // touching: infinite
+}
+
+TEST(Contact, PairsAreCountedOnlyForDeclaredKinds) {
+  auto s = two_sheets(contact("self_edge_edge", "unsigned", "analytic", false), 0.008);
+  const long vf = instrumentation().vertex_face_pairs_evaluated, ee = instrumentation().edge_edge_pairs_evaluated;
+  begin(*s);
+  s->simulation.effects[0]->evaluate(s->simulation.x, nullptr, nullptr);
+  EXPECT_EQ(instrumentation().vertex_face_pairs_evaluated, vf);
+  EXPECT_GT(instrumentation().edge_edge_pairs_evaluated, ee);
+}
