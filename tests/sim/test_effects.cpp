@@ -222,6 +222,35 @@ TEST(Stretching, HessianIsPsdEverywhere) {
   expect_psd(*e, squeezed);
 }
 
+/// The symmetric matrix with `H`'s eigenvalues clamped at 0 (the numerical reference).
+MatrixXd projected(const MatrixXd& H) {
+  const Eigen::SelfAdjointEigenSolver<MatrixXd> es(H);
+  return es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
+}
+
+TEST(Stretching, ClosedFormEqualsTheNumericalProjectionInFSpace) {
+  // One rest triangle with D_m = I: with x0 = 0 the columns of F are x1 and x2, so the
+  // Hessian's (x1, x2) block is the F-space Hessian, whose eigenvalue clamping the closed
+  // form must reproduce in compressed, mixed and stretched states.
+  Model m;
+  m.rest.setZero(3, 3);
+  m.rest(0, 1) = 1;
+  m.rest(1, 2) = 1;
+  m.triangles = Eigen::Vector3i(0, 1, 2);
+  m.mass = Eigen::VectorXd::Ones(3);
+  auto e = build(make_stretching, R"({"type":"stretching","stiffness":3})", m);
+  for (unsigned seed = 1; seed <= 6; ++seed)
+    for (double s : {0.4, 0.8, 1.1, 1.6}) {
+      Matrix3Xd x = perturbed(rigid(m.rest, s), 0.15, seed);
+      x.col(1) -= x.col(0);
+      x.col(2) -= x.col(0);
+      x.col(0).setZero();
+      const MatrixXd H = hessian(*e, x).bottomRightCorner(6, 6);
+      const MatrixXd P = projected(fd_hessian(*e, x).bottomRightCorner(6, 6));
+      EXPECT_LT(rel_error(H, P), 1e-5) << "scale " << s << " seed " << seed;
+    }
+}
+
 TEST(Stretching, DegenerateTrianglesStayFinite) {
   const Model m = cloth(2, 2);
   auto e = build(make_stretching, R"({"type":"stretching","stiffness":7})", m);
