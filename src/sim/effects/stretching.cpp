@@ -55,9 +55,21 @@ inline double arap_triangle(const Eigen::Matrix3d& X, const Matrix32& D, double 
   // V and σ₁ from the 2×2 FᵀF = [[a, b], [b, c]]; σ₂ = |F₀ × F₁|/σ₁ avoids the cancellation
   // of √λ₂ for thin triangles.
   const double a = F.col(0).squaredNorm(), b = F.col(0).dot(F.col(1)), c = F.col(1).squaredNorm();
-  const double angle = 0.5 * std::atan2(2 * b, a - c);
-  const Eigen::Vector2d v1(std::cos(angle), std::sin(angle)), v2(-v1[1], v1[0]);
-  const double s1 = std::sqrt(0.5 * (a + c) + std::hypot(0.5 * (a - c), b));
+  // v₁ = (cos ϑ, sin ϑ) with tan 2ϑ = 2b/(a − c), by half-angle formulas (no trigonometry),
+  // taking the larger of cos ϑ, sin ϑ from its square root to avoid cancellation.
+  const double p = 0.5 * (a - c), r = std::sqrt(p * p + b * b);
+  Eigen::Vector2d v1(1.0, 0.0);
+  if (r > 0) {
+    if (p >= 0) {
+      v1[0] = std::sqrt(0.5 * (r + p) / r);
+      v1[1] = b / (2 * r * v1[0]);
+    } else {
+      v1[1] = std::sqrt(0.5 * (r - p) / r);
+      v1[0] = b / (2 * r * v1[1]);
+    }
+  }
+  const Eigen::Vector2d v2(-v1[1], v1[0]);
+  const double s1 = std::sqrt(0.5 * (a + c) + r);
   const Eigen::Vector3d n = F.col(0).cross(F.col(1));
   const double area2 = n.norm();
   const double s2 = s1 > 0 ? area2 / s1 : 0.0;

@@ -84,7 +84,14 @@ bool meet(const Eigen::Vector3i& a, const Eigen::Vector3i& b, const Point* pa, c
     const Point &c = pa[ka[0]], &d = pb[kb[0]], &p = pa[ka[1]], &q = pa[ka[2]];
     return CGAL::orientation(p, q, c, d) == CGAL::COPLANAR && CGAL::coplanar_orientation(p, q, c, d) == CGAL::POSITIVE;
   }
-  // Shared vertex: either opposite edge meets the other triangle.
+  // Shared vertex v. If one triangle's other two vertices lie strictly on one side of the
+  // other's plane, it meets that plane only at v (two orientations decide most pairs).
+  const Point &v = pa[ka[2]], &b1 = pa[ka[0]], &c1 = pa[ka[1]], &e2 = pb[kb[0]], &f2 = pb[kb[1]];
+  const CGAL::Orientation e_side = CGAL::orientation(v, b1, c1, e2);
+  if (e_side != CGAL::COPLANAR && CGAL::orientation(v, b1, c1, f2) == e_side) return false;
+  const CGAL::Orientation b_side = CGAL::orientation(v, e2, f2, b1);
+  if (b_side != CGAL::COPLANAR && CGAL::orientation(v, e2, f2, c1) == b_side) return false;
+  // Otherwise: either opposite edge meets the other triangle.
   return CGAL::do_intersect(Segment(pa[ka[0]], pa[ka[1]]), triangle(hb)) ||
          CGAL::do_intersect(Segment(pb[kb[0]], pb[kb[1]]), triangle(ha));
 }
@@ -128,6 +135,10 @@ std::vector<Hull> hulls(const Eigen::Matrix3Xd& x, const std::vector<Point>& p, 
   }
   return h;
 }
+
+/// Below this many boxes the box intersection scans instead of recursing (CGAL's default is
+/// 10; 200 measured 25-30 % faster on a crumpled 100 x 100 grid).
+constexpr std::ptrdiff_t box_cutoff = 200;
 
 /// A closed box around one triangle; `id` must be unique among the boxes compared.
 struct Box : CGAL::Box_intersection_d::Box_d<double, 3, CGAL::Box_intersection_d::ID_NONE> {
@@ -174,11 +185,14 @@ long intersecting_triangle_pairs(const Eigen::Matrix3Xd& x, const Eigen::Matrix3
   const std::vector<Hull> h = hulls(x, p, triangles);
   std::vector<Box> b = boxes(h, 0);
   long count = 0;
-  CGAL::box_self_intersection_d(b.begin(), b.end(), [&](const Box& s, const Box& t) {
-    const Corners cs = corners(p, triangles, s.index), ct = corners(p, triangles, t.index);
-    count += meet(triangles.col(s.index), triangles.col(t.index), cs.p, ct.p, h[static_cast<std::size_t>(s.index)],
-                  h[static_cast<std::size_t>(t.index)]);
-  });
+  CGAL::box_self_intersection_d(
+      b.begin(), b.end(),
+      [&](const Box& s, const Box& t) {
+        const Corners cs = corners(p, triangles, s.index), ct = corners(p, triangles, t.index);
+        count += meet(triangles.col(s.index), triangles.col(t.index), cs.p, ct.p,
+                      h[static_cast<std::size_t>(s.index)], h[static_cast<std::size_t>(t.index)]);
+      },
+      CGAL::Box_intersection_d::Box_traits_d<Box>(), box_cutoff, CGAL::Box_intersection_d::CLOSED);
   return count;
 }
 
@@ -190,9 +204,13 @@ long intersecting_triangle_pairs(const Eigen::Matrix3Xd& x, const Eigen::Matrix3
   const std::vector<Hull> h = hulls(x, p, triangles), g = hulls(obstacle_vertices, q, obstacle_triangles);
   std::vector<Box> b = boxes(h, 0), c = boxes(g, h.size());
   long count = 0;
-  CGAL::box_intersection_d(b.begin(), b.end(), c.begin(), c.end(), [&](const Box& s, const Box& t) {
-    count += meet(h[static_cast<std::size_t>(s.index)], g[static_cast<std::size_t>(t.index)]);
-  });
+  CGAL::box_intersection_d(
+      b.begin(), b.end(), c.begin(), c.end(),
+      [&](const Box& s, const Box& t) {
+        count += meet(h[static_cast<std::size_t>(s.index)], g[static_cast<std::size_t>(t.index)]);
+      },
+      CGAL::Box_intersection_d::Box_traits_d<Box>(), box_cutoff, CGAL::Box_intersection_d::CLOSED,
+      CGAL::Box_intersection_d::BIPARTITE);
   return count;
 }
 

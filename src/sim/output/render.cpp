@@ -134,10 +134,16 @@ void draw_triangles(const RenderMesh& m, const Camera& cam, const Lights& lights
     const int x1 = std::min(canvas.w - 1, static_cast<int>(std::ceil(std::max({a.x(), b.x(), c.x()}))));
     const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}))));
     const int y1 = std::min(canvas.h - 1, static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}))));
-    for (int y = y0; y <= y1; ++y)
+    // Barycentric coordinates are affine on the screen: stepped along each row.
+    const double inverse_area = 1.0 / area;
+    const double d0 = (b.y() - c.y()) * inverse_area, d1 = (c.y() - a.y()) * inverse_area,
+                 d2 = (a.y() - b.y()) * inverse_area;
+    for (int y = y0; y <= y1; ++y) {
+      const Eigen::Vector2d q0(x0 + 0.5, y + 0.5);
+      double l0 = edge(b, c, q0) * inverse_area - d0, l1 = edge(c, a, q0) * inverse_area - d1,
+             l2 = edge(a, b, q0) * inverse_area - d2;
       for (int x = x0; x <= x1; ++x) {
-        const Eigen::Vector2d q(x + 0.5, y + 0.5);
-        const double l0 = edge(b, c, q) / area, l1 = edge(c, a, q) / area, l2 = edge(a, b, q) / area;
+        l0 += d0, l1 += d1, l2 += d2;
         if (l0 < 0 || l1 < 0 || l2 < 0) continue;
         const double w = l0 * s[0].z() + l1 * s[1].z() + l2 * s[2].z();
         const std::size_t at = canvas.at(x, y);
@@ -155,6 +161,7 @@ void draw_triangles(const RenderMesh& m, const Camera& cam, const Lights& lights
         canvas.inverse_depth[at] = static_cast<float>(w);
         canvas.color[at] = (light * base).cwiseMin(1.0).cast<float>();
       }
+    }
   }
 }
 
@@ -221,7 +228,7 @@ void render_png(const std::string& path, const std::vector<RenderMesh>& meshes, 
       const Eigen::Vector3f c = sum / static_cast<float>(ss * ss);
       for (int k = 0; k < 3; ++k)
         pixels[(static_cast<std::size_t>(y) * opts.width + x) * 3 + k] =
-            static_cast<std::uint8_t>(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
+            static_cast<std::uint8_t>(std::clamp(c[k], 0.0f, 1.0f) * 255.0f + 0.5f);
     }
   if (stbi_write_png(path.c_str(), opts.width, opts.height, 3, pixels.data(), opts.width * 3) == 0)
     throw std::runtime_error(path + ": cannot write PNG");

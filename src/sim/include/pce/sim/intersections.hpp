@@ -41,7 +41,8 @@ namespace pce::sim {
 /// The number of unordered pairs {i, j}, i ≠ j, of triangles (columns of `triangles`,
 /// indices into the columns of `x`) that intersect under the rules above.
 /// Throws `std::invalid_argument` if an index is out of range.
-/// @note Exact; about 10 ms for a crumpled 100 × 100 grid (20 000 triangles).
+/// @note Exact; about 45 ms for a crumpled 100 × 100 grid (20 000 triangles, ~190 000
+/// candidate pairs), of which ~30 ms is the box intersection.
 long intersecting_triangle_pairs(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& triangles);
 
 /// The number of pairs (cloth triangle i, obstacle triangle j) that intersect as closed sets
