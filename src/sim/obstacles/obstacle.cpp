@@ -86,25 +86,30 @@ SurfaceDistance capsule_distance(double r, double l, const Eigen::Vector3d& q) {
   return {-r, Eigen::Vector3d::UnitX()};
 }
 
-/// Unsigned distance to the nearest triangle (brute force over the triangles).
+/// Unsigned distance to the nearest triangle (brute force over the triangles). When the
+/// closest point is inside a triangle (the face region), the offset is computed as the
+/// projection ((q − a)·n̂) n̂ on the unit normal n̂ rather than q minus the barycentric
+/// point: it is then exactly along n̂ and exactly zero for points on an axis-aligned face,
+/// where the barycentric point would leave a rounding residue pointing anywhere.
 SurfaceDistance mesh_distance(const Mesh& mesh, const Eigen::Vector3d& q) {
   SurfaceDistance best{std::numeric_limits<double>::infinity(), Eigen::Vector3d::UnitZ()};
-  double best2 = std::numeric_limits<double>::infinity();
   for (Eigen::Index t = 0; t < mesh.triangles.cols(); ++t) {
     const Eigen::Vector3d a = mesh.positions.col(mesh.triangles(0, t)), b = mesh.positions.col(mesh.triangles(1, t)),
                           c = mesh.positions.col(mesh.triangles(2, t));
-    const Eigen::Vector3d diff = q - closest_on_triangle(q, a, b, c);
-    const double d2 = diff.squaredNorm();
-    if (!(d2 < best2)) continue;
-    best2 = d2;
-    const double len = std::sqrt(d2);
-    best.distance = len;
-    if (len > 0) {
-      best.normal = diff / len;
-    } else {
-      const Eigen::Vector3d n = (b - a).cross(c - a);
-      best.normal = n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d cross = (b - a).cross(c - a);
+    const double area2 = cross.norm();
+    const Eigen::Vector3d unit = area2 > 0 ? Eigen::Vector3d(cross / area2) : Eigen::Vector3d::UnitZ();
+    Eigen::Vector3d diff = q - closest_on_triangle(q, a, b, c);
+    if (area2 > 0) {
+      const double height = (q - a).dot(unit);
+      const Eigen::Vector3d in_plane = diff - height * unit;
+      // Face region: q − closest is (up to rounding) along the normal.
+      if (in_plane.norm() <= 1e-12 * (diff.norm() + (b - a).norm() + (c - a).norm())) diff = height * unit;
     }
+    const double len = diff.norm();
+    if (!(len < best.distance)) continue;
+    best.distance = len;
+    best.normal = len > 0 ? Eigen::Vector3d(diff / len) : unit;
   }
   return best;
 }
