@@ -52,6 +52,7 @@ void begin(Scene& s) {
 }
 
 Eigen::MatrixXd dense_hessian(Effect& e, const Eigen::Matrix3Xd& x) {
+  e.update_pattern(x);  // the pairs active at x join the pattern
   Pattern p;
   e.declare(p);
   BlockHessian H;

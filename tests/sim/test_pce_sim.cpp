@@ -63,7 +63,9 @@ TEST_P(ShippedScene, ShortVariantRunsWithFiniteStats) {
                             "assembly_ms", "solve_ms", "intersecting_triangle_pairs", "contacts", "effects"})
       EXPECT_TRUE(r.contains(key)) << key;
     EXPECT_TRUE(r["energy"].is_number() && std::isfinite(r["energy"].get<double>()));
-    if (single) EXPECT_EQ(r["newton_iterations"].get<int>(), 1);
+    if (single) {
+      EXPECT_EQ(r["newton_iterations"].get<int>(), 1);
+    }
     std::set<std::string> evaluated;
     for (auto it = r["effects"].begin(); it != r["effects"].end(); ++it) {
       evaluated.insert(it.key());

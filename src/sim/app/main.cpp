@@ -140,7 +140,8 @@ int main(int argc, char** argv) {
   }
   Simulation& sim = scene->simulation;
   const std::filesystem::path dir =
-      out_dir.empty() ? std::filesystem::path("pce-sim-out") / std::filesystem::path(scene_file).stem() : out_dir;
+      out_dir.empty() ? std::filesystem::path("pce-sim-out") / std::filesystem::path(scene_file).stem()
+                      : std::filesystem::path(out_dir);
   json stats = json::array();
   const auto started = std::chrono::steady_clock::now();
   int status = 0;

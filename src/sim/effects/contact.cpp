@@ -41,6 +41,7 @@ struct ContactSpec {
   bool signed_length = false;
   bool closest_features = false;
   Projection hessian = Projection::analytic;
+  bool exclude_rest_neighbours = true;
 };
 
 /// Per-pair result of one evaluation, written by exactly one thread.
@@ -55,7 +56,23 @@ struct PairOut {
 template <bool VF> class SelfContact final : public Effect {
  public:
   SelfContact(const ContactSpec& spec, const BuildContext& ctx)
-      : spec_(spec), model_(ctx.model), broad_phase_(make_broad_phase(ctx.broad_phase)) {}
+      : spec_(spec), model_(ctx.model), broad_phase_(make_broad_phase(ctx.broad_phase)) {
+    if (spec_.exclude_rest_neighbours) {
+      // Pairs of one mesh that are already within the query radius in the rest shape (a
+      // sheet's neighbours two or three edges apart) are never candidates: they would
+      // dominate the candidate set and cannot fold onto each other without bending the
+      // cloth at the scale of its own edges.
+      std::vector<int> mesh_of(static_cast<std::size_t>(model_->vertex_count()));
+      for (std::size_t m = 0; m < model_->meshes.size(); ++m)
+        for (int i = 0; i < model_->meshes[m].vertex_count; ++i)
+          mesh_of[static_cast<std::size_t>(model_->meshes[m].first_vertex + i)] = static_cast<int>(m);
+      std::vector<std::array<int, 2>> rest;
+      query_pairs(model_->rest, rest);
+      for (const auto& c : rest)
+        if (mesh_of[static_cast<std::size_t>(vertices(c)[0])] == mesh_of[static_cast<std::size_t>(vertices(c)[VF ? 1 : 2])])
+          excluded_.push_back(c);
+    }
+  }
 
   const char* name() const override { return VF ? "self_vertex_face" : "self_edge_edge"; }
 
@@ -76,7 +93,22 @@ template <bool VF> class SelfContact final : public Effect {
   }
 
   void declare(Pattern& pattern) const override {
-    for (const auto& c : pairs_) pattern.add(vertices(c));
+    for (std::size_t k = 0; k < pairs_.size(); ++k)
+      if (declared_[k]) pattern.add(vertices(pairs_[k]));
+  }
+
+  bool update_pattern(const Eigen::Matrix3Xd& x) override {
+    // Only pairs that are active (within 10 % of it) at x couple their vertices; the
+    // candidates' in-sheet neighbours never do, and declaring them all would multiply the
+    // factorisation's fill-in.
+    const long n = static_cast<long>(pairs_.size());
+    if (near_.size() < pairs_.size()) near_.resize(pairs_.size());
+#pragma omp parallel for schedule(dynamic, 256)
+    for (long k = 0; k < n; ++k) near_[static_cast<std::size_t>(k)] = is_near(x, k, 1.1 * spec_.penalty.distance);
+    bool grew = false;
+    for (std::size_t k = 0; k < pairs_.size(); ++k)
+      if (near_[k] && !declared_[k]) declared_[k] = 1, grew = true;
+    return grew;
   }
 
   double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) override {
@@ -100,6 +132,7 @@ template <bool VF> class SelfContact final : public Effect {
       ++active;
       energy += o.energy;
       min_length = std::min(min_length, o.length);
+      if (!std::isfinite(o.energy)) continue;  // a barrier at distance 0: E = ∞, nothing to add
       const auto v = vertices(pairs_[static_cast<std::size_t>(k)]);
       if (gradient)
         for (int j = 0; j < 4; ++j) gradient->col(v[static_cast<std::size_t>(j)]) += o.g.segment<3>(3 * j);
@@ -141,6 +174,7 @@ template <bool VF> class SelfContact final : public Effect {
   void report(EffectCounters& c) const override {
     const std::string kind = VF ? "vertex_face" : "edge_edge";
     c[kind + "_candidates"] = static_cast<double>(pairs_.size());
+    c[kind + "_declared"] = static_cast<double>(std::count(declared_.begin(), declared_.end(), char(1)));
     c[kind + "_contacts"] = static_cast<double>(stats_.active);
     c[kind + "_min_distance"] = stats_.min_length;
     c["broad_phase_ms"] = stats_.broad_phase_ms;
@@ -176,29 +210,47 @@ template <bool VF> class SelfContact final : public Effect {
     else return f.beta >= 0 && f.beta <= 1 && f.gamma <= 0 && f.gamma >= -1;
   }
 
+  void query_pairs(const Eigen::Matrix3Xd& x, std::vector<std::array<int, 2>>& out) {
+    const double r = spec_.penalty.distance + margin();
+    if constexpr (VF) broad_phase_->vertex_face(x, model_->triangles, r, out);
+    else broad_phase_->edge_edge(x, model_->edges, r, out);
+  }
+
   void query() {
     const auto t0 = Clock::now();
-    const double r = spec_.penalty.distance + margin();
     std::vector<std::array<int, 2>> fresh;
-    if constexpr (VF) broad_phase_->vertex_face(query_at_, model_->triangles, r, fresh);
-    else broad_phase_->edge_edge(query_at_, model_->edges, r, fresh);
+    query_pairs(query_at_, fresh);
+    if (!excluded_.empty()) {  // both sorted: one merge pass
+      std::size_t w = 0, e = 0;
+      for (std::size_t k = 0; k < fresh.size(); ++k) {
+        while (e < excluded_.size() && excluded_[e] < fresh[k]) ++e;
+        if (e < excluded_.size() && excluded_[e] == fresh[k]) continue;
+        fresh[w++] = fresh[k];
+      }
+      fresh.resize(w);
+    }
     // Sides: kept for pairs already tracked, recorded from xⁿ for new ones (both lists
     // are sorted, so one merge pass).
+    // Pairs already tracked keep their side and their place in the pattern (so a lasting
+    // contact does not force a new symbolic factorisation every step); new pairs get their
+    // side from xⁿ. Both lists are sorted: one merge pass.
     std::vector<signed char> sides(fresh.size(), 1);
-    if (spec_.signed_length) {
-      std::size_t old = 0;
-      for (std::size_t k = 0; k < fresh.size(); ++k) {
-        while (old < pairs_.size() && pairs_[old] < fresh[k]) ++old;
-        if (old < pairs_.size() && pairs_[old] == fresh[k]) {
-          sides[k] = sides_[old];
-          continue;
-        }
-        Frame<double> f;
-        if (Kind::frame(gather(*x_start_, vertices(fresh[k])), f) == Status::ok && f.l < 0) sides[k] = -1;
+    std::vector<char> declared(fresh.size(), 0);
+    std::size_t old = 0;
+    for (std::size_t k = 0; k < fresh.size(); ++k) {
+      while (old < pairs_.size() && pairs_[old] < fresh[k]) ++old;
+      if (old < pairs_.size() && pairs_[old] == fresh[k]) {
+        sides[k] = sides_[old];
+        declared[k] = declared_[old];
+        continue;
       }
+      Frame<double> f;
+      if (spec_.signed_length && Kind::frame(gather(*x_start_, vertices(fresh[k])), f) == Status::ok && f.l < 0)
+        sides[k] = -1;
     }
     pairs_ = std::move(fresh);
     sides_ = std::move(sides);
+    declared_ = std::move(declared);
     stats_.queries += 1;
     ++instrumentation().broad_phase_queries;
     stats_.broad_phase_ms += ms_since(t0);
@@ -225,11 +277,8 @@ template <bool VF> class SelfContact final : public Effect {
       return;
     }
     Frame<double> f;
-    if (Kind::frame(xp, f) != Status::ok || !inside(f)) return;
-    const double sigma = spec_.signed_length ? static_cast<double>(sides_[static_cast<std::size_t>(k)]) : (f.l < 0 ? -1.0 : 1.0);
-    const double L = sigma * f.l;
-    // Beyond the activation distance, or (signed) deeper than the query radius: inactive.
-    if (!(L < d) || L < -(d + margin())) return;
+    double sigma = 1;
+    if (!plane_active(xp, k, d, f, sigma)) return;
     PairEnergy<double> e;
     Status s;
     if (spec_.signed_length)
@@ -244,6 +293,38 @@ template <bool VF> class SelfContact final : public Effect {
     o.g = energy_gradient(e);
     if (want_h) o.H = projected_hessian(e, spec_.hessian);
   }
+
+  /// Plane mode: the frame exists and is well conditioned (edges at least ~3° from
+  /// parallel: nearer, the line distance and its closest points are ill-conditioned and the
+  /// frame's normal flips without any crossing), the closest points of the plane (line)
+  /// distance lie inside the primitives, and L = σ l is below `limit` and (signed) not
+  /// deeper than the query radius.
+  bool plane_active(const Vec12<double>& xp, long k, double limit, Frame<double>& f, double& sigma) const {
+    if (Kind::frame(xp, f) != Status::ok || !inside(f) || !detail::foot_consistent<Kind>(xp, f)) return false;
+    if constexpr (!VF) {
+      const Eigen::Vector3d e0 = xp.segment<3>(3) - xp.segment<3>(0), e1 = xp.segment<3>(9) - xp.segment<3>(6);
+      if (e0.cross(e1).squaredNorm() < kParallelSin2 * e0.squaredNorm() * e1.squaredNorm()) return false;
+    }
+    sigma = spec_.signed_length ? static_cast<double>(sides_[static_cast<std::size_t>(k)]) : (f.l < 0 ? -1.0 : 1.0);
+    const double L = sigma * f.l;
+    return L < limit && L >= -(spec_.penalty.distance + margin());
+  }
+
+  /// Whether candidate k is active (length below `limit`) at x.
+  bool is_near(const Eigen::Matrix3Xd& x, long k, double limit) const {
+    const Vec12<double> xp = gather(x, vertices(pairs_[static_cast<std::size_t>(k)]));
+    if (spec_.closest_features) {
+      ClosestFeatureEnergy<double> ce;
+      const QuadraticPenalty probe{1.0, 0.0};
+      const Status s = closest_feature_energy<Kind>(xp, UnsignedLength{}, probe, ce);
+      return s == Status::degenerate || (s == Status::ok && ce.length < limit);
+    }
+    Frame<double> f;
+    double sigma = 1;
+    return plane_active(xp, k, limit, f, sigma);
+  }
+
+  static constexpr double kParallelSin2 = 0.05 * 0.05;
 
   static void fail_infinite(PairOut& o) {
     // A barrier evaluated at L ≤ 0: infinite energy, which the line search rejects.
@@ -266,17 +347,20 @@ template <bool VF> class SelfContact final : public Effect {
   const Eigen::Matrix3Xd* x_start_ = nullptr;
   Eigen::Matrix3Xd query_at_;
   std::vector<std::array<int, 2>> pairs_;
+  std::vector<std::array<int, 2>> excluded_;  ///< same-mesh pairs within the query radius at rest, sorted
   std::vector<signed char> sides_;
+  std::vector<char> declared_, near_;  ///< per candidate: in the pattern; near contact at the last check
   std::vector<PairOut> out_;
   Stats stats_;
 };
 
 ContactSpec parse_contact(const Params& p) {
-  p.only({"type", "penalty", "length", "hessian", "closest_features"});
+  p.only({"type", "penalty", "length", "hessian", "closest_features", "exclude_rest_neighbours"});
   ContactSpec s;
   s.penalty = parse_penalty(p.object("penalty"));
   s.signed_length = p.choice("length", {"unsigned", "signed"}, std::string("unsigned")) == "signed";
   s.closest_features = p.boolean("closest_features", false);
+  s.exclude_rest_neighbours = p.boolean("exclude_rest_neighbours", true);
   const std::string h = p.choice("hessian", {"analytic", "exact", "numerical", "gauss_newton", "abs"}, std::string("analytic"));
   s.hessian = h == "exact"          ? Projection::exact
               : h == "numerical"    ? Projection::numerical

@@ -187,7 +187,7 @@ std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::strin
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // syntax errors, numbers beyond double's range
     throw InputError(name, "", std::string("not valid JSON: ") + e.what());
   }
   const Params root(j, name, "");

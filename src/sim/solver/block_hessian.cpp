@@ -7,7 +7,12 @@
 
 namespace pce::sim {
 
-void BlockHessian::set_pattern(int n, const Pattern& pattern) {
+bool BlockHessian::set_pattern(int n, const Pattern& pattern) {
+  if (n == n_ && m_.rows() == 3 * static_cast<Eigen::Index>(n) && pattern.pairs() == last_) {
+    set_zero();
+    return false;
+  }
+  last_ = pattern.pairs();
   n_ = n;
   // Block columns: for each j the sorted unique rows i ≤ j, the diagonal always included.
   std::vector<std::uint64_t> keys = pattern.pairs();
@@ -45,6 +50,7 @@ void BlockHessian::set_pattern(int n, const Pattern& pattern) {
       }
     }
   m_.makeCompressed();
+  return true;
 }
 
 void BlockHessian::set_zero() {

@@ -10,6 +10,8 @@
 #include <omp.h>
 
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -82,6 +84,7 @@ FrameStats Simulation::step() {
   const auto t_frame = Clock::now();
   if (!linear_) linear_ = std::make_shared<LinearState>();
   if (solver.threads > 0) omp_set_num_threads(solver.threads);
+  static const bool trace_ = std::getenv("PCE_SIM_TRACE") != nullptr;  // one line per Newton iteration on stderr
   LinearState& ls = *linear_;
   const int n = model.vertex_count();
   const double h = solver.dt;
@@ -112,8 +115,7 @@ FrameStats Simulation::step() {
     const auto t0 = Clock::now();
     Pattern pattern;
     for (const auto& e : effects) e->declare(pattern);
-    ls.H.set_pattern(n, pattern);
-    ls.analyzed = false;
+    if (ls.H.set_pattern(n, pattern)) ls.analyzed = false;
     st.assembly_ms += ms_since(t0);
   };
   rebuild_pattern();
@@ -123,7 +125,15 @@ FrameStats Simulation::step() {
   const int cap = solver.single_solve ? 1 : std::max(1, solver.max_iterations);
   double E_accepted = 0;
   for (int it = 0; it < cap; ++it) {
-    // Gradient and Hessian: inertia, then every effect.
+    // Gradient and Hessian: inertia, then every effect (the pattern grows with the
+    // active contacts).
+    bool grew = false;
+    for (std::size_t k = 0; k < effects.size(); ++k) {
+      const auto tp = Clock::now();
+      grew = effects[k]->update_pattern(y) || grew;
+      effect_ms[k] += ms_since(tp);
+    }
+    if (grew) rebuild_pattern();
     auto t0 = Clock::now();
     ls.H.set_zero();
     ls.H.add_diagonal(mass3_);
@@ -169,6 +179,8 @@ FrameStats Simulation::step() {
       }
     }
     st.line_search_ms += ms_since(t0);
+    if (trace_)
+      std::fprintf(stderr, "  it %d E %.9g slope %.3g alpha %.3g residual %.3g accepted %d\n", it, E, slope, alpha, st.residual, accepted);
     if (!accepted) {
       ++st.line_search_failures;
       break;
@@ -209,6 +221,7 @@ FrameStats Simulation::step() {
   st.broad_phase_ms = counter("broad_phase_ms");
   st.pair_ms = counter("pair_ms");
   st.assembly_ms += counter("scatter_ms");
+  st.counters["pattern_blocks"] = static_cast<double>(ls.H.block_count());
   st.wall_ms = ms_since(t_frame);
   return st;
 }

@@ -45,8 +45,11 @@ class Pattern {
 class BlockHessian {
  public:
   /// Builds the compressed structure for `n` vertices from `pattern` (every diagonal block
-  /// is always present, so the mass matrix fits). Values are zero afterwards.
-  void set_pattern(int n, const Pattern& pattern);
+  /// is always present, so the mass matrix fits). Values are zero afterwards. Returns false,
+  /// and keeps the structure, when `pattern` declares exactly what the previous call did
+  /// (effects declare in a fixed order, so an unchanged pattern is one comparison away):
+  /// the linear solver's symbolic analysis stays valid then.
+  bool set_pattern(int n, const Pattern& pattern);
   /// Zeroes the values, keeping the structure.
   void set_zero();
   /// Adds `H` (3K×3K, symmetric) for vertices `v`; entries of `v` < 0 are skipped.
@@ -80,6 +83,7 @@ class BlockHessian {
   Eigen::SparseMatrix<double> m_;
   std::vector<int> rows_;        ///< per block column j: its row vertices i ≤ j, sorted
   std::vector<int> row_begin_;   ///< start of block column j in rows_
+  std::vector<std::uint64_t> last_;  ///< the previous call's declarations, as given
 };
 
 }  // namespace pce::sim

@@ -28,8 +28,14 @@ class Effect {
   /// Once per time step, before Newton: update prescribed data (pin targets, releases,
   /// obstacle poses, candidate pairs).
   virtual void begin_step(const StepContext& /*ctx*/) {}
-  /// Declares the vertex tuples the Hessian couples (after `begin_step`).
+  /// Declares the vertex tuples the Hessian couples (after `begin_step`, and again whenever
+  /// `update_pattern` reports growth).
   virtual void declare(Pattern& pattern) const = 0;
+  /// Called before each Newton iteration's assembly at `x`: an effect whose coupled tuples
+  /// depend on the state (contact: only pairs that are active couple their vertices) adds
+  /// the newly active ones to what it declares and returns true, so the solver rebuilds the
+  /// pattern. Declarations only grow within a step; most iterations reuse the pattern.
+  virtual bool update_pattern(const Eigen::Matrix3Xd& /*x*/) { return false; }
   /// Returns the energy at `x` (3×n); when `gradient` is non-null adds ∇E to it, when
   /// `hessian` is non-null adds a positive-semidefinite approximation of ∇²E to it.
   virtual double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) = 0;
