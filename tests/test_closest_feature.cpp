@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <random>
 #include <set>
 
 namespace {
@@ -294,3 +295,51 @@ TEST(ClosestFeatureHardCases, FarPointsParallelEdgesNearBoundaries) {
 }
 
 }  // namespace
+
+TEST(ClosestFeature, CollinearDisjointEdgesAreTheirEndpointsApart) {
+  // Two edges on one line with a gap (a grid's anti-diagonal edges two cells apart, as in a
+  // tilted sheet): the line distance is ~0 and the frame's normal and closest points are
+  // rounding noise that can claim "inside"; the distance must still be the gap.
+  std::mt19937 rng(2026);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int noisy_frames = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    V dir(u(rng), u(rng), u(rng));
+    dir.normalize();
+    const V o(u(rng), u(rng), u(rng));
+    const double h = 0.032;
+    const pce::Vec12<double> x = four(o, o + h * dir, o + 2 * h * dir, o + 3 * h * dir);
+    pce::Frame<double> f;
+    if (pce::EdgeEdge::frame(x, f) == pce::Status::ok) ++noisy_frames;
+    const auto e = eval<pce::EdgeEdge>(x);
+    ASSERT_NEAR(e.length, (x.segment<3>(6) - x.segment<3>(3)).norm(), 1e-12) << "trial " << trial;
+    EXPECT_EQ(e.feature, pce::Feature::point_point);
+  }
+  EXPECT_GT(noisy_frames, 0) << "no trial reached the noisy frame: the test would not exercise the refusal";
+}
+
+TEST(ClosestFeature, FootConsistencyRefusesNoisyInsideClaims) {
+  // The claim a noisy frame made in a simulated hammock (edges on one anti-diagonal of a
+  // tilted grid, two cells apart): β = 1, γ = 0, l = 3.5e-4, while the claimed closest
+  // points are the gap (0.032) apart. Refused; accurate frames are accepted.
+  const V dir = V(-1, 1, 0.2).normalized();
+  const V o(0.1, -0.2, 0.05);
+  const double h = 0.032;
+  const pce::Vec12<double> x = four(o, o + h * dir, o + 2 * h * dir, o + 3 * h * dir);
+  pce::Frame<double> f;
+  f.beta = 1;
+  f.gamma = 0;
+  f.l = 3.5e-4;
+  EXPECT_FALSE(pce::detail::foot_consistent<pce::EdgeEdge>(x, f));
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int accepted_vf = 0, accepted_ee = 0;
+  for (int trial = 0; trial < 500; ++trial) {
+    const pce::Vec12<double> y = four(V(u(rng), u(rng), u(rng)), V(u(rng), u(rng), u(rng)),
+                                      V(u(rng), u(rng), u(rng)), V(u(rng), u(rng), u(rng)));
+    if (pce::VertexFace::frame(y, f) == pce::Status::ok) accepted_vf += pce::detail::foot_consistent<pce::VertexFace>(y, f);
+    if (pce::EdgeEdge::frame(y, f) == pce::Status::ok) accepted_ee += pce::detail::foot_consistent<pce::EdgeEdge>(y, f);
+  }
+  EXPECT_EQ(accepted_vf, 500);
+  EXPECT_EQ(accepted_ee, 500);
+}
