@@ -98,13 +98,13 @@ template <bool VF> class SelfContact final : public Effect {
   }
 
   bool update_pattern(const Eigen::Matrix3Xd& x) override {
-    // Only pairs that are active (within 10 % of it) at x couple their vertices; the
+    // Only pairs near activation (closer than d + m/2) at x couple their vertices; the
     // candidates' in-sheet neighbours never do, and declaring them all would multiply the
     // factorisation's fill-in.
     const long n = static_cast<long>(pairs_.size());
     if (near_.size() < pairs_.size()) near_.resize(pairs_.size());
-#pragma omp parallel for schedule(dynamic, 256)
-    for (long k = 0; k < n; ++k) near_[static_cast<std::size_t>(k)] = is_near(x, k, 1.1 * spec_.penalty.distance);
+#pragma omp parallel for schedule(static)
+    for (long k = 0; k < n; ++k) near_[static_cast<std::size_t>(k)] = is_near(x, k, near_limit());
     bool grew = false;
     for (std::size_t k = 0; k < pairs_.size(); ++k)
       if (near_[k] && !declared_[k]) declared_[k] = 1, grew = true;
@@ -117,7 +117,7 @@ template <bool VF> class SelfContact final : public Effect {
     const long n = static_cast<long>(pairs_.size());
     if (out_.size() < pairs_.size()) out_.resize(pairs_.size());
     visit_penalty(spec_.penalty, [&](const auto& penalty) {
-#pragma omp parallel for schedule(dynamic, 64)
+#pragma omp parallel for schedule(static)
       for (long k = 0; k < n; ++k) evaluate_pair(x, k, penalty, want_h, out_[static_cast<std::size_t>(k)]);
     });
     (VF ? instrumentation().vertex_face_pairs_evaluated : instrumentation().edge_edge_pairs_evaluated) += n;
@@ -188,6 +188,10 @@ template <bool VF> class SelfContact final : public Effect {
   static constexpr int first_side_count() { return VF ? 1 : 2; }
 
   double margin() const { return spec_.penalty.distance; }
+  /// Pairs closer than this join the pattern: beyond the activation distance d by half the
+  /// margin, so a contact closing in over the next iterations is usually declared already
+  /// and the pattern (and the symbolic factorisation) is rebuilt rarely.
+  double near_limit() const { return spec_.penalty.distance + 0.5 * margin(); }
 
   std::array<int, 4> vertices(const std::array<int, 2>& c) const {
     if constexpr (VF) {
@@ -234,7 +238,7 @@ template <bool VF> class SelfContact final : public Effect {
     // Pairs already tracked keep their side and their place in the pattern (so a lasting
     // contact does not force a new symbolic factorisation every step); new pairs get their
     // side from xⁿ. Both lists are sorted: one merge pass.
-    std::vector<signed char> sides(fresh.size(), 1);
+    std::vector<signed char> sides(fresh.size(), 0);
     std::vector<char> declared(fresh.size(), 0);
     std::size_t old = 0;
     for (std::size_t k = 0; k < fresh.size(); ++k) {
@@ -242,15 +246,12 @@ template <bool VF> class SelfContact final : public Effect {
       if (old < pairs_.size() && pairs_[old] == fresh[k]) {
         sides[k] = sides_[old];
         declared[k] = declared_[old];
-        continue;
       }
-      Frame<double> f;
-      if (spec_.signed_length && Kind::frame(gather(*x_start_, vertices(fresh[k])), f) == Status::ok && f.l < 0)
-        sides[k] = -1;
     }
     pairs_ = std::move(fresh);
     sides_ = std::move(sides);
     declared_ = std::move(declared);
+    if (spec_.signed_length) settle_sides(*x_start_);
     stats_.queries += 1;
     ++instrumentation().broad_phase_queries;
     stats_.broad_phase_ms += ms_since(t0);
@@ -294,6 +295,25 @@ template <bool VF> class SelfContact final : public Effect {
     if (want_h) o.H = projected_hessian(e, spec_.hessian);
   }
 
+  /// Signed length: a pair's side is fixed the first time the start of a step (a state the
+  /// solver accepted) has the vertex over the face (the edges' closest points inside both)
+  /// at a distance above rounding; until then it is unknown (0) and the pair is evaluated
+  /// unsigned. Recording the side when the pair merely enters the candidate set would
+  /// take it from the sign of l beside the face, where it means nothing (a sheet's own
+  /// coplanar neighbours would get random sides and "penetrate" when the sheet folds).
+  void settle_sides(const Eigen::Matrix3Xd& x) {
+    const long n = static_cast<long>(pairs_.size());
+#pragma omp parallel for schedule(dynamic, 256)
+    for (long k = 0; k < n; ++k) {
+      signed char& side = sides_[static_cast<std::size_t>(k)];
+      if (side != 0) continue;
+      const Vec12<double> xp = gather(x, vertices(pairs_[static_cast<std::size_t>(k)]));
+      Frame<double> f;
+      if (Kind::frame(xp, f) != Status::ok || !inside(f) || !detail::foot_consistent<Kind>(xp, f)) continue;
+      if (std::abs(f.l) > 1e-3 * spec_.penalty.distance) side = f.l < 0 ? -1 : 1;
+    }
+  }
+
   /// Plane mode: the frame exists and is well conditioned (edges at least ~3° from
   /// parallel: nearer, the line distance and its closest points are ill-conditioned and the
   /// frame's normal flips without any crossing), the closest points of the plane (line)
@@ -305,7 +325,8 @@ template <bool VF> class SelfContact final : public Effect {
       const Eigen::Vector3d e0 = xp.segment<3>(3) - xp.segment<3>(0), e1 = xp.segment<3>(9) - xp.segment<3>(6);
       if (e0.cross(e1).squaredNorm() < kParallelSin2 * e0.squaredNorm() * e1.squaredNorm()) return false;
     }
-    sigma = spec_.signed_length ? static_cast<double>(sides_[static_cast<std::size_t>(k)]) : (f.l < 0 ? -1.0 : 1.0);
+    const signed char side = spec_.signed_length ? sides_[static_cast<std::size_t>(k)] : 0;
+    sigma = side != 0 ? static_cast<double>(side) : (f.l < 0 ? -1.0 : 1.0);
     const double L = sigma * f.l;
     return L < limit && L >= -(spec_.penalty.distance + margin());
   }

@@ -31,25 +31,30 @@ bool BlockHessian::set_pattern(int n, const Pattern& pattern) {
   }
   for (int j = 0; j < n; ++j) row_begin_[j + 1] += row_begin_[j];
   // Scalar columns 3j+c: 3 rows per off-diagonal block, c+1 rows of the diagonal block.
+  // The compressed arrays are written directly (no per-entry insertion).
   const Eigen::Index size = 3 * static_cast<Eigen::Index>(n);
-  m_.resize(size, size);
-  m_.setZero();
-  Eigen::VectorXi per_column(size);
+  Eigen::Index nnz = 0;
   for (int j = 0; j < n; ++j) {
-    const int off = row_begin_[j + 1] - row_begin_[j] - 1;  // blocks above the diagonal
-    for (int c = 0; c < 3; ++c) per_column[3 * j + c] = 3 * off + c + 1;
+    const Eigen::Index off = row_begin_[j + 1] - row_begin_[j] - 1;  // blocks above the diagonal
+    nnz += 3 * (3 * off) + 6;
   }
-  m_.reserve(per_column);
+  m_ = Eigen::SparseMatrix<double>(size, size);
+  m_.makeCompressed();
+  m_.resizeNonZeros(nnz);
+  auto* outer = m_.outerIndexPtr();
+  auto* inner = m_.innerIndexPtr();
+  Eigen::Index at = 0;
   for (int j = 0; j < n; ++j)
     for (int c = 0; c < 3; ++c) {
-      const Eigen::Index col = 3 * j + c;
+      outer[3 * j + c] = static_cast<Eigen::SparseMatrix<double>::StorageIndex>(at);
       for (int k = row_begin_[j]; k < row_begin_[j + 1]; ++k) {
         const int i = rows_[static_cast<std::size_t>(k)];
         const int rmax = i == j ? c : 2;
-        for (int r = 0; r <= rmax; ++r) m_.insert(3 * i + r, col) = 0.0;
+        for (int r = 0; r <= rmax; ++r) inner[at++] = static_cast<Eigen::SparseMatrix<double>::StorageIndex>(3 * i + r);
       }
     }
-  m_.makeCompressed();
+  outer[size] = static_cast<Eigen::SparseMatrix<double>::StorageIndex>(at);
+  std::fill(m_.valuePtr(), m_.valuePtr() + nnz, 0.0);
   return true;
 }
 

@@ -116,7 +116,10 @@ FrameStats Simulation::step() {
     Pattern pattern;
     for (const auto& e : effects) e->declare(pattern);
     if (ls.H.set_pattern(n, pattern)) ls.analyzed = false;
-    st.assembly_ms += ms_since(t0);
+    const double ms = ms_since(t0);
+    st.assembly_ms += ms;
+    st.counters["pattern_ms"] += ms;
+    st.counters["pattern_builds"] += 1;
   };
   rebuild_pattern();
 
