@@ -3,8 +3,8 @@
 //   pce-sim SCENE.json [--out DIR] [--frames N] [--hessian S] [--broad-phase fcl|brute]
 //           [--threads T] [--single-solve] [--tolerance TOL] [--no-frames]
 // Writes DIR/frame_NNNN.obj, DIR/last_frame.png, DIR/stats.json (one record per frame) and
-// DIR/summary.json. Exit codes: 0 done; 2 invalid input (one line naming file and field,
-// nothing written); 3 the simulation failed (non-finite state or failed solve: the frames
+// DIR/summary.json. Exit codes: 0 done; 2 invalid input (one line naming file and field, or
+// the command-line option; nothing written); 3 the simulation failed (non-finite state or failed solve: the frames
 // and stats up to the failure are kept and the message names the frame); 1 anything else.
 #include <pce/sim/frames.hpp>
 #include <pce/sim/input_error.hpp>
@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);  // later values win
   app.add_option("scene", scene_file, "scene file (JSON)")->required();
   app.add_option("--out", out_dir, "output directory (default: pce-sim-out/<scene name>)");
-  app.add_option("--frames", frames, "frames to simulate (overrides the scene)")->check(CLI::PositiveNumber);
+  app.add_option("--frames", frames, "frames to simulate (overrides the scene)")->check(CLI::Range(1, 10000000));
   app.add_option("--hessian", hessian, "Hessian strategy of every contact effect")
       ->check(CLI::IsMember({"analytic", "exact", "numerical", "gauss_newton", "abs"}));
   app.add_option("--broad-phase", broad_phase, "broad phase")->check(CLI::IsMember({"fcl", "brute"}));
@@ -121,7 +121,14 @@ int main(int argc, char** argv) {
   app.add_flag("--single-solve", single_solve, "one linearised solve per step (the paper's mode)");
   app.add_option("--tolerance", tolerance, "Newton tolerance on max|dx|/(h*size), 1/s")->check(CLI::PositiveNumber);
   app.add_flag("--no-frames", no_frames, "write no per-frame meshes (stats, picture and the last frame only)");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {  // one line, exit code 2, like every invalid input
+    std::cerr << "pce-sim: command line: " << e.what() << " (see pce-sim --help)\n";
+    return 2;
+  }
 
   SceneOverrides o;
   if (frames > 0) o.frames = frames;

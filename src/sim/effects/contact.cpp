@@ -10,8 +10,9 @@
 // evaluated by pce:
 //  * plane mode (the paper's): the frame of the pair; the pair is active when the closest
 //    points of the plane (line) distance lie inside the triangle (both segments) and
-//    L < d, with L = |l| (unsigned) or L = side·l (signed, side recorded from xⁿ when the
-//    pair entered the candidate set and kept while it stays there);
+//    L < d, with L = |l| (unsigned) or L = side·l (signed: the side is settled from the
+//    first step start with the vertex over the face, and kept while the pair stays a
+//    candidate);
 //  * closest-feature mode: pce::closest_feature_energy, the distance between the primitives.
 // The Hessian is pce's projection chosen per effect (`hessian`). Pairs are evaluated in
 // parallel (OpenMP) into per-pair buffers and scattered serially into the block Hessian.
@@ -42,6 +43,7 @@ struct ContactSpec {
   bool closest_features = false;
   Projection hessian = Projection::analytic;
   bool exclude_rest_neighbours = true;
+  bool ccd = true;  ///< limit every Newton step so no pair can cross (always on for the barrier)
 };
 
 /// Per-pair result of one evaluation, written by exactly one thread.
@@ -146,19 +148,23 @@ template <bool VF> class SelfContact final : public Effect {
   }
 
   double max_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) override {
-    if (!spec_.penalty.barrier()) return 1.0;
-    // Conservative: along x + t dx the distance between two primitives changes by at most
-    // t (max |dx| over the first's vertices + max |dx| over the second's); keep 10 % of
-    // the current distance (closest features) and the candidate set valid.
+    if (!spec_.penalty.barrier() && !spec_.ccd) return 1.0;
+    // Conservative advancement (the additive-CCD bound, Li et al. 2021): along x + t dx the
+    // distance between two primitives changes by at most t (max |dx| over the first's
+    // vertices + max |dx| over the second's); keep 10 % of every candidate's current
+    // distance (closest features), and keep the candidate set valid (no vertex beyond m/2
+    // of where it was queried), so no pair — candidate or not — can cross during the step.
     double t = 1.0;
     const double drift = (x - query_at_).colwise().norm().maxCoeff();
     const double dmax = dx.colwise().norm().maxCoeff();
     if (dmax > 0) t = std::min(t, std::max(0.0, 0.5 * margin() - drift) / dmax);
-    for (const auto& c : pairs_) {
-      const auto v = vertices(c);
+    const long n = static_cast<long>(pairs_.size());
+#pragma omp parallel for schedule(static) reduction(min : t)
+    for (long k = 0; k < n; ++k) {
+      const auto v = vertices(pairs_[static_cast<std::size_t>(k)]);
       const Vec12<double> xp = gather(x, v);
       ClosestFeatureEnergy<double> ce;
-      QuadraticPenalty probe{1.0, 0.0};
+      const QuadraticPenalty probe{1.0, 0.0};
       if (closest_feature_energy<Kind>(xp, UnsignedLength{}, probe, ce) != Status::ok) continue;
       double ma = 0, mb = 0;  // largest motion on each primitive
       for (int j = 0; j < 4; ++j) {
@@ -376,12 +382,13 @@ template <bool VF> class SelfContact final : public Effect {
 };
 
 ContactSpec parse_contact(const Params& p) {
-  p.only({"type", "penalty", "length", "hessian", "closest_features", "exclude_rest_neighbours"});
+  p.only({"type", "penalty", "length", "hessian", "closest_features", "exclude_rest_neighbours", "ccd"});
   ContactSpec s;
   s.penalty = parse_penalty(p.object("penalty"));
   s.signed_length = p.choice("length", {"unsigned", "signed"}, std::string("unsigned")) == "signed";
   s.closest_features = p.boolean("closest_features", false);
   s.exclude_rest_neighbours = p.boolean("exclude_rest_neighbours", true);
+  s.ccd = p.boolean("ccd", true);
   const std::string h = p.choice("hessian", {"analytic", "exact", "numerical", "gauss_newton", "abs"}, std::string("analytic"));
   s.hessian = h == "exact"          ? Projection::exact
               : h == "numerical"    ? Projection::numerical

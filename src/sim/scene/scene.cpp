@@ -53,15 +53,20 @@ Mesh read_mesh(const Params& p, const std::string& key, const std::filesystem::p
 
 Mesh parse_generator(const Params& g) {
   const std::string type = g.choice("type", {"grid", "strands"});
-  if (type == "grid") {
-    g.only({"type", "width", "height", "nx", "ny"});
-    return grid(g.positive("width"), g.positive("height"), static_cast<int>(g.integer("nx", std::nullopt, 1, 2000)),
-                static_cast<int>(g.integer("ny", std::nullopt, 1, 2000)));
+  try {  // the generators check their own limits too; their errors are named by this field
+    if (type == "grid") {
+      g.only({"type", "width", "height", "nx", "ny"});
+      return grid(g.positive("width"), g.positive("height"), static_cast<int>(g.integer("nx", std::nullopt, 1, 4096)),
+                  static_cast<int>(g.integer("ny", std::nullopt, 1, 4096)));
+    }
+    g.only({"type", "count", "segments", "length", "spacing", "curl"});
+    return strands(static_cast<int>(g.integer("count", std::nullopt, 1, 1L << 20)),
+                   static_cast<int>(g.integer("segments", std::nullopt, 1, 1L << 16)), g.positive("length"),
+                   g.positive("spacing"), g.nonnegative("curl", 0.0));
+  } catch (const InputError& e) {
+    if (e.file() == g.file()) throw;  // already names the scene field
+    g.fail("type", e.what());
   }
-  g.only({"type", "count", "segments", "length", "spacing", "curl"});
-  return strands(static_cast<int>(g.integer("count", std::nullopt, 1, 100000)),
-                 static_cast<int>(g.integer("segments", std::nullopt, 1, 100000)), g.positive("length"),
-                 g.positive("spacing"), g.nonnegative("curl", 0.0));
 }
 
 struct MeshSpec {
