@@ -60,19 +60,10 @@ template <bool VF> class SelfContact final : public Effect {
   SelfContact(const ContactSpec& spec, const BuildContext& ctx)
       : spec_(spec), model_(ctx.model), broad_phase_(make_broad_phase(ctx.broad_phase)) {
     if (spec_.exclude_rest_neighbours) {
-      // Pairs of one mesh that are already within the query radius in the rest shape (a
-      // sheet's neighbours two or three edges apart) are never candidates: they would
-      // dominate the candidate set and cannot fold onto each other without bending the
-      // cloth at the scale of its own edges.
-      std::vector<int> mesh_of(static_cast<std::size_t>(model_->vertex_count()));
+      mesh_of_.resize(static_cast<std::size_t>(model_->vertex_count()));
       for (std::size_t m = 0; m < model_->meshes.size(); ++m)
         for (int i = 0; i < model_->meshes[m].vertex_count; ++i)
-          mesh_of[static_cast<std::size_t>(model_->meshes[m].first_vertex + i)] = static_cast<int>(m);
-      std::vector<std::array<int, 2>> rest;
-      query_pairs(model_->rest, rest);
-      for (const auto& c : rest)
-        if (mesh_of[static_cast<std::size_t>(vertices(c)[0])] == mesh_of[static_cast<std::size_t>(vertices(c)[VF ? 1 : 2])])
-          excluded_.push_back(c);
+          mesh_of_[static_cast<std::size_t>(model_->meshes[m].first_vertex + i)] = static_cast<int>(m);
     }
   }
 
@@ -80,7 +71,10 @@ template <bool VF> class SelfContact final : public Effect {
 
   void begin_step(const StepContext& ctx) override {
     x_start_ = ctx.x_start;
+    // Candidates around the inertial prediction x̃ = xⁿ + h vⁿ, where Newton ends in most
+    // steps; margin m = d.
     query_at_ = *ctx.x_start + ctx.dt * *ctx.v_start;
+    margin_ = spec_.penalty.distance;
     stats_ = {};
     query();
   }
@@ -152,12 +146,17 @@ template <bool VF> class SelfContact final : public Effect {
     // Conservative advancement (the additive-CCD bound, Li et al. 2021): along x + t dx the
     // distance between two primitives changes by at most t (max |dx| over the first's
     // vertices + max |dx| over the second's); keep 10 % of every candidate's current
-    // distance (closest features), and keep the candidate set valid (no vertex beyond m/2
-    // of where it was queried), so no pair — candidate or not — can cross during the step.
+    // distance (closest features), so no candidate pair can cross during the step. The
+    // barrier also keeps the candidate set valid (no vertex beyond m/2 of where it was
+    // queried), so no pair at all can reach distance 0; the penalties' filter covers the
+    // candidates only (those near the inertial prediction), which is what lets a falling
+    // sheet take its whole step at once.
     double t = 1.0;
-    const double drift = (x - query_at_).colwise().norm().maxCoeff();
-    const double dmax = dx.colwise().norm().maxCoeff();
-    if (dmax > 0) t = std::min(t, std::max(0.0, 0.5 * margin() - drift) / dmax);
+    if (spec_.penalty.barrier()) {  // the barrier also keeps the candidate set valid along the step
+      const double drift = (x - query_at_).colwise().norm().maxCoeff();
+      const double dmax = dx.colwise().norm().maxCoeff();
+      if (dmax > 0) t = std::min(t, std::max(0.0, 0.5 * margin() - drift) / dmax);
+    }
     const long n = static_cast<long>(pairs_.size());
 #pragma omp parallel for schedule(static) reduction(min : t)
     for (long k = 0; k < n; ++k) {
@@ -193,11 +192,11 @@ template <bool VF> class SelfContact final : public Effect {
   using Kind = std::conditional_t<VF, VertexFace, EdgeEdge>;
   static constexpr int first_side_count() { return VF ? 1 : 2; }
 
-  double margin() const { return spec_.penalty.distance; }
+  double margin() const { return margin_; }
   /// Pairs closer than this join the pattern: beyond the activation distance d by half the
   /// margin, so a contact closing in over the next iterations is usually declared already
   /// and the pattern (and the symbolic factorisation) is rebuilt rarely.
-  double near_limit() const { return spec_.penalty.distance + 0.5 * margin(); }
+  double near_limit() const { return 1.5 * spec_.penalty.distance; }
 
   std::array<int, 4> vertices(const std::array<int, 2>& c) const {
     if constexpr (VF) {
@@ -230,13 +229,25 @@ template <bool VF> class SelfContact final : public Effect {
     const auto t0 = Clock::now();
     std::vector<std::array<int, 2>> fresh;
     query_pairs(query_at_, fresh);
-    if (!excluded_.empty()) {  // both sorted: one merge pass
-      std::size_t w = 0, e = 0;
-      for (std::size_t k = 0; k < fresh.size(); ++k) {
-        while (e < excluded_.size() && excluded_[e] < fresh[k]) ++e;
-        if (e < excluded_.size() && excluded_[e] == fresh[k]) continue;
-        fresh[w++] = fresh[k];
+    if (!mesh_of_.empty()) {
+      // Pairs of one mesh closer than the query radius (at least 2d) in the rest shape (a
+      // sheet's neighbours a few edges apart) are never candidates: they would dominate the candidate set and
+      // cannot fold onto each other without bending the cloth at the scale of its edges.
+      const long n = static_cast<long>(fresh.size());
+      const double exclusion = spec_.penalty.distance + margin();
+      std::vector<char> keep(fresh.size(), 1);
+#pragma omp parallel for schedule(static)
+      for (long k = 0; k < n; ++k) {
+        const auto v = vertices(fresh[static_cast<std::size_t>(k)]);
+        if (mesh_of_[static_cast<std::size_t>(v[0])] != mesh_of_[static_cast<std::size_t>(v[VF ? 1 : 2])]) continue;
+        ClosestFeatureEnergy<double> ce;
+        const QuadraticPenalty probe{1.0, 0.0};
+        const Status st = closest_feature_energy<Kind>(gather(model_->rest, v), UnsignedLength{}, probe, ce);
+        if (st != Status::ok || ce.length < exclusion) keep[static_cast<std::size_t>(k)] = 0;
       }
+      std::size_t w = 0;
+      for (std::size_t k = 0; k < fresh.size(); ++k)
+        if (keep[k]) fresh[w++] = fresh[k];
       fresh.resize(w);
     }
     // Sides: kept for pairs already tracked, recorded from xⁿ for new ones (both lists
@@ -334,7 +345,7 @@ template <bool VF> class SelfContact final : public Effect {
     const signed char side = spec_.signed_length ? sides_[static_cast<std::size_t>(k)] : 0;
     sigma = side != 0 ? static_cast<double>(side) : (f.l < 0 ? -1.0 : 1.0);
     const double L = sigma * f.l;
-    return L < limit && L >= -(spec_.penalty.distance + margin());
+    return L < limit && L >= -2 * spec_.penalty.distance;
   }
 
   /// Whether candidate k is active (length below `limit`) at x.
@@ -374,7 +385,8 @@ template <bool VF> class SelfContact final : public Effect {
   const Eigen::Matrix3Xd* x_start_ = nullptr;
   Eigen::Matrix3Xd query_at_;
   std::vector<std::array<int, 2>> pairs_;
-  std::vector<std::array<int, 2>> excluded_;  ///< same-mesh pairs within the query radius at rest, sorted
+  std::vector<int> mesh_of_;  ///< mesh index per vertex (only with exclude_rest_neighbours)
+  double margin_ = 0;         ///< this step's candidate margin m
   std::vector<signed char> sides_;
   std::vector<char> declared_, near_;  ///< per candidate: in the pattern; near contact at the last check
   std::vector<PairOut> out_;
