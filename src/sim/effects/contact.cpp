@@ -297,12 +297,13 @@ template <bool VF> class SelfContact final : public Effect {
     Frame<double> f;
     double sigma = 1;
     if (!plane_active(xp, k, d, f, sigma)) return;
+    // pair_energy's result from the frame already built (signed with the side σ, or the
+    // unsigned length, whose σ = sgn l is the same number): no second frame.
     PairEnergy<double> e;
-    Status s;
-    if (spec_.signed_length)
-      s = pair_energy<Kind>(xp, SignedLength{sigma < 0 ? Side::negative : Side::positive}, penalty, e);
-    else
-      s = pair_energy<Kind>(xp, UnsignedLength{}, penalty, e);
+    e.frame = f;
+    e.sigma = sigma;
+    e.length = sigma * f.l;
+    const Status s = detail::evaluate_penalty(penalty, e.length, e.psi);
     if (s == Status::out_of_domain) return fail_infinite(o);
     if (s != Status::ok) return;
     o.active = true;
