@@ -25,6 +25,8 @@
 #include <pce/frames/vertex_face.hpp>
 #include <pce/sim/instrumentation.hpp>
 
+#include <omp.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -52,6 +54,13 @@ struct PairOut {
   double length = std::numeric_limits<double>::infinity();
   bool active = false;
   Vec12<double> g;
+};
+
+/// The Hessian of an active pair (k its candidate index). Kept per thread, for active pairs
+/// only: a 12×12 block per candidate would cost ~1 KiB each (0.7 GB for the hammock's
+/// candidates).
+struct PairHessian {
+  long k;
   Mat12<double> H;
 };
 
@@ -112,9 +121,18 @@ template <bool VF> class SelfContact final : public Effect {
     const bool want_h = hessian != nullptr;
     const long n = static_cast<long>(pairs_.size());
     if (out_.size() < pairs_.size()) out_.resize(pairs_.size());
+    hessians_.resize(static_cast<std::size_t>(omp_get_max_threads()));
     visit_penalty(spec_.penalty, [&](const auto& penalty) {
-#pragma omp parallel for schedule(static)
-      for (long k = 0; k < n; ++k) evaluate_pair(x, k, penalty, want_h, out_[static_cast<std::size_t>(k)]);
+#pragma omp parallel
+      {
+        std::vector<PairHessian>& mine = hessians_[static_cast<std::size_t>(omp_get_thread_num())];
+        mine.clear();
+        // static schedule: thread t owns one contiguous range of k, so reading the threads'
+        // lists in thread order scatters in k order (deterministic sums)
+#pragma omp for schedule(static)
+        for (long k = 0; k < n; ++k)
+          evaluate_pair(x, k, penalty, want_h ? &mine : nullptr, out_[static_cast<std::size_t>(k)]);
+      }
     });
     (VF ? instrumentation().vertex_face_pairs_evaluated : instrumentation().edge_edge_pairs_evaluated) += n;
     stats_.pair_ms += ms_since(t0);
@@ -132,8 +150,10 @@ template <bool VF> class SelfContact final : public Effect {
       const auto v = vertices(pairs_[static_cast<std::size_t>(k)]);
       if (gradient)
         for (int j = 0; j < 4; ++j) gradient->col(v[static_cast<std::size_t>(j)]) += o.g.segment<3>(3 * j);
-      if (hessian) hessian->add<4>(v, o.H);
     }
+    if (hessian)
+      for (const auto& list : hessians_)
+        for (const PairHessian& ph : list) hessian->add<4>(vertices(pairs_[static_cast<std::size_t>(ph.k)]), ph.H);
     stats_.scatter_ms += ms_since(t1);
     stats_.active = active;
     stats_.min_length = min_length;
@@ -275,7 +295,8 @@ template <bool VF> class SelfContact final : public Effect {
   }
 
   template <class Penalty>
-  void evaluate_pair(const Eigen::Matrix3Xd& x, long k, const Penalty& penalty, bool want_h, PairOut& o) const {
+  void evaluate_pair(const Eigen::Matrix3Xd& x, long k, const Penalty& penalty, std::vector<PairHessian>* hessians,
+                     PairOut& o) const {
     o.active = false;
     const auto v = vertices(pairs_[static_cast<std::size_t>(k)]);
     const Vec12<double> xp = gather(x, v);
@@ -291,7 +312,7 @@ template <bool VF> class SelfContact final : public Effect {
       o.length = ce.length;
       o.energy = ce.psi.value;
       o.g = energy_gradient(ce);
-      if (want_h) o.H = projected_hessian(ce, spec_.hessian);
+      if (hessians) hessians->push_back({k, projected_hessian(ce, spec_.hessian)});
       return;
     }
     Frame<double> f;
@@ -310,7 +331,7 @@ template <bool VF> class SelfContact final : public Effect {
     o.length = e.length;
     o.energy = e.psi.value;
     o.g = energy_gradient(e);
-    if (want_h) o.H = projected_hessian(e, spec_.hessian);
+    if (hessians) hessians->push_back({k, projected_hessian(e, spec_.hessian)});
   }
 
   /// Signed length: a pair's side is fixed the first time the start of a step (a state the
@@ -371,7 +392,6 @@ template <bool VF> class SelfContact final : public Effect {
     o.energy = std::numeric_limits<double>::infinity();
     o.length = 0;
     o.g.setZero();
-    o.H.setZero();
   }
 
   struct Stats {
@@ -391,6 +411,7 @@ template <bool VF> class SelfContact final : public Effect {
   std::vector<signed char> sides_;
   std::vector<char> declared_, near_;  ///< per candidate: in the pattern; near contact at the last check
   std::vector<PairOut> out_;
+  std::vector<std::vector<PairHessian>> hessians_;  ///< per thread, active pairs only
   Stats stats_;
 };
 
