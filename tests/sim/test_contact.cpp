@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Self contact effects: gradients against central differences, PSD Hessians for every
 // strategy, signed sides recorded at entry and kept while tracked, barrier step limits.
+#include <pce/energy/closest_feature.hpp>
+#include <pce/penalties/quadratic.hpp>
+#include <pce/sim/candidates.hpp>
 #include <pce/sim/instrumentation.hpp>
 #include <pce/sim/scene.hpp>
 
@@ -157,4 +160,94 @@ TEST(Contact, PairsAreCountedOnlyForDeclaredKinds) {
   s->simulation.effects[0]->evaluate(s->simulation.x, nullptr, nullptr);
   EXPECT_EQ(instrumentation().vertex_face_pairs_evaluated, vf);
   EXPECT_GT(instrumentation().edge_edge_pairs_evaluated, ee);
+}
+
+TEST(Contact, DeclaresExactlyThePairsActiveAtTheIterate) {
+  const std::tuple<const char*, const char*, bool> kinds[] = {
+      {"self_vertex_face", "unsigned", false}, {"self_vertex_face", "signed", false}, {"self_vertex_face", "unsigned", true},
+      {"self_edge_edge", "unsigned", false},   {"self_edge_edge", "signed", false},   {"self_edge_edge", "unsigned", true}};
+  for (const auto& [type, length, closest] : kinds) {
+    SCOPED_TRACE(std::string(type) + " " + length + (closest ? " closest" : " plane"));
+    auto s = two_sheets(contact(type, length, "analytic", closest), 0.008);
+    begin(*s);
+    Effect& e = *s->simulation.effects[0];
+    Eigen::Matrix3Xd x = s->simulation.x;
+    for (Eigen::Index i = 0; i < x.cols(); ++i) x(2, i) += 1e-3 * std::sin(1.7 * static_cast<double>(i));
+    const std::string kind = std::string(type) == "self_vertex_face" ? "vertex_face" : "edge_edge";
+    const auto counts = [&](const Eigen::Matrix3Xd& at) {
+      e.evaluate(at, nullptr, nullptr);
+      EffectCounters c;
+      e.report(c);
+      return std::make_pair(c[kind + "_declared"], c[kind + "_contacts"]);
+    };
+    EXPECT_TRUE(e.update_pattern(x));
+    const auto [declared, active] = counts(x);
+    EXPECT_GT(active, 0.0);
+    EXPECT_EQ(declared, active);
+    EXPECT_FALSE(e.update_pattern(x));  // unchanged: the solver keeps its symbolic analysis
+    // Sheet b leaves contact (0.038 apart, still candidates): the pattern shrinks to nothing.
+    const Eigen::Matrix3Xd away = lift_b(x, 0.03);
+    EXPECT_TRUE(e.update_pattern(away));
+    EXPECT_EQ(counts(away), std::make_pair(0.0, 0.0));
+    EXPECT_TRUE(e.update_pattern(x));  // and grows back
+    EXPECT_EQ(counts(x), std::make_pair(declared, active));
+  }
+}
+
+/// The conservative step bound over the documented candidate set, written out: every
+/// brute-force candidate at the query positions, minus same-mesh pairs closer than the
+/// query radius at rest, each limiting t to 0.9 D/(a + b) (D its closest-feature distance,
+/// a and b the largest motion on each primitive).
+template <class Kind>
+double reference_step(const Scene& s, const std::vector<std::array<int, 2>>& pairs, const Eigen::Matrix3Xd& x,
+                      const Eigen::Matrix3Xd& dx, double radius) {
+  const Model& m = s.simulation.model;
+  const auto verts = [&](const std::array<int, 2>& c) -> std::array<int, 4> {
+    if constexpr (std::is_same_v<Kind, pce::VertexFace>)
+      return {c[0], m.triangles(0, c[1]), m.triangles(1, c[1]), m.triangles(2, c[1])};
+    else
+      return {m.edges(0, c[0]), m.edges(1, c[0]), m.edges(0, c[1]), m.edges(1, c[1])};
+  };
+  const int first = std::is_same_v<Kind, pce::VertexFace> ? 1 : 2;
+  const int half = static_cast<int>(x.cols() / 2);  // sheet a, then sheet b
+  const auto distance = [](const Eigen::Matrix3Xd& at, const std::array<int, 4>& v) {
+    pce::Vec12<double> xp;
+    for (int j = 0; j < 4; ++j) xp.segment<3>(3 * j) = at.col(v[static_cast<std::size_t>(j)]);
+    pce::ClosestFeatureEnergy<double> ce;
+    const bool ok = pce::closest_feature_energy<Kind>(xp, pce::UnsignedLength{}, pce::QuadraticPenalty{1.0, 0.0}, ce) == pce::Status::ok;
+    return ok ? ce.length : -1.0;
+  };
+  double t = 1.0;
+  for (const auto& c : pairs) {
+    const auto v = verts(c);
+    if ((v[0] < half) == (v[static_cast<std::size_t>(first)] < half) && distance(m.rest, v) < radius) continue;
+    double a = 0, b = 0;
+    for (int j = 0; j < 4; ++j) (j < first ? a : b) = std::max(j < first ? a : b, dx.col(v[static_cast<std::size_t>(j)]).norm());
+    const double D = distance(x, v);
+    if (D < 0 || !(a + b > 0)) continue;
+    t = std::min(t, 0.9 * D / (a + b));
+  }
+  return t;
+}
+
+TEST(Contact, StepBoundEqualsTheBoundOverEveryCandidate) {
+  for (const char* type : {"self_vertex_face", "self_edge_edge"}) {
+    for (int seed = 0; seed < 20; ++seed) {
+      SCOPED_TRACE(std::string(type) + " seed " + std::to_string(seed));
+      auto s = two_sheets(contact(type, "unsigned", "analytic", true), 0.008);  // ccd on by default
+      begin(*s);  // queried at the scene's positions
+      Effect& e = *s->simulation.effects[0];
+      const Eigen::Matrix3Xd x = s->simulation.x;
+      std::srand(static_cast<unsigned>(seed) + 1u);
+      // motions of every size, a few large, so different pairs bind from seed to seed
+      Eigen::Matrix3Xd dx = Eigen::Matrix3Xd::Random(3, x.cols()) * 0.004;
+      for (Eigen::Index i = 0; i < x.cols(); i += 7 + seed % 5) dx.col(i) *= 20.0;
+      const Candidates c = brute_force_candidates(x, s->simulation.model.triangles, s->simulation.model.edges, 0.04);
+      const double expected = std::string(type) == "self_vertex_face"
+                                  ? reference_step<pce::VertexFace>(*s, c.vertex_face, x, dx, 0.04)
+                                  : reference_step<pce::EdgeEdge>(*s, c.edge_edge, x, dx, 0.04);
+      EXPECT_LT(expected, 1.0);
+      EXPECT_DOUBLE_EQ(e.max_step(x, dx), expected);
+    }
+  }
 }

@@ -34,6 +34,8 @@ struct Simulation::LinearState {
 #endif
   Eigen::SimplicialLDLT<SpMat, Eigen::Upper> ldlt;
   Eigen::ConjugateGradient<SpMat, Eigen::Upper> cg;
+  double analyze_ms = 0, factorize_ms = 0;  ///< this step's symbolic and numeric factorisation time
+  int analyses = 0;                         ///< symbolic analyses this step
 
   /// Solves H dx = rhs; false when the factorisation or the iteration fails.
   bool solve(LinearSolver kind, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx) {
@@ -47,9 +49,18 @@ struct Simulation::LinearState {
         return cg.info() == Eigen::Success;
       case LinearSolver::direct:
 #ifdef PCE_SIM_HAVE_CHOLMOD
-        if (!analyzed) cholmod.analyzePattern(A);
+        if (!analyzed) {
+          const auto t0 = Clock::now();
+          cholmod.analyzePattern(A);
+          analyze_ms += ms_since(t0);
+          ++analyses;
+        }
         analyzed = true;
-        cholmod.factorize(A);
+        {
+          const auto t0 = Clock::now();
+          cholmod.factorize(A);
+          factorize_ms += ms_since(t0);
+        }
         if (cholmod.info() != Eigen::Success) return false;
         dx = cholmod.solve(rhs);
         return cholmod.info() == Eigen::Success;
@@ -57,9 +68,18 @@ struct Simulation::LinearState {
         [[fallthrough]];
 #endif
       case LinearSolver::ldlt:
-        if (!analyzed) ldlt.analyzePattern(A);
+        if (!analyzed) {
+          const auto t0 = Clock::now();
+          ldlt.analyzePattern(A);
+          analyze_ms += ms_since(t0);
+          ++analyses;
+        }
         analyzed = true;
-        ldlt.factorize(A);
+        {
+          const auto t0 = Clock::now();
+          ldlt.factorize(A);
+          factorize_ms += ms_since(t0);
+        }
         if (ldlt.info() != Eigen::Success) return false;
         dx = ldlt.solve(rhs);
         return ldlt.info() == Eigen::Success;
@@ -86,6 +106,8 @@ FrameStats Simulation::step() {
   if (solver.threads > 0) omp_set_num_threads(solver.threads);
   static const bool trace_ = std::getenv("PCE_SIM_TRACE") != nullptr;  // one line per Newton iteration on stderr
   LinearState& ls = *linear_;
+  ls.analyze_ms = ls.factorize_ms = 0;
+  ls.analyses = 0;
   const int n = model.vertex_count();
   const double h = solver.dt;
   FrameStats st;
@@ -130,13 +152,13 @@ FrameStats Simulation::step() {
   for (int it = 0; it < cap; ++it) {
     // Gradient and Hessian: inertia, then every effect (the pattern grows with the
     // active contacts).
-    bool grew = false;
+    bool changed_pattern = false;
     for (std::size_t k = 0; k < effects.size(); ++k) {
       const auto tp = Clock::now();
-      grew = effects[k]->update_pattern(y) || grew;
+      changed_pattern = effects[k]->update_pattern(y) || changed_pattern;
       effect_ms[k] += ms_since(tp);
     }
-    if (grew) rebuild_pattern();
+    if (changed_pattern) rebuild_pattern();
     auto t0 = Clock::now();
     ls.H.set_zero();
     ls.H.add_diagonal(mass3_);
@@ -235,6 +257,9 @@ FrameStats Simulation::step() {
   st.pair_ms = counter("pair_ms");
   st.assembly_ms += counter("scatter_ms");
   st.counters["pattern_blocks"] = static_cast<double>(ls.H.block_count());
+  st.counters["analyze_ms"] = ls.analyze_ms;
+  st.counters["factorize_ms"] = ls.factorize_ms;
+  st.counters["analyses"] = ls.analyses;
   st.wall_ms = ms_since(t_frame);
   return st;
 }

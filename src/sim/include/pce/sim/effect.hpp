@@ -32,9 +32,10 @@ class Effect {
   /// `update_pattern` reports growth).
   virtual void declare(Pattern& pattern) const = 0;
   /// Called before each Newton iteration's assembly at `x`: an effect whose coupled tuples
-  /// depend on the state (contact: only pairs that are active couple their vertices) adds
-  /// the newly active ones to what it declares and returns true, so the solver rebuilds the
-  /// pattern. Declarations only grow within a step; most iterations reuse the pattern.
+  /// depend on the state (contact: only the pairs active at `x` couple their vertices)
+  /// updates what it declares and returns true when that changed, so the solver rebuilds
+  /// the pattern (and the linear solver its symbolic analysis); an unchanged declaration
+  /// keeps both.
   virtual bool update_pattern(const Eigen::Matrix3Xd& /*x*/) { return false; }
   /// Returns the energy at `x` (3×n); when `gradient` is non-null adds ∇E to it, when
   /// `hessian` is non-null adds a positive-semidefinite approximation of ∇²E to it.
