@@ -109,6 +109,36 @@ TEST(Render, GridAndStrandReadBack) {
   }
 }
 
+TEST(Render, CentresWhatItDraws) {
+  // A tall scene (two cloths 0.8 m apart) seen steeply from above: the picture of every vertex is
+  // centred and fits, so the drawn pixels' box is centred and the border rows are empty.
+  // (The vertical centring once had its sign flipped: tall scenes lost their top.)
+  RenderMesh low = red_cloth(), high = red_cloth();
+  high.positions.row(2).array() += 0.8;
+  RenderOptions opts;
+  opts.width = 320;
+  opts.height = 240;
+  opts.view_direction = Eigen::Vector3d(-0.8, -1.6, -1.0);  // the hammock's: steeply down
+  const fs::path path = tmp("render_centred.png");
+  pce::sim::render_png(path.string(), {low, high}, opts);
+  const Image image = load(path);
+  ASSERT_TRUE(image.data);
+  int x0 = image.width, x1 = -1, y0 = image.height, y1 = -1;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const unsigned char* p = image.at(x, y);
+      if (p[0] == 235 && p[1] == 235 && p[2] == 237) continue;
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+  ASSERT_GE(x1, 0);
+  EXPECT_NEAR(0.5 * (x0 + x1), 0.5 * (image.width - 1), 3.0);
+  EXPECT_NEAR(0.5 * (y0 + y1), 0.5 * (image.height - 1), 3.0);
+  EXPECT_GT(y0, 0);
+  EXPECT_LT(y1, image.height - 1);
+  // it fills the image along the limiting axis, but for the 5 % margin
+  EXPECT_GT(std::max((x1 - x0 + 1) / 320.0, (y1 - y0 + 1) / 240.0), 0.85);
+}
+
 TEST(Render, ShadingVaries) {
   const fs::path path = tmp("render_shading.png");
   RenderOptions opts;

@@ -68,7 +68,7 @@ bool fit_camera(const std::vector<RenderMesh>& meshes, const RenderOptions& opts
   cam.focal = std::min(focal_x, focal_y);
   if (screen.sizes().x() < 1e-12 && screen.sizes().y() < 1e-12) cam.focal = 1;  // a single point
   cam.cx = 0.5 * w - cam.focal * screen.center().x();
-  cam.cy = 0.5 * h + cam.focal * screen.center().y();
+  cam.cy = 0.5 * h - cam.focal * screen.center().y();  // project() already flips y
   return true;
 }
 
