@@ -461,6 +461,45 @@ TEST(Pins, EnergyGradientHessianAndRelease) {
   expect_hessian_matches(*e, x);
 }
 
+TEST(Pins, MovingGroupFollowsItsMotionAtTheEndOfTheStep) {
+  // Vertices 0 and 3 (the bottom corners, (-0.5,-0.5) and (0.5,-0.5) at z = 0) turn about
+  // their midpoint (0,-0.5,0) at π/2 rad/s about +y and move +z at 0.2 m/s, from t = 1 s
+  // to t = 3 s; vertex 12 is pinned in place.
+  const Model m = cloth(3, 3);
+  auto e = build(make_pins,
+                 R"({"type":"pins","stiffness":100,"groups":[{"vertices":[12]},
+                     {"vertices":[0,3],"motion":{"angular_velocity":[0,1.5707963267948966,0],
+                      "velocity":[0,0,0.2],"start":1,"stop":3}}]})",
+                 m);
+  StepContext step;
+  const auto target_gradient = [&](double t) {
+    step.time = t;
+    e->begin_step(step);
+    Matrix3Xd g = Matrix3Xd::Zero(3, m.rest.cols());
+    e->evaluate(m.rest, &g, nullptr);  // at the rest shape, ∇ᵢE = k (x̄ᵢ − x̂ᵢ)
+    return Matrix3Xd(m.rest - g / 100.0);   // x̂ for pinned vertices
+  };
+  Matrix3Xd x_hat = target_gradient(0.5);  // before start: the rest positions
+  EXPECT_LT((x_hat - m.rest).norm(), 1e-15);
+  x_hat = target_gradient(2.0);  // a quarter turn about +y (x → −z), 0.2 m up
+  EXPECT_LT((x_hat.col(0) - Eigen::Vector3d(0, -0.5, 0.5 + 0.2)).norm(), 1e-12);
+  EXPECT_LT((x_hat.col(3) - Eigen::Vector3d(0, -0.5, -0.5 + 0.2)).norm(), 1e-12);
+  EXPECT_LT((x_hat.col(12) - m.rest.col(12)).norm(), 1e-15);
+  x_hat = target_gradient(10.0);  // frozen after stop: half a turn, 0.4 m up
+  EXPECT_LT((x_hat.col(0) - Eigen::Vector3d(0.5, -0.5, 0.4)).norm(), 1e-12);
+  const Matrix3Xd x = perturbed(m.rest, 0.1, 5);
+  expect_gradient_matches(*e, x);
+  expect_hessian_matches(*e, x);
+  // an explicit centre
+  auto c = build(make_pins, R"({"type":"pins","stiffness":100,"groups":[{"vertices":[0],
+                     "motion":{"angular_velocity":[0,0,3.141592653589793],"center":[0,0,0]}}]})", m);
+  step.time = 1.0;  // half a turn about z through the origin: (-0.5,-0.5) → (0.5,0.5)
+  c->begin_step(step);
+  Matrix3Xd g = Matrix3Xd::Zero(3, m.rest.cols());
+  c->evaluate(m.rest, &g, nullptr);
+  EXPECT_LT((m.rest.col(0) - g.col(0) / 100.0 - Eigen::Vector3d(0.5, 0.5, 0)).norm(), 1e-12);
+}
+
 TEST(Pins, MeshLocalIndicesAndDefaultStiffness) {
   Model m = cloth(1, 1);  // 4 vertices, then a second mesh of 2 more
   m.rest.conservativeResize(3, 6);
@@ -492,6 +531,12 @@ TEST(Pins, BadParameters) {
   EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertex":[0]}]})", m), "effects[0].groups[0].vertex");
   EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"box":{"min":[1,0,0],"max":[0,1,1]}}]})", m),
             "effects[0].groups[0].box.max");
+  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0],"motion":{"start":2,"stop":1}}]})", m),
+            "effects[0].groups[0].motion.stop");
+  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0],"motion":{"centre":[0,0,0]}}]})", m),
+            "effects[0].groups[0].motion.centre");
+  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0],"motion":{"velocity":[0,"a",0]}}]})", m),
+            "effects[0].groups[0].motion.velocity");
   EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[]})", m), "effects[0].groups");
   EXPECT_EQ(error_at(make_pins, R"({"type":"pins"})", m), "effects[0].groups");
 }

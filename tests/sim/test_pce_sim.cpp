@@ -79,7 +79,7 @@ TEST_P(ShippedScene, ShortVariantRunsWithFiniteStats) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, ShippedScene,
-                         ::testing::Combine(::testing::Values("hammock", "drape", "strands", "fold"),
+                         ::testing::Combine(::testing::Values("hammock", "drape", "strands", "twist"),
                                             ::testing::Bool()),
                          [](const auto& info) {
                            return std::get<0>(info.param) + (std::get<1>(info.param) ? "_single" : "_newton");

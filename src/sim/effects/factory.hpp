@@ -25,6 +25,10 @@ struct BuildContext {
   int threads = 1;
 };
 
+/// Reads a `motion` object's `velocity`, `angular_velocity`, `start` and `stop` (the caller
+/// states which keys are allowed); defined in scene/scene.cpp, shared by obstacles and pins.
+Motion parse_motion(const Params& m);
+
 using EffectFactory = std::unique_ptr<Effect> (*)(const Params& params, const BuildContext& ctx);
 
 }  // namespace pce::sim

@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
-// Pins: stiff zero-length springs to the rest positions, E = ½ k Σ_{pinned i} |xᵢ − x̄ᵢ|²
-// (x̄ = model.rest), grouped so that a group can be released at a frame (the hammock drops
-// its sheets that way). A group is active for frames < release_frame (always without one).
+// Pins: stiff zero-length springs to target positions, E = ½ k Σ_{pinned i} |xᵢ − x̂ᵢ|²,
+// grouped so that a group can be released at a frame (the hammock drops its sheets that
+// way) or move rigidly. A group's target is its rest position x̄ᵢ, or with a `motion`
+// x̂ᵢ(t) = c + v τ + exp([ω]× τ)(x̄ᵢ − c) (pce/sim/obstacle.hpp, Motion) at the end of the
+// step, c the group's centre (the twist scene turns one end of a ribbon that way). A group
+// is active for frames < release_frame (always without one).
 #include "elastic.hpp"
 
 #include <string>
@@ -15,29 +18,36 @@ struct PinGroup {
   std::vector<int> vertices;
   long release_frame = 0;  ///< 0: never released
   bool active = true;
+  bool moving = false;     ///< has a motion; else the targets are the rest positions
+  Motion motion;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
 };
 
 class Pins final : public Effect {
  public:
   Pins(const Model& model, std::vector<PinGroup> groups, double k)
-      : model_(&model), groups_(std::move(groups)), k_(k) {}
+      : model_(&model), groups_(std::move(groups)), k_(k), target_(model.rest) {}
   const char* name() const override { return "pins"; }
   void begin_step(const StepContext& ctx) override {
-    for (PinGroup& g : groups_) g.active = g.release_frame == 0 || ctx.frame < g.release_frame;
+    for (PinGroup& g : groups_) {
+      g.active = g.release_frame == 0 || ctx.frame < g.release_frame;
+      if (g.active && g.moving)
+        for (int i : g.vertices) target_.col(i) = g.motion.apply(ctx.time, g.centre, model_->rest.col(i));
+    }
   }
   void declare(Pattern& pattern) const override {
     for (const PinGroup& g : groups_)
       if (g.active)
         for (int i : g.vertices) pattern.add(i);
   }
-  /// E = ½ k Σ |xᵢ − x̄ᵢ|², ∇ᵢE = k (xᵢ − x̄ᵢ), ∇²ᵢᵢE = k I over the active groups.
+  /// E = ½ k Σ |xᵢ − x̂ᵢ|², ∇ᵢE = k (xᵢ − x̂ᵢ), ∇²ᵢᵢE = k I over the active groups.
   double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) override {
     double energy = 0;
     const Eigen::Matrix3d K = k_ * Eigen::Matrix3d::Identity();
     for (const PinGroup& g : groups_) {
       if (!g.active) continue;
       for (int i : g.vertices) {
-        const Eigen::Vector3d d = x.col(i) - model_->rest.col(i);
+        const Eigen::Vector3d d = x.col(i) - target_.col(i);
         energy += 0.5 * k_ * d.squaredNorm();
         if (gradient) gradient->col(i) += k_ * d;
         if (hessian) hessian->add_block(i, i, K);
@@ -56,6 +66,7 @@ class Pins final : public Effect {
   const Model* model_;
   std::vector<PinGroup> groups_;
   double k_;
+  Eigen::Matrix3Xd target_;  ///< x̂ per vertex (rest positions but for moving groups)
 };
 
 }  // namespace
@@ -69,7 +80,7 @@ std::unique_ptr<Effect> make_pins(const Params& params, const BuildContext& ctx)
   std::vector<PinGroup> groups;
   for (std::size_t gi = 0; gi < count; ++gi) {
     const Params g = params.element("groups", gi);
-    g.only({"vertices", "box", "mesh", "release_frame"});
+    g.only({"vertices", "box", "mesh", "release_frame", "motion"});
     PinGroup group;
     if (g.has("release_frame")) group.release_frame = g.integer("release_frame", std::nullopt, 1);  // ≥ 1
     // The vertex range a group may name: one mesh's (local indices) or the whole model's.
@@ -98,6 +109,15 @@ std::unique_ptr<Effect> make_pins(const Params& params, const BuildContext& ctx)
         if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all()) group.vertices.push_back(i);
       }
       if (group.vertices.empty()) g.fail("box", "the box contains no vertex of the rest shape");
+    }
+    if (g.has("motion")) {
+      const Params m = g.object("motion");
+      m.only({"velocity", "angular_velocity", "center", "start", "stop"});
+      group.motion = parse_motion(m);
+      group.moving = true;
+      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+      for (int i : group.vertices) centroid += model.rest.col(i);
+      group.centre = m.vec3("center", centroid / static_cast<double>(group.vertices.size()));
     }
     groups.push_back(std::move(group));
   }

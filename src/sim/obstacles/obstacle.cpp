@@ -12,18 +12,24 @@
 
 namespace pce::sim {
 
-Eigen::Isometry3d Obstacle::pose(double t) const {
+double Motion::elapsed(double t) const {
   // τ = clamp(t − start, 0, stop − start): at rest before `start`, frozen after `stop`.
-  const double span = std::max(0.0, motion.stop - motion.start);
-  const double tau = std::clamp(t - motion.start, 0.0, span);
+  return std::clamp(t - start, 0.0, std::max(0.0, stop - start));
+}
+
+Eigen::Matrix3d Motion::spin(double t) const {
+  // exp([ω]× τ): a constant angular velocity given in world axes (Rodrigues' formula
+  // through Eigen's AngleAxis).
+  const double angle = angular_velocity.norm() * elapsed(t);
+  if (!(angle > 0)) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(angle, angular_velocity.normalized()).toRotationMatrix();
+}
+
+Eigen::Isometry3d Obstacle::pose(double t) const {
+  // R(τ) = exp([ω]× τ) R0 about the obstacle's centre, c(τ) = position + v τ.
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.translation() = position + motion.velocity * tau;
-  // R(τ) = exp([ω]× τ) R0: a constant angular velocity about the obstacle's centre, given in
-  // world axes (Rodrigues' formula through Eigen's AngleAxis).
-  const double angle = motion.angular_velocity.norm() * tau;
-  Eigen::Matrix3d spin = Eigen::Matrix3d::Identity();
-  if (angle > 0) spin = Eigen::AngleAxisd(angle, motion.angular_velocity.normalized()).toRotationMatrix();
-  pose.linear() = spin * rotation;
+  pose.translation() = position + motion.velocity * motion.elapsed(t);
+  pose.linear() = motion.spin(t) * rotation;
   return pose;
 }
 

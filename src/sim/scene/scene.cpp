@@ -30,6 +30,20 @@ Eigen::Matrix3d parse_rotation(const Params& p) {
   return Eigen::AngleAxisd(degrees * kPi / 180.0, axis.normalized()).toRotationMatrix();
 }
 
+}  // namespace
+
+Motion parse_motion(const Params& m) {
+  Motion motion;
+  motion.velocity = m.vec3("velocity", Eigen::Vector3d::Zero());
+  motion.angular_velocity = m.vec3("angular_velocity", Eigen::Vector3d::Zero());
+  motion.start = m.nonnegative("start", 0.0);
+  motion.stop = m.has("stop") ? m.nonnegative("stop") : std::numeric_limits<double>::infinity();
+  if (motion.stop < motion.start) m.fail("stop", "expected stop >= start");
+  return motion;
+}
+
+namespace {
+
 Transform parse_transform(const Params& p) {
   p.only({"translation", "rotation", "scale"});
   Transform t;
@@ -128,11 +142,7 @@ Obstacle parse_obstacle(const Params& p, const std::filesystem::path& base) {
   if (p.has("motion")) {
     const Params m = p.object("motion");
     m.only({"velocity", "angular_velocity", "start", "stop"});
-    o.motion.velocity = m.vec3("velocity", Eigen::Vector3d::Zero());
-    o.motion.angular_velocity = m.vec3("angular_velocity", Eigen::Vector3d::Zero());
-    o.motion.start = m.nonnegative("start", 0.0);
-    o.motion.stop = m.has("stop") ? m.nonnegative("stop") : std::numeric_limits<double>::infinity();
-    if (o.motion.stop < o.motion.start) m.fail("stop", "expected stop >= start");
+    o.motion = parse_motion(m);
   }
   return o;
 }

@@ -17,14 +17,24 @@ namespace pce::sim {
 
 enum class ShapeKind { sphere, box, capsule, mesh };
 
-/// A rigid path: from `start` to `stop` (s) the obstacle translates with `velocity` (m/s) and
-/// rotates about its own centre with `angular_velocity` (rad/s, axis × rate); it rests
-/// before `start` and after `stop`.
+/// A rigid path: from `start` to `stop` (s) a body translates with `velocity` (m/s) and
+/// rotates about its centre with `angular_velocity` (rad/s, axis × rate); it rests before
+/// `start` and after `stop`. Obstacles move by it, and so do pin groups' targets.
 struct Motion {
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
   double start = 0;
   double stop = std::numeric_limits<double>::infinity();
+
+  /// Time spent moving by time t: τ = clamp(t − start, 0, stop − start).
+  double elapsed(double t) const;
+  /// The rotation so far, exp([ω]× τ) (Rodrigues' formula).
+  Eigen::Matrix3d spin(double t) const;
+  /// Where a point at `p` at rest is at time t, turning about `centre`:
+  /// centre + v τ + exp([ω]× τ)(p − centre).
+  Eigen::Vector3d apply(double t, const Eigen::Vector3d& centre, const Eigen::Vector3d& p) const {
+    return centre + velocity * elapsed(t) + spin(t) * (p - centre);
+  }
 };
 
 struct Obstacle {
