@@ -30,6 +30,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <limits>
 
 namespace pce::sim {
@@ -67,7 +68,7 @@ struct PairHessian {
 template <bool VF> class SelfContact final : public Effect {
  public:
   SelfContact(const ContactSpec& spec, const BuildContext& ctx)
-      : spec_(spec), model_(ctx.model), broad_phase_(make_broad_phase(ctx.broad_phase)) {
+      : spec_(spec), model_(ctx.model), broad_phase_kind_(ctx.broad_phase), broad_phase_(make_broad_phase(ctx.broad_phase)) {
     if (spec_.exclude_rest_neighbours) {
       mesh_of_.resize(static_cast<std::size_t>(model_->vertex_count()));
       for (std::size_t m = 0; m < model_->meshes.size(); ++m)
@@ -277,27 +278,16 @@ template <bool VF> class SelfContact final : public Effect {
     query_pairs(query_at_, fresh);
     stats_.tree_ms += ms_since(t0);
     if (!mesh_of_.empty()) {
-      // Pairs of one mesh closer than the query radius (at least 2d) in the rest shape (a
-      // sheet's neighbours a few edges apart) are never candidates: they would dominate the candidate set and
-      // cannot fold onto each other without bending the cloth at the scale of its edges.
-      const long n = static_cast<long>(fresh.size());
-      const double exclusion = spec_.penalty.distance + margin();
-      std::vector<char> keep(fresh.size(), 1);
-#pragma omp parallel for schedule(static)
-      for (long k = 0; k < n; ++k) {
-        const auto v = vertices(fresh[static_cast<std::size_t>(k)]);
-        if (mesh_of_[static_cast<std::size_t>(v[0])] != mesh_of_[static_cast<std::size_t>(v[VF ? 1 : 2])]) continue;
-        const Vec12<double> rest = gather(model_->rest, v);
-        if (box_gap(rest) >= exclusion) continue;  // farther apart at rest than any distance below
-        ClosestFeatureEnergy<double> ce;
-        const QuadraticPenalty probe{1.0, 0.0};
-        const Status st = closest_feature_energy<Kind>(rest, UnsignedLength{}, probe, ce);
-        if (st != Status::ok || ce.length < exclusion) keep[static_cast<std::size_t>(k)] = 0;
-      }
-      std::size_t w = 0;
-      for (std::size_t k = 0; k < fresh.size(); ++k)
-        if (keep[k]) fresh[w++] = fresh[k];
-      fresh.resize(w);
+      // Pairs of one mesh closer than the query radius (2d) in the rest shape (a sheet's
+      // neighbours a few edges apart) are never candidates: they would dominate the
+      // candidate set and cannot fold onto each other without bending the cloth at the
+      // scale of its edges. The set is fixed, so it is found once; each query then drops
+      // it in one merge pass (both lists are sorted).
+      if (!excluded_ready_) find_rest_exclusions();
+      std::vector<std::array<int, 2>> kept;
+      kept.reserve(fresh.size());
+      std::set_difference(fresh.begin(), fresh.end(), excluded_.begin(), excluded_.end(), std::back_inserter(kept));
+      fresh = std::move(kept);
     }
     // Sides: kept for pairs already tracked, recorded from xⁿ for new ones (both lists
     // are sorted, so one merge pass).
@@ -321,6 +311,35 @@ template <bool VF> class SelfContact final : public Effect {
     stats_.queries += 1;
     ++instrumentation().broad_phase_queries;
     stats_.broad_phase_ms += ms_since(t0);
+  }
+
+  /// The same-mesh pairs whose rest distance (closest features) is below the query radius
+  /// r, or not defined: a rest-shape query of radius r (every pair closer than r is one of
+  /// its candidates) filtered by the exact distance. Once per effect, with a broad phase
+  /// of its own so the per-step one keeps its trees.
+  void find_rest_exclusions() {
+    const double r = spec_.penalty.distance + margin();
+    std::vector<std::array<int, 2>> rest_pairs;
+    const std::unique_ptr<BroadPhase> once = make_broad_phase(broad_phase_kind_);
+    if constexpr (VF) once->vertex_face(model_->rest, model_->triangles, r, rest_pairs);
+    else once->edge_edge(model_->rest, model_->edges, r, rest_pairs);
+    const long n = static_cast<long>(rest_pairs.size());
+    std::vector<char> excluded(rest_pairs.size(), 0);
+#pragma omp parallel for schedule(static)
+    for (long k = 0; k < n; ++k) {
+      const auto v = vertices(rest_pairs[static_cast<std::size_t>(k)]);
+      if (mesh_of_[static_cast<std::size_t>(v[0])] != mesh_of_[static_cast<std::size_t>(v[VF ? 1 : 2])]) continue;
+      const Vec12<double> rest = gather(model_->rest, v);
+      if (box_gap(rest) >= r) continue;  // at least r apart: not excluded
+      ClosestFeatureEnergy<double> ce;
+      const QuadraticPenalty probe{1.0, 0.0};
+      const Status st = closest_feature_energy<Kind>(rest, UnsignedLength{}, probe, ce);
+      excluded[static_cast<std::size_t>(k)] = st != Status::ok || ce.length < r;
+    }
+    excluded_.clear();
+    for (std::size_t k = 0; k < rest_pairs.size(); ++k)
+      if (excluded[k]) excluded_.push_back(rest_pairs[k]);
+    excluded_ready_ = true;
   }
 
   template <class Penalty>
@@ -433,7 +452,10 @@ template <bool VF> class SelfContact final : public Effect {
 
   ContactSpec spec_;
   const Model* model_;
+  BroadPhaseKind broad_phase_kind_;
   std::unique_ptr<BroadPhase> broad_phase_;
+  std::vector<std::array<int, 2>> excluded_;  ///< same-mesh pairs closer than r at rest, sorted
+  bool excluded_ready_ = false;
   const Eigen::Matrix3Xd* x_start_ = nullptr;
   Eigen::Matrix3Xd query_at_;
   std::vector<std::array<int, 2>> pairs_;
