@@ -289,11 +289,9 @@ template <bool VF> class SelfContact final : public Effect {
       std::set_difference(fresh.begin(), fresh.end(), excluded_.begin(), excluded_.end(), std::back_inserter(kept));
       fresh = std::move(kept);
     }
-    // Sides: kept for pairs already tracked, recorded from xⁿ for new ones (both lists
-    // are sorted, so one merge pass).
-    // Pairs already tracked keep their side and their place in the pattern (so a lasting
-    // contact does not force a new symbolic factorisation every step); new pairs get their
-    // side from xⁿ. Both lists are sorted: one merge pass.
+    // Pairs already tracked keep their side and their declaration (until the next
+    // update_pattern); new pairs get their side from xⁿ. Both lists are sorted: one merge
+    // pass.
     std::vector<signed char> sides(fresh.size(), 0);
     std::vector<char> declared(fresh.size(), 0);
     std::size_t old = 0;
