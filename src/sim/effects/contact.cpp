@@ -49,8 +49,11 @@ struct ContactSpec {
   bool ccd = true;  ///< limit every Newton step so no pair can cross (always on for the barrier)
 };
 
-/// Per-pair result of one evaluation, written by exactly one thread.
+/// An active pair's result of one evaluation (k its candidate index). Kept per thread, for
+/// active pairs only, so the serial pass that sums and scatters touches those alone (a
+/// record per candidate made it sweep ~100 MB per evaluation on the hammock).
 struct PairOut {
+  long k = 0;
   double energy = 0;
   double length = std::numeric_limits<double>::infinity();
   bool active = false;
@@ -122,18 +125,29 @@ template <bool VF> class SelfContact final : public Effect {
     const auto t0 = Clock::now();
     const bool want_h = hessian != nullptr;
     const long n = static_cast<long>(pairs_.size());
-    if (out_.size() < pairs_.size()) out_.resize(pairs_.size());
-    hessians_.resize(static_cast<std::size_t>(omp_get_max_threads()));
+    const auto threads = static_cast<std::size_t>(omp_get_max_threads());
+    hessians_.resize(threads);
+    actives_.resize(threads);
     visit_penalty(spec_.penalty, [&](const auto& penalty) {
 #pragma omp parallel
       {
-        std::vector<PairHessian>& mine = hessians_[static_cast<std::size_t>(omp_get_thread_num())];
-        mine.clear();
+        const auto me = static_cast<std::size_t>(omp_get_thread_num());
+        std::vector<PairHessian>& my_hessians = hessians_[me];
+        std::vector<PairOut>& my_actives = actives_[me];
+        my_hessians.clear();
+        my_actives.clear();
         // static schedule: thread t owns one contiguous range of k, so reading the threads'
-        // lists in thread order scatters in k order (deterministic sums)
+        // lists in thread order visits the active pairs in k order (sums and scatter are
+        // the same, bit for bit, whatever the thread count)
 #pragma omp for schedule(static)
-        for (long k = 0; k < n; ++k)
-          evaluate_pair(x, k, penalty, want_h ? &mine : nullptr, out_[static_cast<std::size_t>(k)]);
+        for (long k = 0; k < n; ++k) {
+          PairOut o;
+          evaluate_pair(x, k, penalty, want_h ? &my_hessians : nullptr, o);
+          if (o.active) {
+            o.k = k;
+            my_actives.push_back(o);
+          }
+        }
       }
     });
     (VF ? instrumentation().vertex_face_pairs_evaluated : instrumentation().edge_edge_pairs_evaluated) += n;
@@ -142,17 +156,16 @@ template <bool VF> class SelfContact final : public Effect {
     double energy = 0;
     long active = 0;
     double min_length = std::numeric_limits<double>::infinity();
-    for (long k = 0; k < n; ++k) {
-      const PairOut& o = out_[static_cast<std::size_t>(k)];
-      if (!o.active) continue;
-      ++active;
-      energy += o.energy;
-      min_length = std::min(min_length, o.length);
-      if (!std::isfinite(o.energy)) continue;  // a barrier at distance 0: E = ∞, nothing to add
-      const auto v = vertices(pairs_[static_cast<std::size_t>(k)]);
-      if (gradient)
-        for (int j = 0; j < 4; ++j) gradient->col(v[static_cast<std::size_t>(j)]) += o.g.segment<3>(3 * j);
-    }
+    for (const auto& list : actives_)
+      for (const PairOut& o : list) {
+        ++active;
+        energy += o.energy;
+        min_length = std::min(min_length, o.length);
+        if (!std::isfinite(o.energy)) continue;  // a barrier at distance 0: E = ∞, nothing to add
+        const auto v = vertices(pairs_[static_cast<std::size_t>(o.k)]);
+        if (gradient)
+          for (int j = 0; j < 4; ++j) gradient->col(v[static_cast<std::size_t>(j)]) += o.g.segment<3>(3 * j);
+      }
     if (hessian)
       for (const auto& list : hessians_)
         for (const PairHessian& ph : list) hessian->add<4>(vertices(pairs_[static_cast<std::size_t>(ph.k)]), ph.H);
@@ -467,7 +480,7 @@ template <bool VF> class SelfContact final : public Effect {
   double margin_ = 0;         ///< this step's candidate margin m
   std::vector<signed char> sides_;
   std::vector<char> declared_, near_;  ///< per candidate: in the pattern; near contact at the last check
-  std::vector<PairOut> out_;
+  std::vector<std::vector<PairOut>> actives_;  ///< per thread, active pairs only
   std::vector<std::vector<PairHessian>> hessians_;  ///< per thread, active pairs only
   Stats stats_;
 };
