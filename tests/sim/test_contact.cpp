@@ -194,7 +194,8 @@ TEST(Contact, DeclaresExactlyThePairsActiveAtTheIterate) {
   }
 }
 
-/// The conservative step bound over the documented candidate set, written out: every
+/// The conservative step bound over the documented candidate set, written out: the
+/// candidate set's validity (below), then every
 /// brute-force candidate at the query positions, minus same-mesh pairs closer than the
 /// query radius at rest, each limiting t to 0.9 D/(a + b) (D its closest-feature distance,
 /// a and b the largest motion on each primitive relative to the pair's mean motion).
@@ -217,7 +218,11 @@ double reference_step(const Scene& s, const std::vector<std::array<int, 2>>& pai
     const bool ok = pce::closest_feature_energy<Kind>(xp, pce::UnsignedLength{}, pce::QuadraticPenalty{1.0, 0.0}, ce) == pce::Status::ok;
     return ok ? ce.length : -1.0;
   };
-  double t = 1.0;
+  // the candidate set stays valid: the vertices' drift within m/2 = d/2 of a common
+  // translation (the query was made at x, so the drift is t dx)
+  const Eigen::Vector3d mean_dx = dx.rowwise().mean();
+  const double spread = (dx.colwise() - mean_dx).colwise().norm().maxCoeff();
+  double t = spread > 0 ? std::min(1.0, 0.5 * (radius / 2) / spread) : 1.0;
   for (const auto& c : pairs) {
     const auto v = verts(c);
     if ((v[0] < half) == (v[static_cast<std::size_t>(first)] < half) && distance(m.rest, v) < radius) continue;
@@ -245,6 +250,23 @@ TEST(Contact, StepBoundIgnoresACommonTranslation) {
   EXPECT_EQ(e.max_step(x, dx), 1.0);
   dx.row(2).tail(x.cols() / 2).setZero();  // only sheet a (the lower one) moves down: apart
   EXPECT_LT(e.max_step(x, dx), 0.1);       // conservative: the bound does not know the direction
+}
+
+TEST(Contact, StepNeverCarriesAVertexThroughAFaceThatWasNotACandidate) {
+  // Sheet b starts 0.1 above sheet a, beyond the query radius 2d = 0.04: no pair of the
+  // two sheets is a candidate. A step that moves b 0.2 down would carry it through a; the step must end
+  // with b still more than d above a.
+  for (const char* type : {"self_vertex_face", "self_edge_edge"}) {
+    SCOPED_TRACE(type);
+    auto s = two_sheets(contact(type, "unsigned", "analytic", true), 0.1);
+    begin(*s);
+    Effect& e = *s->simulation.effects[0];
+    const Eigen::Matrix3Xd x = s->simulation.x;
+    const Eigen::Matrix3Xd dx = lift_b(x, -0.2) - x;  // (the candidates are pairs within one sheet)
+    const double t = e.max_step(x, dx);
+    EXPECT_GT(t, 0.0);
+    EXPECT_LT(0.2 * t, 0.1 - 0.02);
+  }
 }
 
 TEST(Contact, StepBoundEqualsTheBoundOverEveryCandidate) {

@@ -92,9 +92,7 @@ template <bool VF> class SelfContact final : public Effect {
     query();
   }
 
-  bool still_valid(const Eigen::Matrix3Xd& x) override {
-    return (x - query_at_).colwise().norm().maxCoeff() <= 0.5 * margin();
-  }
+  bool still_valid(const Eigen::Matrix3Xd& x) override { return spread(x - query_at_) <= 0.5 * margin(); }
 
   void refresh(const Eigen::Matrix3Xd& x) override {
     query_at_ = x;
@@ -184,17 +182,17 @@ template <bool VF> class SelfContact final : public Effect {
     // t (max |dxᵢ − p̄| over the first's vertices + max |dxⱼ − p̄| over the second's); keep
     // 10 % of every candidate's current distance (closest features), so no candidate pair
     // can cross during the step. (Without p̄, strands falling side by side limited each
-    // other's step to ~6 % for twenty iterations.) The
-    // barrier also keeps the candidate set valid (no vertex beyond m/2 of where it was
-    // queried), so no pair at all can reach distance 0; the penalties' filter covers the
-    // candidates only (those near the inertial prediction), which is what lets a falling
-    // sheet take its whole step at once.
+    // other's step to ~6 % for twenty iterations.)
+    // The step also keeps the candidate set valid, so no other pair can cross either: a
+    // pair that is not a candidate was more than d + m apart where the query was made, and
+    // stays more than d apart while every vertex's drift from there is within m/2 of a
+    // common translation (spread ≤ m/2). spread(D + t dx) ≤ spread(D) + t spread(dx), so
+    // t ≤ (m/2 − spread(D))/spread(dx). A sheet falling alone is not limited by it; a sheet
+    // landing on another is, by their relative motion (which was how large steps crossed
+    // non-candidate faces when only the candidates limited the step).
     double t = 1.0;
-    if (spec_.penalty.barrier()) {  // the barrier also keeps the candidate set valid along the step
-      const double drift = (x - query_at_).colwise().norm().maxCoeff();
-      const double dmax = dx.colwise().norm().maxCoeff();
-      if (dmax > 0) t = std::min(t, std::max(0.0, 0.5 * margin() - drift) / dmax);
-    }
+    const double moving = spread(dx);
+    if (moving > 0) t = std::min(t, std::max(0.0, 0.5 * margin() - spread(x - query_at_)) / moving);
     const long n = static_cast<long>(pairs_.size());
 #pragma omp parallel for schedule(static) reduction(min : t)
     for (long k = 0; k < n; ++k) {
@@ -278,6 +276,13 @@ template <bool VF> class SelfContact final : public Effect {
   /// activation distance d, or 2d for signed plane mode (a pair counts down to L = −2d).
   double inactive_beyond() const {
     return (spec_.signed_length && !spec_.closest_features ? 2.0 : 1.0) * spec_.penalty.distance;
+  }
+
+  /// max_i |Dᵢ − mean(D)|: how far the columns of D are from a common translation (the
+  /// mean; a bound, not the minimum over translations).
+  static double spread(const Eigen::Matrix3Xd& D) {
+    const Eigen::Vector3d c = D.rowwise().mean();
+    return (D.colwise() - c).colwise().norm().maxCoeff();
   }
 
   static bool inside(const Frame<double>& f) {
