@@ -85,14 +85,21 @@ template <bool VF> class SelfContact final : public Effect {
   void begin_step(const StepContext& ctx) override {
     x_start_ = ctx.x_start;
     // Candidates around the inertial prediction x̃ = xⁿ + h vⁿ, where Newton ends in most
-    // steps; margin m = d.
-    query_at_ = *ctx.x_start + ctx.dt * *ctx.v_start;
+    // steps, when that set is valid where Newton starts (xⁿ within m/4 of x̃ up to a common
+    // translation, still_valid); otherwise around xⁿ, and the step filter and re-queries
+    // follow the iterates. Margin m = d.
     margin_ = spec_.penalty.distance;
+    query_at_ = *ctx.x_start + ctx.dt * *ctx.v_start;
+    if (!still_valid(*ctx.x_start)) query_at_ = *ctx.x_start;
     stats_ = {};
     query();
   }
 
-  bool still_valid(const Eigen::Matrix3Xd& x) override { return spread(x - query_at_) <= 0.5 * margin(); }
+  /// The set is valid while the drift from the query positions is within m/2 of a common
+  /// translation (max_step never lets it go further); it is refreshed once half of that is
+  /// used, so every Newton step has at least m/4 of relative motion available (waiting
+  /// until m/2 left steps of ~0 and stalled Newton at the iteration cap).
+  bool still_valid(const Eigen::Matrix3Xd& x) override { return spread(x - query_at_) <= 0.25 * margin(); }
 
   void refresh(const Eigen::Matrix3Xd& x) override {
     query_at_ = x;
