@@ -71,7 +71,7 @@ struct PairHessian {
 template <bool VF> class SelfContact final : public Effect {
  public:
   SelfContact(const ContactSpec& spec, const BuildContext& ctx)
-      : spec_(spec), model_(ctx.model), broad_phase_kind_(ctx.broad_phase), broad_phase_(make_broad_phase(ctx.broad_phase)) {
+      : spec_(spec), model_(ctx.model), broad_phase_(make_broad_phase(ctx.broad_phase)) {
     if (spec_.exclude_rest_neighbours) {
       mesh_of_.resize(static_cast<std::size_t>(model_->vertex_count()));
       for (std::size_t m = 0; m < model_->meshes.size(); ++m)
@@ -305,16 +305,17 @@ template <bool VF> class SelfContact final : public Effect {
 
   void query() {
     const auto t0 = Clock::now();
+    if (!mesh_of_.empty() && !excluded_ready_) find_rest_exclusions();  // once, before the trees move to query_at_
     std::vector<std::array<int, 2>> fresh;
+    const auto t_tree = Clock::now();
     query_pairs(query_at_, fresh);
-    stats_.tree_ms += ms_since(t0);
+    stats_.tree_ms += ms_since(t_tree);
     if (!mesh_of_.empty()) {
       // Pairs of one mesh closer than the query radius (2d) in the rest shape (a sheet's
       // neighbours a few edges apart) are never candidates: they would dominate the
       // candidate set and cannot fold onto each other without bending the cloth at the
       // scale of its edges. The set is fixed, so it is found once; each query then drops
       // it in one merge pass (both lists are sorted).
-      if (!excluded_ready_) find_rest_exclusions();
       std::vector<std::array<int, 2>> kept;
       kept.reserve(fresh.size());
       std::set_difference(fresh.begin(), fresh.end(), excluded_.begin(), excluded_.end(), std::back_inserter(kept));
@@ -344,14 +345,12 @@ template <bool VF> class SelfContact final : public Effect {
 
   /// The same-mesh pairs whose rest distance (closest features) is below the query radius
   /// r, or not defined: a rest-shape query of radius r (every pair closer than r is one of
-  /// its candidates) filtered by the exact distance. Once per effect, with a broad phase
-  /// of its own so the per-step one keeps its trees.
+  /// its candidates) filtered by the exact distance. Once per effect (the broad phase
+  /// refits its trees to the rest shape once, and back at the next query).
   void find_rest_exclusions() {
-    const double r = spec_.penalty.distance + margin();
     std::vector<std::array<int, 2>> rest_pairs;
-    const std::unique_ptr<BroadPhase> once = make_broad_phase(broad_phase_kind_);
-    if constexpr (VF) once->vertex_face(model_->rest, model_->triangles, r, rest_pairs);
-    else once->edge_edge(model_->rest, model_->edges, r, rest_pairs);
+    query_pairs(model_->rest, rest_pairs);
+    const double r = spec_.penalty.distance + margin();
     const long n = static_cast<long>(rest_pairs.size());
     std::vector<char> excluded(rest_pairs.size(), 0);
 #pragma omp parallel for schedule(static)
@@ -481,7 +480,6 @@ template <bool VF> class SelfContact final : public Effect {
 
   ContactSpec spec_;
   const Model* model_;
-  BroadPhaseKind broad_phase_kind_;
   std::unique_ptr<BroadPhase> broad_phase_;
   std::vector<std::array<int, 2>> excluded_;  ///< same-mesh pairs closer than r at rest, sorted
   bool excluded_ready_ = false;
