@@ -25,6 +25,7 @@
 #include <pce/frames/vertex_face.hpp>
 #include <pce/sim/instrumentation.hpp>
 
+#include <Eigen/Geometry>
 #include <omp.h>
 
 #include <algorithm>
@@ -85,24 +86,30 @@ template <bool VF> class SelfContact final : public Effect {
   void begin_step(const StepContext& ctx) override {
     x_start_ = ctx.x_start;
     // Candidates around the inertial prediction x̃ = xⁿ + h vⁿ, where Newton ends in most
-    // steps, when that set is valid where Newton starts (xⁿ within m/4 of x̃ up to a common
-    // translation, still_valid); otherwise around xⁿ, and the step filter and re-queries
-    // follow the iterates. Margin m = d.
+    // steps, when that set is valid where Newton starts (still_valid at xⁿ); otherwise
+    // around xⁿ, and the step filter and re-queries follow the iterates. Margin m = d.
     margin_ = spec_.penalty.distance;
-    query_at_ = *ctx.x_start + ctx.dt * *ctx.v_start;
-    if (!still_valid(*ctx.x_start)) query_at_ = *ctx.x_start;
+    set_query_point(*ctx.x_start + ctx.dt * *ctx.v_start);
+    if (!still_valid(*ctx.x_start)) set_query_point(*ctx.x_start);
     stats_ = {};
     query();
   }
 
-  /// The set is valid while the drift from the query positions is within m/2 of a common
-  /// translation (max_step never lets it go further); it is refreshed once half of that is
-  /// used, so every Newton step has at least m/4 of relative motion available (waiting
-  /// until m/2 left steps of ~0 and stalled Newton at the iteration cap).
-  bool still_valid(const Eigen::Matrix3Xd& x) override { return spread(x - query_at_) <= 0.25 * margin(); }
+  /// Validity of the candidate set (docs/simulation.md §4.2). A pair that is not a
+  /// candidate was, where the query was made, more than r = d + m apart and at least the
+  /// gap G_AB between its two meshes' boxes; it stays more than d apart while the pair's
+  /// relative drift is below the budget max(m, G_AB − d) (m within one mesh). With D the
+  /// drift from the query positions, c_A a mesh's mean drift and s_A = max_{i∈A}|Dᵢ − c_A|,
+  /// a pair of meshes A, B drifts relatively by at most
+  ///     rel_AB(D) = s_A + s_B + |c_A − c_B|   (2 s_A within one mesh),
+  /// which ignores common translations, so a sheet falling alone or away from the others
+  /// keeps its set. max_step never lets rel pass the budget; the set is queried again once
+  /// rel passes half of it, so every Newton step has at least half a budget of relative
+  /// motion to use (waiting for the whole budget left steps of ~0 and stalled Newton).
+  bool still_valid(const Eigen::Matrix3Xd& x) override { return validity_use(mesh_drift(x - query_at_), nullptr) <= 0.5; }
 
   void refresh(const Eigen::Matrix3Xd& x) override {
-    query_at_ = x;
+    set_query_point(x);
     query();
   }
 
@@ -190,16 +197,13 @@ template <bool VF> class SelfContact final : public Effect {
     // 10 % of every candidate's current distance (closest features), so no candidate pair
     // can cross during the step. (Without p̄, strands falling side by side limited each
     // other's step to ~6 % for twenty iterations.)
-    // The step also keeps the candidate set valid, so no other pair can cross either: a
-    // pair that is not a candidate was more than d + m apart where the query was made, and
-    // stays more than d apart while every vertex's drift from there is within m/2 of a
-    // common translation (spread ≤ m/2). spread(D + t dx) ≤ spread(D) + t spread(dx), so
-    // t ≤ (m/2 − spread(D))/spread(dx). A sheet falling alone is not limited by it; a sheet
-    // landing on another is, by their relative motion (which was how large steps crossed
-    // non-candidate faces when only the candidates limited the step).
+    // The step also keeps the candidate set valid (still_valid), so no other pair can come
+    // within d either: rel_AB(D + t dx) ≤ rel_AB(D) + t rel_AB(dx) for every pair of
+    // meshes. (Bounding the candidates alone let a landing sheet cross faces that were not
+    // candidates.)
+    const MeshDrift step = mesh_drift(dx);
     double t = 1.0;
-    const double moving = spread(dx);
-    if (moving > 0) t = std::min(t, std::max(0.0, 0.5 * margin() - spread(x - query_at_)) / moving);
+    validity_use(mesh_drift(x - query_at_), &step, &t);
     const long n = static_cast<long>(pairs_.size());
 #pragma omp parallel for schedule(static) reduction(min : t)
     for (long k = 0; k < n; ++k) {
@@ -285,11 +289,54 @@ template <bool VF> class SelfContact final : public Effect {
     return (spec_.signed_length && !spec_.closest_features ? 2.0 : 1.0) * spec_.penalty.distance;
   }
 
-  /// max_i |Dᵢ − mean(D)|: how far the columns of D are from a common translation (the
-  /// mean; a bound, not the minimum over translations).
-  static double spread(const Eigen::Matrix3Xd& D) {
-    const Eigen::Vector3d c = D.rowwise().mean();
-    return (D.colwise() - c).colwise().norm().maxCoeff();
+  /// Per mesh: the mean c_A of D's columns and s_A = max_{i∈A} |Dᵢ − c_A|.
+  struct MeshDrift {
+    std::vector<Eigen::Vector3d> c;
+    std::vector<double> s;
+  };
+  MeshDrift mesh_drift(const Eigen::Matrix3Xd& D) const {
+    MeshDrift m;
+    for (const MeshRange& r : model_->meshes) {
+      const auto block = D.middleCols(r.first_vertex, r.vertex_count);
+      const Eigen::Vector3d c = block.rowwise().mean();
+      m.c.push_back(c);
+      m.s.push_back((block.colwise() - c).colwise().norm().maxCoeff());
+    }
+    return m;
+  }
+  static double relative(const MeshDrift& m, std::size_t a, std::size_t b) {
+    return a == b ? 2 * m.s[a] : m.s[a] + m.s[b] + (m.c[a] - m.c[b]).norm();
+  }
+  /// max over mesh pairs of rel_AB(D)/budget_AB (≤ 1: valid). With `step`, also lowers *t
+  /// to the largest fraction of `step` that keeps every rel within its budget.
+  double validity_use(const MeshDrift& now, const MeshDrift* step, double* t = nullptr) const {
+    double use = 0;
+    const std::size_t M = now.s.size();
+    for (std::size_t a = 0; a < M; ++a)
+      for (std::size_t b = a; b < M; ++b) {
+        const double budget = std::max(margin(), gaps_[a * M + b] - spec_.penalty.distance);
+        const double rel = relative(now, a, b);
+        use = std::max(use, rel / budget);
+        if (step && t) {
+          const double moving = relative(*step, a, b);
+          if (moving > 0) *t = std::min(*t, std::max(0.0, budget - rel) / moving);
+        }
+      }
+    return use;
+  }
+  /// Makes x the query positions and measures the gaps between the meshes' boxes there.
+  void set_query_point(const Eigen::Matrix3Xd& x) {
+    query_at_ = x;
+    const std::size_t M = model_->meshes.size();
+    std::vector<Eigen::AlignedBox3d> boxes(M);
+    for (std::size_t a = 0; a < M; ++a) {
+      const MeshRange& r = model_->meshes[a];
+      const auto block = x.middleCols(r.first_vertex, r.vertex_count);
+      boxes[a] = Eigen::AlignedBox3d(block.rowwise().minCoeff(), block.rowwise().maxCoeff());
+    }
+    gaps_.assign(M * M, 0.0);
+    for (std::size_t a = 0; a < M; ++a)
+      for (std::size_t b = a + 1; b < M; ++b) gaps_[a * M + b] = std::sqrt(boxes[a].squaredExteriorDistance(boxes[b]));
   }
 
   static bool inside(const Frame<double>& f) {
@@ -485,6 +532,7 @@ template <bool VF> class SelfContact final : public Effect {
   bool excluded_ready_ = false;
   const Eigen::Matrix3Xd* x_start_ = nullptr;
   Eigen::Matrix3Xd query_at_;
+  std::vector<double> gaps_;  ///< M×M (upper part): gap between meshes' boxes at query_at_
   std::vector<std::array<int, 2>> pairs_;
   std::vector<int> mesh_of_;  ///< mesh index per vertex (only with exclude_rest_neighbours)
   double margin_ = 0;         ///< this step's candidate margin m
