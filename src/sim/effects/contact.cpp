@@ -204,6 +204,7 @@ template <bool VF> class SelfContact final : public Effect {
     const MeshDrift step = mesh_drift(dx);
     double t = 1.0;
     validity_use(mesh_drift(x - query_at_), &step, &t);
+    const double t_valid = t;  // (inside the loop, t is a thread's own minimum, which starts at +∞)
     const long n = static_cast<long>(pairs_.size());
 #pragma omp parallel for schedule(static) reduction(min : t)
     for (long k = 0; k < n; ++k) {
@@ -219,9 +220,10 @@ template <bool VF> class SelfContact final : public Effect {
       }
       if (!(ma + mb > 0)) continue;
       const Vec12<double> xp = gather(x, v);
-      // The distance is at least the box gap, so a pair whose gap already allows this
-      // thread's current t cannot lower it: the result is the same without its distance.
-      if (0.9 * box_gap(xp) >= t * (ma + mb)) continue;
+      // The distance is at least the box gap, so a pair whose gap already allows the
+      // smaller of this thread's minimum and the validity bound cannot lower the result:
+      // it is the same without the pair's distance.
+      if (0.9 * box_gap(xp) >= std::min(t, t_valid) * (ma + mb)) continue;
       ClosestFeatureEnergy<double> ce;
       const QuadraticPenalty probe{1.0, 0.0};
       if (closest_feature_energy<Kind>(xp, UnsignedLength{}, probe, ce) != Status::ok) continue;
