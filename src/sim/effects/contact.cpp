@@ -126,7 +126,7 @@ template <bool VF> class SelfContact final : public Effect {
     const long n = static_cast<long>(pairs_.size());
     if (near_.size() < pairs_.size()) near_.resize(pairs_.size());
 #pragma omp parallel for schedule(static)
-    for (long k = 0; k < n; ++k) near_[static_cast<std::size_t>(k)] = is_near(x, k, spec_.penalty.distance);
+    for (long k = 0; k < n; ++k) near_[static_cast<std::size_t>(k)] = is_active(x, k);
     bool changed = false;
     for (std::size_t k = 0; k < pairs_.size(); ++k)
       if (near_[k] != declared_[k]) declared_[k] = near_[k], changed = true;
@@ -496,8 +496,9 @@ template <bool VF> class SelfContact final : public Effect {
     return L < limit && L >= -2 * spec_.penalty.distance;
   }
 
-  /// Whether candidate k is active (length below `limit`) at x.
-  bool is_near(const Eigen::Matrix3Xd& x, long k, double limit) const {
+  /// Whether candidate k is active at x (length below d): the test evaluate() applies.
+  bool is_active(const Eigen::Matrix3Xd& x, long k) const {
+    const double limit = spec_.penalty.distance;
     const Vec12<double> xp = gather(x, vertices(pairs_[static_cast<std::size_t>(k)]));
     if (box_gap(xp) > inactive_beyond()) return false;
     if (spec_.closest_features) {
@@ -539,7 +540,7 @@ template <bool VF> class SelfContact final : public Effect {
   std::vector<int> mesh_of_;  ///< mesh index per vertex (only with exclude_rest_neighbours)
   double margin_ = 0;         ///< this step's candidate margin m
   std::vector<signed char> sides_;
-  std::vector<char> declared_, near_;  ///< per candidate: in the pattern; near contact at the last check
+  std::vector<char> declared_, near_;  ///< per candidate: in the pattern; active at the last update_pattern
   std::vector<std::vector<PairOut>> actives_;  ///< per thread, active pairs only
   std::vector<std::vector<PairHessian>> hessians_;  ///< per thread, active pairs only
   Stats stats_;

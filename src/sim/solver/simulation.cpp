@@ -37,6 +37,22 @@ struct Simulation::LinearState {
   double analyze_ms = 0, factorize_ms = 0;  ///< this step's symbolic and numeric factorisation time
   int analyses = 0;                         ///< symbolic analyses this step
 
+  /// Symbolic analysis when the pattern changed, then the numerical factorisation, each
+  /// timed; false when the factorisation fails.
+  template <class Factorization> bool factor(Factorization& f, const SpMat& A) {
+    if (!analyzed) {
+      const auto t0 = Clock::now();
+      f.analyzePattern(A);
+      analyze_ms += ms_since(t0);
+      ++analyses;
+      analyzed = true;
+    }
+    const auto t0 = Clock::now();
+    f.factorize(A);
+    factorize_ms += ms_since(t0);
+    return f.info() == Eigen::Success;
+  }
+
   /// Solves H dx = rhs; false when the factorisation or the iteration fails.
   bool solve(LinearSolver kind, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx) {
     const SpMat& A = H.matrix();
@@ -49,38 +65,14 @@ struct Simulation::LinearState {
         return cg.info() == Eigen::Success;
       case LinearSolver::direct:
 #ifdef PCE_SIM_HAVE_CHOLMOD
-        if (!analyzed) {
-          const auto t0 = Clock::now();
-          cholmod.analyzePattern(A);
-          analyze_ms += ms_since(t0);
-          ++analyses;
-        }
-        analyzed = true;
-        {
-          const auto t0 = Clock::now();
-          cholmod.factorize(A);
-          factorize_ms += ms_since(t0);
-        }
-        if (cholmod.info() != Eigen::Success) return false;
+        if (!factor(cholmod, A)) return false;
         dx = cholmod.solve(rhs);
         return cholmod.info() == Eigen::Success;
 #else
         [[fallthrough]];
 #endif
       case LinearSolver::ldlt:
-        if (!analyzed) {
-          const auto t0 = Clock::now();
-          ldlt.analyzePattern(A);
-          analyze_ms += ms_since(t0);
-          ++analyses;
-        }
-        analyzed = true;
-        {
-          const auto t0 = Clock::now();
-          ldlt.factorize(A);
-          factorize_ms += ms_since(t0);
-        }
-        if (ldlt.info() != Eigen::Success) return false;
+        if (!factor(ldlt, A)) return false;
         dx = ldlt.solve(rhs);
         return ldlt.info() == Eigen::Success;
     }
