@@ -1,0 +1,888 @@
+"""What accuracy costs in time: runs every benchmark of issue 10 and rewrites docs/benchmarks.md.
+
+    benchmarks/run_all [--quick] [--build DIR] [--results DIR] [--docs FILE] [--jobs N]
+
+Steps, in this order (each writes JSON/CSV into the results folder):
+  machine      machine.json: CPU, cores, memory, OS, compiler, library versions, commit
+  pair_cost    pce_bench.json: pce-bench, ns per pair (median of interleaved repetitions)
+  accuracy     accuracy.json/.csv: pce-accuracy, distance to the 50-digit nearest-PSD Hessian
+  broad_phase  broad_phase.json/.csv: pce-broad-phase-bench, FCL vs Bullet vs brute force
+  threads      threads.json/.csv: pce-sim at 1 and 2 threads, stage times
+  scenes       scenes.json/.csv: pce-sim per scene x strategy x mode x tolerance, deviation
+               from a tight-tolerance reference run
+then draws the PNG plots (next to the docs file, in images/benchmarks/) and writes the docs
+file. --quick runs a few-second subset of every step (the test suite's smoke test) and
+writes its docs file into the results folder unless --docs says otherwise.
+
+Timings are only compared within one run; nothing here asserts a timing. The script exits
+non-zero when a step fails or an output is missing.
+"""
+
+import argparse
+import concurrent.futures
+import csv
+import datetime
+import json
+import math
+import os
+import platform
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+STRATEGIES = ["analytic", "abs", "exact", "gauss_newton", "numerical"]
+PAIRS = ["vertex_face", "edge_edge", "point_edge", "point_point"]
+STAGES = ["broad_phase_ms", "pair_ms", "assembly_ms", "solve_ms", "line_search_ms"]
+STAGE_NAMES = {"broad_phase_ms": "broad phase", "pair_ms": "pair evaluation", "assembly_ms": "assembly",
+               "solve_ms": "linear solve", "line_search_ms": "line search", "other_ms": "other"}
+COLORS = {"analytic": "tab:blue", "abs": "tab:orange", "exact": "tab:green", "gauss_newton": "tab:red",
+          "numerical": "tab:purple"}
+
+
+# ---------------------------------------------------------------------------------------------
+# Plans: what runs in full and in quick mode.
+
+def scene_plan(quick):
+    """Scene variants: name -> (shipped scene, changes). Shortened where the full one is too long."""
+    if quick:
+        return {"twist": ("twist", {"frames": 4})}
+    return {
+        "twist": ("twist", {"frames": 110}),        # contact from frame ~31; the last 30 frames are at rest
+        "drape": ("drape", {"frames": 30}),         # the cloth lands on the ball (frames 8-30)
+        "strands": ("strands", {"frames": 40}),     # 48 strands land on the capsule and the floor
+        "hammock_coarse": ("hammock", {"frames": 40, "resolution": 22}),  # first sheet lands; 1/4 the vertices
+    }
+
+
+def scene_configs(quick):
+    """(strategy, mode, tolerance) triples run on every scene; mode 'newton' or 'single'."""
+    if quick:
+        return [("analytic", "newton", 1e-2), ("numerical", "newton", 1e-2), ("analytic", "single", None)]
+    out = []
+    for s in STRATEGIES:
+        out.append((s, "single", None))
+        for tol in (1e-1, 1e-2, 1e-3):
+            out.append((s, "newton", tol))
+    return out
+
+
+ALL_STEPS = ["pair_cost", "accuracy", "broad_phase", "threads", "scenes"]
+REFERENCE = ("exact", "newton", 1e-5)      # the tight-tolerance reference of every scene
+NOISE_FLOOR = ("numerical", "newton", 1e-5)  # a second tight run: how far two converged runs differ
+HEADLINE_SCENE = ("hammock", {"frames": 20})  # full resolution, every strategy at the scene's tolerance
+
+
+# ---------------------------------------------------------------------------------------------
+# Small utilities.
+
+def log(msg):
+    print(f"[run_all {datetime.datetime.now().strftime('%H:%M:%S')}] {msg}", flush=True)
+
+
+def run(cmd, stdout=None, cwd=None, check=True):
+    """Runs a command; on failure prints its stderr tail and raises."""
+    t0 = time.monotonic()
+    p = subprocess.run([str(c) for c in cmd], stdout=stdout or subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                       cwd=cwd)
+    if check and p.returncode != 0:
+        tail = "\n".join(p.stderr.strip().splitlines()[-15:])
+        raise RuntimeError(f"command failed ({p.returncode}): {' '.join(map(str, cmd))}\n{tail}")
+    p.wall_s = time.monotonic() - t0
+    return p
+
+
+def median(xs):
+    xs = [x for x in xs if x is not None and math.isfinite(x)]
+    return statistics.median(xs) if xs else float("nan")
+
+
+def fit_exponent(ns, ts):
+    """Least-squares slope of log t against log n: t ~ c n^slope."""
+    pts = [(math.log(n), math.log(t)) for n, t in zip(ns, ts) if n > 0 and t and t > 0]
+    if len(pts) < 2:
+        return float("nan")
+    mx = sum(p[0] for p in pts) / len(pts)
+    my = sum(p[1] for p in pts) / len(pts)
+    sxx = sum((p[0] - mx) ** 2 for p in pts)
+    return sum((p[0] - mx) * (p[1] - my) for p in pts) / sxx if sxx > 0 else float("nan")
+
+
+def read_obj_vertices(path):
+    vs = []
+    with open(path) as f:
+        for line in f:
+            if line.startswith("v "):
+                vs.append(tuple(float(t) for t in line.split()[1:4]))
+    return vs
+
+
+def deviation(a, b):
+    """RMS and max over vertices of |a_i - b_i| (same vertex count)."""
+    if len(a) != len(b) or not a:
+        raise ValueError(f"vertex counts differ: {len(a)} and {len(b)}")
+    d2 = [sum((p - q) ** 2 for p, q in zip(u, v)) for u, v in zip(a, b)]
+    return math.sqrt(sum(d2) / len(d2)), math.sqrt(max(d2))
+
+
+def write_csv(path, rows, columns=None):
+    columns = columns or (list(rows[0].keys()) if rows else [])
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=columns, extrasaction="ignore")
+        w.writeheader()
+        for r in rows:
+            w.writerow(r)
+
+
+def fmt(x, digits=3):
+    if x is None or (isinstance(x, float) and not math.isfinite(x)):
+        return "n/a"
+    if isinstance(x, int):
+        return str(x)
+    if x == 0:
+        return "0"
+    a = abs(x)
+    if a >= 1000:
+        return f"{x:,.0f}".replace(",", " ")
+    if a >= 0.01:
+        return f"{x:.{digits}g}"
+    return f"{x:.1e}"
+
+
+def md_table(header, rows, align=None):
+    align = align or ["---"] + ["---:"] * (len(header) - 1)
+    out = ["| " + " | ".join(header) + " |", "|" + "|".join(align) + "|"]
+    out += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
+    return "\n".join(out)
+
+
+# ---------------------------------------------------------------------------------------------
+# Steps.
+
+class Context:
+    def __init__(self, args):
+        self.args = args
+        self.quick = args.quick
+        self.build = Path(args.build).resolve()
+        self.results = Path(args.results).resolve()
+        self.docs = Path(args.docs).resolve()
+        self.images = self.docs.parent / "images" / "benchmarks"
+        self.jobs = args.jobs
+        self.step_seconds = {}
+
+    def exe(self, name):
+        for sub in ("benchmarks", "src/sim", "tests", "src/probe", "."):
+            p = self.build / sub / name
+            if p.is_file() and os.access(p, os.X_OK):
+                return p
+        raise RuntimeError(f"{name} not found under {self.build}: build it first "
+                           f"(cmake --build {self.build} --target {name})")
+
+
+def step_machine(ctx):
+    def sh(cmd):
+        try:
+            return subprocess.run(cmd, shell=True, capture_output=True, text=True).stdout.strip()
+        except OSError:
+            return ""
+    cpu = sh("lscpu | sed -n 's/^Model name:[ ]*//p' | head -1") or platform.processor()
+    mem = sh("awk '/MemTotal/ {printf \"%.1f GiB\", $2/1048576}' /proc/meminfo")
+    osr = sh(". /etc/os-release && echo $PRETTY_NAME")
+    cache = {}
+    cc = ctx.build / "CMakeCache.txt"
+    if cc.exists():
+        for line in cc.read_text().splitlines():
+            m = re.match(r"^(CMAKE_BUILD_TYPE|CMAKE_CXX_COMPILER|CMAKE_CXX_FLAGS_RELEASE|CMAKE_CXX_FLAGS):\w+=(.*)$", line)
+            if m:
+                cache[m.group(1)] = m.group(2)
+    compiler = sh(f"{cache.get('CMAKE_CXX_COMPILER', 'c++')} --version | head -1")
+    eigen = sh("awk '/#define EIGEN_(WORLD|MAJOR|MINOR)_VERSION/ {printf \"%s.\", $3}' "
+               "/usr/include/eigen3/Eigen/src/Core/util/Macros.h").rstrip(".")
+    m = {
+        "date_utc": datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M UTC"),
+        "cpu": cpu, "cores": os.cpu_count(), "memory": mem, "os": osr, "compiler": compiler,
+        "build_type": cache.get("CMAKE_BUILD_TYPE", "?"),
+        "flags": (cache.get("CMAKE_CXX_FLAGS", "") + " " + cache.get("CMAKE_CXX_FLAGS_RELEASE", "")).strip(),
+        "eigen": eigen, "fcl": sh("pkg-config --modversion fcl"), "bullet": sh("pkg-config --modversion bullet-float64"),
+        "commit": sh(f"git -C {ROOT} rev-parse --short HEAD"),
+        "dirty": bool(sh(f"git -C {ROOT} status --porcelain --untracked-files=no")),
+        "quick": ctx.quick,
+    }
+    (ctx.results / "machine.json").write_text(json.dumps(m, indent=1))
+    return m
+
+
+def step_pair_cost(ctx):
+    cmd = [ctx.exe("pce-bench"), "--benchmark_format=json"]
+    if ctx.quick:
+        cmd += ["--benchmark_min_time=0.001", "--benchmark_filter=^(vertex_face|point_point)/"]
+    else:
+        cmd += ["--benchmark_repetitions=5", "--benchmark_enable_random_interleaving=true",
+                "--benchmark_min_time=0.05", "--benchmark_display_aggregates_only=true"]
+    p = run(cmd)
+    (ctx.results / "pce_bench.json").write_text(p.stdout)
+    (ctx.results / "pce_bench.log").write_text(p.stderr)
+    data = json.loads(p.stdout)
+    ns = {}
+    for b in data["benchmarks"]:
+        # The median of the repetitions (the single run in quick mode).
+        if b.get("run_type") == "aggregate" and b.get("aggregate_name") != "median":
+            continue
+        name = b.get("run_name", b["name"])
+        ns[name] = b["real_time"]
+    rows = []
+    for name, t in sorted(ns.items()):
+        pair, quantity, scalar = name.split("/")
+        rows.append({"pair": pair, "quantity": quantity, "scalar": scalar, "ns_per_pair": t})
+    write_csv(ctx.results / "pce_bench.csv", rows)
+    return {"ns": ns, "command": " ".join(str(c) for c in cmd[:1]) + " " + " ".join(cmd[1:])}
+
+
+def step_accuracy(ctx):
+    cmd = [ctx.exe("pce-accuracy"), "--out", ctx.results / "accuracy.json", "--csv", ctx.results / "accuracy.csv"]
+    if ctx.quick:
+        cmd.append("--quick")
+    p = run(cmd)
+    (ctx.results / "accuracy.log").write_text(p.stdout + p.stderr)
+    data = json.loads((ctx.results / "accuracy.json").read_text())
+    data["wall_s"] = p.wall_s
+    data["command"] = "pce-accuracy" + (" --quick" if ctx.quick else "")
+    return data
+
+
+def step_broad_phase(ctx):
+    cmd = [ctx.exe("pce-broad-phase-bench"), "--out", ctx.results / "broad_phase.json"]
+    if ctx.quick:
+        cmd.append("--quick")
+    p = run(cmd)
+    (ctx.results / "broad_phase.log").write_text(p.stdout + p.stderr)
+    data = json.loads((ctx.results / "broad_phase.json").read_text())
+    write_csv(ctx.results / "broad_phase.csv", data["rows"])
+    data["command"] = "pce-broad-phase-bench" + (" --quick" if ctx.quick else "")
+    return data
+
+
+def make_scene(ctx, name, base, changes):
+    """Writes a variant of a shipped scene into the results folder; returns its path."""
+    scene = json.loads((ROOT / "examples" / "scenes" / f"{base}.json").read_text())
+    if "frames" in changes:
+        scene["frames"] = changes["frames"]
+    if "resolution" in changes:
+        for m in scene["meshes"]:
+            g = m.get("generator", {})
+            if g.get("type") == "grid":
+                g["nx"] = g["ny"] = changes["resolution"]
+    if "max_iterations" in changes:
+        scene.setdefault("solver", {})["max_iterations"] = changes["max_iterations"]
+    scene["output_every"] = 1000000
+    d = ctx.results / "scenes"
+    d.mkdir(exist_ok=True)
+    path = d / f"{name}.json"
+    path.write_text(json.dumps(scene, indent=1))
+    return path
+
+
+def run_sim(ctx, scene_path, tag, strategy, mode, tol, threads=1, keep_stats=False):
+    out = ctx.results / "runs" / tag
+    if out.exists():
+        shutil.rmtree(out)
+    cmd = [ctx.exe("pce-sim"), scene_path, "--out", out, "--no-frames", "--threads", str(threads), "--hessian", strategy]
+    if mode == "single":
+        cmd.append("--single-solve")
+    if tol is not None:
+        cmd += ["--tolerance", repr(tol)]
+    p = run(cmd, check=False)
+    summary_path = out / "summary.json"
+    if not summary_path.exists():
+        raise RuntimeError(f"pce-sim wrote no summary for {tag} (exit {p.returncode}):\n{p.stderr[-1500:]}")
+    summary = json.loads(summary_path.read_text())
+    stats = json.loads((out / "stats.json").read_text())
+    n = max(len(stats), 1)
+    r = {
+        "tag": tag, "strategy": strategy, "mode": mode, "tolerance": tol, "threads": threads,
+        "frames": summary["frames_done"], "vertices": summary["vertices"],
+        "ms_per_frame": summary["mean_ms_per_frame"], "newton_per_frame": summary["mean_newton_iterations"],
+        "residual_median": median([s["residual"] for s in stats]),
+        "residual_max": max([s["residual"] for s in stats if s["residual"] is not None] or [float("nan")]),
+        "peak_mib": summary["peak_memory_mib"],
+        "line_search_failures": sum(s["line_search_failures"] for s in stats),
+        "iteration_caps": sum(1 for s in stats if s["hit_iteration_cap"]),
+        "frames_with_intersections": sum(1 for s in stats if s["intersecting_triangle_pairs"] > 0),
+        "failure": summary["failure"], "exit_code": p.returncode, "wall_s": p.wall_s,
+    }
+    for k in STAGES:
+        r[k] = sum(s[k] for s in stats) / n
+    r["other_ms"] = max(r["ms_per_frame"] - sum(r[k] for k in STAGES), 0.0)
+    last = out / f"frame_{summary['frames_done']:04d}.obj"
+    r["final_obj"] = str(last) if last.exists() else None
+    if keep_stats:
+        r["stats"] = stats
+    return r
+
+
+def step_threads(ctx):
+    """pce-sim at 1 and 2 threads (the machine's cores), one at a time on an idle machine."""
+    name, (base, changes) = ("twist", ("twist", {"frames": 4})) if ctx.quick else \
+        ("hammock_coarse", ("hammock", {"frames": 25, "resolution": 22}))
+    scene = make_scene(ctx, f"threads_{name}", base, changes)
+    rows = []
+    counts = [1, 2] if (os.cpu_count() or 1) >= 2 else [1]
+    for t in counts:
+        r = run_sim(ctx, scene, f"threads_{name}_{t}", "analytic", "newton", None, threads=t)
+        r["scene"] = name
+        rows.append(r)
+    base_row = rows[0]
+    for r in rows:
+        for k in ["ms_per_frame"] + STAGES:
+            r["speedup_" + k] = base_row[k] / r[k] if r[k] > 0 else float("nan")
+    write_csv(ctx.results / "threads.csv", rows, ["scene", "threads", "frames", "ms_per_frame", "newton_per_frame"] +
+              STAGES + ["other_ms"] + ["speedup_" + k for k in ["ms_per_frame"] + STAGES])
+    return {"scene": name, "changes": changes, "rows": rows}
+
+
+def step_scenes(ctx):
+    plan = scene_plan(ctx.quick)
+    tasks = []  # (scene name, scene path, strategy, mode, tol, kind)
+    for name, (base, changes) in plan.items():
+        path = make_scene(ctx, name, base, changes)
+        ref_path = make_scene(ctx, name + "_reference", base, dict(changes, max_iterations=300))
+        for (s, mode, tol) in scene_configs(ctx.quick):
+            tasks.append((name, path, s, mode, tol, "config"))
+        tasks.append((name, ref_path, *REFERENCE, "reference"))
+        if not ctx.quick:
+            tasks.append((name, ref_path, *NOISE_FLOOR, "noise_floor"))
+    if not ctx.quick:
+        base, changes = HEADLINE_SCENE
+        path = make_scene(ctx, "hammock", base, changes)
+        for s in STRATEGIES:
+            tasks.append(("hammock", path, s, "newton", None, "config"))
+
+    def one(t):
+        name, path, s, mode, tol, kind = t
+        tag = f"{name}_{kind}_{s}_{mode}_{'default' if tol is None else f'{tol:g}'}"
+        r = run_sim(ctx, path, tag, s, mode, tol)
+        r.update({"scene": name, "kind": kind})
+        log(f"  {tag}: {r['ms_per_frame']:.0f} ms/frame, {r['newton_per_frame']:.2f} it/frame"
+            + (f", FAILED: {r['failure']}" if r["failure"] else ""))
+        return r
+
+    # Longest first (hammock, then the Newton runs at tight tolerances) so two workers balance.
+    weight = {"hammock": 100, "hammock_coarse": 20, "drape": 6, "twist": 5, "strands": 4}
+    tasks.sort(key=lambda t: -(weight.get(t[0], 1) * (3 if t[5] != "config" else 1) *
+                               (1 if t[3] == "single" else 2 + (t[4] is not None and t[4] < 1e-2))))
+    with concurrent.futures.ThreadPoolExecutor(max_workers=ctx.jobs) as pool:
+        rows = list(pool.map(one, tasks))
+    # Deviation of every run's final state from its scene's reference.
+    refs = {r["scene"]: r for r in rows if r["kind"] == "reference"}
+    for r in rows:
+        ref = refs.get(r["scene"])
+        r["dev_rms"] = r["dev_max"] = None
+        if ref and ref["final_obj"] and r["final_obj"] and r["frames"] == ref["frames"]:
+            r["dev_rms"], r["dev_max"] = deviation(read_obj_vertices(r["final_obj"]), read_obj_vertices(ref["final_obj"]))
+    columns = ["scene", "kind", "strategy", "mode", "tolerance", "frames", "vertices", "ms_per_frame",
+               "newton_per_frame", "residual_median", "residual_max", "peak_mib", "line_search_failures",
+               "iteration_caps", "frames_with_intersections", "dev_rms", "dev_max", "failure"] + STAGES + ["other_ms"]
+    write_csv(ctx.results / "scenes.csv", rows, columns)
+    return {"plan": {k: {"base": b, **c} for k, (b, c) in plan.items()},
+            "headline": None if ctx.quick else {"base": HEADLINE_SCENE[0], **HEADLINE_SCENE[1]},
+            "rows": rows}
+
+
+# ---------------------------------------------------------------------------------------------
+# Plots.
+
+def plot_pair(ctx, acc, cost):
+    """ns per pair against the median distance to the nearest-PSD Hessian, one panel per pair kind."""
+    fig, axes = plt.subplots(1, 4, figsize=(16, 4.2), sharey=True)
+    for ax, pair in zip(axes, PAIRS):
+        for scalar, marker in (("double", "o"), ("float", "^")):
+            for s in STRATEGIES:
+                t = cost["ns"].get(f"{pair}/{s}/{scalar}")
+                d = pair_summary(acc, pair, scalar, s, families=("random",))
+                if t is None or d is None or not math.isfinite(d["median"]):
+                    continue
+                ax.scatter([t], [max(d["median"], 1e-17)], color=COLORS[s], marker=marker, s=60,
+                           label=f"{s} ({scalar})")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_title(pair.replace("_", "-"))
+        ax.set_xlabel("ns per pair (median)")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("median ‖P − P*‖/‖P*‖ (random pairs)")
+    h, lab = axes[0].get_legend_handles_labels()
+    fig.legend(h, lab, loc="lower center", ncol=5, fontsize=8, bbox_to_anchor=(0.5, -0.08))
+    fig.suptitle("Per pair: cost against distance to the true (50-digit) nearest-PSD projection; "
+                 "points at 1e-17 are exact to 50 digits")
+    fig.tight_layout()
+    fig.savefig(ctx.images / "pair_accuracy_cost.png", dpi=90, bbox_inches="tight")
+    plt.close(fig)
+
+
+def plot_scenes(ctx, scenes):
+    names = [n for n in scenes["plan"]]
+    fig, axes = plt.subplots(1, len(names), figsize=(4.6 * len(names), 4.4), squeeze=False)
+    markers = {("single", None): "s", ("newton", 0.1): "v", ("newton", 0.01): "o", ("newton", 0.001): "^"}
+    for ax, name in zip(axes[0], names):
+        rows = [r for r in scenes["rows"] if r["scene"] == name and r["kind"] == "config"]
+        floor = [r for r in scenes["rows"] if r["scene"] == name and r["kind"] == "noise_floor"]
+        for r in rows:
+            if r["dev_rms"] is None:
+                continue
+            mk = markers.get((r["mode"], r["tolerance"]), "o")
+            ax.scatter([r["ms_per_frame"]], [max(r["dev_rms"], 1e-9)], color=COLORS[r["strategy"]], marker=mk, s=55,
+                       edgecolors="black" if r["failure"] else "none")
+        for r in floor:
+            if r["dev_rms"] is not None:
+                ax.axhline(max(r["dev_rms"], 1e-9), color="gray", ls="--", lw=1)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_title(name)
+        ax.set_xlabel("ms per frame (mean, 1 thread)")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0][0].set_ylabel("RMS deviation of the final state from the reference (m)")
+    from matplotlib.lines import Line2D
+    handles = [Line2D([], [], color=COLORS[s], marker="o", ls="", label=s) for s in STRATEGIES]
+    handles += [Line2D([], [], color="black", marker=m, ls="", label=("single solve" if k[0] == "single" else f"Newton tol {k[1]:g}"))
+                for k, m in markers.items()]
+    handles.append(Line2D([], [], color="gray", ls="--", label="two tight runs differ by"))
+    fig.legend(handles=handles, loc="lower center", ncol=10, fontsize=8, bbox_to_anchor=(0.5, -0.07))
+    fig.suptitle("Per scene: time against accuracy, one point per configuration (lower left is better)")
+    fig.tight_layout()
+    fig.savefig(ctx.images / "scene_pareto.png", dpi=90, bbox_inches="tight")
+    plt.close(fig)
+
+
+def plot_broad_phase(ctx, bp):
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    styles = {"fcl": "tab:blue", "bullet": "tab:orange", "brute": "tab:gray"}
+    for key, ax, title in (("query_ms", axes[0], "query (tree unchanged)"), ("update_ms", axes[1], "update + query (vertices moved)")):
+        for kind in styles:
+            rows = sorted([r for r in bp["rows"] if r["broad_phase"] == kind and r.get(key) is not None],
+                          key=lambda r: r["triangles"])
+            if not rows:
+                continue
+            xs = [r["triangles"] for r in rows]
+            ys = [r[key] for r in rows]
+            k = bp["exponents"].get(kind, {}).get(key, float("nan"))
+            ax.plot(xs, ys, "o-", color=styles[kind], label=f"{kind} (∝ n^{k:.2f})")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("triangles")
+        ax.set_ylabel("ms (median)")
+        ax.set_title(title)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle("Broad phase on crumpled cloths: vertex-face + edge-edge candidates")
+    fig.tight_layout()
+    fig.savefig(ctx.images / "broad_phase_scaling.png", dpi=90, bbox_inches="tight")
+    plt.close(fig)
+
+
+def plot_threads(ctx, threads, scenes):
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.0))
+    rows = threads["rows"]
+    keys = ["ms_per_frame"] + STAGES
+    x = range(len(keys))
+    for r in rows[1:]:
+        axes[0].bar(x, [r["speedup_" + k] for k in keys], color="tab:blue")
+    axes[0].axhline(1, color="black", lw=0.8)
+    axes[0].set_xticks(list(x))
+    axes[0].set_xticklabels(["frame"] + [STAGE_NAMES[k] for k in STAGES], rotation=20, fontsize=8)
+    axes[0].set_ylabel(f"speed-up, {rows[-1]['threads']} threads over 1")
+    axes[0].set_title(f"threads ({threads['scene']})")
+    # Stage shares of a frame: Newton, analytic, scene tolerance 1e-2, one thread.
+    shares = [r for r in scenes["rows"] if r["kind"] == "config" and r["strategy"] == "analytic" and r["mode"] == "newton"
+              and r["tolerance"] in (None, 0.01)]
+    shares = {r["scene"]: r for r in shares}
+    names = list(shares)
+    bottom = [0.0] * len(names)
+    for k in STAGES + ["other_ms"]:
+        vals = [shares[n][k] / shares[n]["ms_per_frame"] if shares[n]["ms_per_frame"] > 0 else 0 for n in names]
+        axes[1].bar(names, vals, bottom=bottom, label=STAGE_NAMES[k])
+        bottom = [b + v for b, v in zip(bottom, vals)]
+    axes[1].set_ylabel("share of a frame")
+    axes[1].set_title("where a frame goes (Newton, analytic, 1 thread)")
+    axes[1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1, 1))
+    fig.tight_layout()
+    fig.savefig(ctx.images / "threads.png", dpi=90, bbox_inches="tight")
+    plt.close(fig)
+
+
+# ---------------------------------------------------------------------------------------------
+# Summaries used by the tables and the conclusion.
+
+def pair_summary(acc, pair, scalar, strategy, families=None, exclude=()):
+    rows = [r for r in acc["rows"] if r["pair"] == pair and r["scalar"] == scalar and r["strategy"] == strategy
+            and (families is None or r["family"] in families) and r["family"] not in exclude]
+    if not rows:
+        return None
+    n = sum(r["configurations"] for r in rows)
+    meds = [r["rel_dist_median"] for r in rows if r["rel_dist_median"] is not None]
+    p90 = [r["rel_dist_p90"] for r in rows if r["rel_dist_p90"] is not None]
+    mx = [r["rel_dist_max"] for r in rows if r["rel_dist_max"] is not None]
+    ok = n - sum(r["not_ok"] for r in rows)
+    return {
+        "n": n, "ok": ok,
+        "median": median(meds), "p90": max(p90) if p90 else float("nan"), "max": max(mx) if mx else float("nan"),
+        "psd_violations": sum(r["psd_violations"] for r in rows),
+        "non_finite": sum(r["non_finite"] for r in rows),
+        "not_ok": sum(r["not_ok"] for r in rows),
+    }
+
+
+def broad_phase_exponents(bp, quick):
+    """Fitted exponents of time against triangle count, from n >= 40 (smaller sizes are overhead-bound)."""
+    out = {}
+    for kind in sorted({r["broad_phase"] for r in bp["rows"]}):
+        rows = [r for r in bp["rows"] if r["broad_phase"] == kind and (quick or r["n"] >= 40)]
+        out[kind] = {k: fit_exponent([r["triangles"] for r in rows], [r.get(k) for r in rows])
+                     for k in ("build_ms", "update_ms", "query_ms")}
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# The report.
+
+def write_report(ctx, machine, cost, acc, bp, threads, scenes, total_s):
+    img = os.path.relpath(ctx.images, ctx.docs.parent)
+    L = []
+    A = L.append
+    A("# Benchmarks: what accuracy costs in time\n")
+    A("<!-- Generated by benchmarks/run_all (benchmarks/run_all.py): edit the script, not this file. -->\n")
+    A("Everything on this page comes from **one run** of one command, on the machine described below:\n")
+    A("```sh\nbenchmarks/run_all            # ~%d min here; --quick runs a seconds-long subset (the ctest smoke test)\n```\n"
+      % max(1, round(total_s / 60)))
+    A("It runs `pce-bench` (cost per pair), `pce-accuracy` (distance of each strategy's Hessian to the true "
+      "nearest-PSD projection, computed in 50 digits), `pce-broad-phase-bench` (FCL, Bullet and brute force on "
+      "crumpled cloths) and `pce-sim` (every shipped scene × strategy × mode × tolerance, and a thread count "
+      "sweep), writes JSON and CSV into `benchmarks/results/`, draws the plots below and rewrites this page. "
+      "Figures are medians, and ratios are taken within this one run: the machine is a shared VM whose speed "
+      "drifts by 25 % between days, so compare numbers within this page, not across runs. Nothing here is "
+      "asserted by a test; the test suite runs `benchmarks/run_all --quick` only to keep the pipeline working. "
+      "How `pce-bench` works and how its numbers got where they are: [`pce-bench.md`](pce-bench.md).\n")
+    A("**Machine.** %s, %s cores, %s, %s, %s, build type %s (`%s`), Eigen %s, FCL %s, Bullet %s; commit %s%s; %s; "
+      "total wall time %.1f min.\n" % (machine["cpu"], machine["cores"], machine["memory"], machine["os"],
+                                       machine["compiler"], machine["build_type"], machine["flags"], machine["eigen"],
+                                       machine["fcl"], machine["bullet"], machine["commit"],
+                                       " (with uncommitted changes)" if machine["dirty"] else "",
+                                       machine["date_utc"], total_s / 60))
+    A(conclusion(cost, acc, bp, threads, scenes))
+
+    # --- per pair ---
+    A("## 1. Per pair: cost and accuracy side by side\n")
+    A(f"![cost against accuracy per pair]({img}/pair_accuracy_cost.png)\n")
+    A("**What is measured.** Cost: `%s` — ns per pair for `pair_energy` + gradient + the strategy's Hessian, "
+      "median of 5 interleaved repetitions, on pools of 1024 active log-barrier pairs (`pce-bench.md`). Accuracy: "
+      "`%s` — for each strategy P, the relative Frobenius distance ‖P − P*‖/‖P*‖ to P*, the nearest PSD matrix "
+      "to the exact Hessian (its negative eigenvalues clamped to 0), computed with the same templates in 50 "
+      "digits at the very input the scalar saw; the PSD-violation rate; the rate of non-finite results and of "
+      "statuses other than `ok`. Sets: `random` (well-shaped pairs, length spread over the penalty's range), "
+      "`near_contact` (L/d̂ from 1e-6 to 1e-2) and every hard family of `docs/stability.md`; lengths signed and "
+      "unsigned, penalties quadratic, cubic and log barrier. Wall time of the accuracy run: %.0f s.\n"
+      % (cost["command"], acc["command"], acc.get("wall_s", float("nan"))))
+    for pair in PAIRS:
+        rows = []
+        for scalar in ("double", "float"):
+            tnum = cost["ns"].get(f"{pair}/numerical/{scalar}")
+            for s in STRATEGIES:
+                t = cost["ns"].get(f"{pair}/{s}/{scalar}")
+                rnd = pair_summary(acc, pair, scalar, s, families=("random",))
+                near = pair_summary(acc, pair, scalar, s, families=("near_contact",))
+                hard = pair_summary(acc, pair, scalar, s, exclude=("random", "near_contact"))
+                allr = pair_summary(acc, pair, scalar, s)
+                if allr is None and t is None:
+                    continue
+                rows.append([f"`{s}`", scalar, fmt(t), fmt(t / tnum) if t and tnum else "n/a",
+                             fmt(rnd["median"]) if rnd else "n/a", fmt(rnd["max"]) if rnd else "n/a",
+                             fmt(near["median"]) if near else "n/a", fmt(near["max"]) if near else "n/a",
+                             fmt(hard["median"]) if hard else "n/a", fmt(hard["max"]) if hard else "n/a",
+                             f"{allr['psd_violations']}/{allr['ok']}" if allr else "n/a",
+                             f"{allr['non_finite']}/{allr['n']}" if allr else "n/a",
+                             f"{allr['not_ok']}/{allr['n']}" if allr else "n/a"])
+        if not rows:
+            continue
+        A(f"**{pair.replace('_', '-')}**\n")
+        A(md_table(["strategy", "scalar", "ns/pair", "× numerical", "random: median dist.", "max",
+                    "near contact: median", "max", "hard families: median", "max", "PSD violations",
+                    "non-finite", "not ok"], rows, ["---", "---"] + ["---:"] * 11) + "\n")
+    A("Columns: *dist.* is ‖P − P*‖/‖P*‖ (median of the groups' medians; *max* over all configurations of the "
+      "set). *PSD violations* counts ok results with λ_min(P) < −τ·max|λ(P)| (τ in `accuracy.json`'s settings), "
+      "out of the ok results; *non-finite* and *not ok* count over all configurations (the hard families include "
+      "degenerate inputs, whose expected status is `degenerate`). Raw rows per length, penalty and family: "
+      "`benchmarks/results/accuracy.csv`.\n")
+
+    # --- per scene ---
+    A("## 2. Per scene: time against accuracy\n")
+    A(f"![Pareto per scene]({img}/scene_pareto.png)\n")
+    A("Each scene runs with every Hessian strategy, in single-linearised-solve mode and with full Newton at "
+      "tolerances 0.1, 0.01 (the scenes' own) and 0.001 on max|Δx|/(h·ℓ), one thread, two runs at a time on "
+      "the two cores. The reference is `%s` Newton at tolerance %g with up to 300 iterations; *deviation* is the "
+      "RMS (and max) over vertices of the distance between a run's final state and the reference's. The dashed "
+      "line is how far a second tight run (`%s`, tolerance %g) ends from the reference: deviations below it are "
+      "noise. `pce-sim` is double only (its solver, assembly and CHOLMOD are double), so the scenes have no float "
+      "rows; float is compared per pair above. Shortened variants (the full scenes take 25 s to 25 min per run): %s. "
+      "Command per row: `pce-sim SCENE.json --no-frames --threads 1 --hessian S [--single-solve | --tolerance T]`.\n"
+      % (REFERENCE[0], REFERENCE[2], NOISE_FLOOR[0], NOISE_FLOOR[2],
+         "; ".join(f"`{k}` = {v['base']} with " + ", ".join(f"{a} {b}" for a, b in v.items() if a != "base")
+                   for k, v in scenes["plan"].items())))
+    for name in scenes["plan"]:
+        rows = [r for r in scenes["rows"] if r["scene"] == name]
+        rows.sort(key=lambda r: ({"config": 0, "reference": 1, "noise_floor": 2}[r["kind"]],
+                                 STRATEGIES.index(r["strategy"]), r["mode"] != "single", -(r["tolerance"] or 0)))
+        A(f"**{name}** ({rows[0]['vertices']} vertices, {rows[0]['frames']} frames)\n")
+        A(md_table(["strategy", "mode", "ms/frame", "Newton it/frame", "residual (median / max)", "peak MiB",
+                    "LS failures", "iteration caps", "frames with intersections", "deviation RMS (m)", "max (m)"],
+                   [[("**ref** " if r["kind"] == "reference" else "tight " if r["kind"] == "noise_floor" else "") + f"`{r['strategy']}`",
+                     "single" if r["mode"] == "single" else f"Newton {r['tolerance']:g}",
+                     fmt(r["ms_per_frame"]), fmt(r["newton_per_frame"]),
+                     f"{fmt(r['residual_median'])} / {fmt(r['residual_max'])}", fmt(r["peak_mib"]),
+                     r["line_search_failures"], r["iteration_caps"], r["frames_with_intersections"],
+                     "—" if r["kind"] == "reference" else fmt(r["dev_rms"]),
+                     "—" if r["kind"] == "reference" else fmt(r["dev_max"])] +
+                    ([] if not r["failure"] else []) for r in rows],
+                   ["---", "---"] + ["---:"] * 9) + "\n")
+        failed = [r for r in rows if r["failure"]]
+        for r in failed:
+            A(f"- `{r['strategy']}` {r['mode']} {r['tolerance']}: failed after {r['frames']} frames: {r['failure']}\n")
+    if scenes.get("headline"):
+        rows = [r for r in scenes["rows"] if r["scene"] == "hammock"]
+        A("**hammock at full resolution** (%d vertices, the first %d frames: the first sheet falls and lands; "
+          "scene tolerance 0.01, one thread; no reference run, too long)\n" % (rows[0]["vertices"], rows[0]["frames"]))
+        ana = next((r for r in rows if r["strategy"] == "analytic"), None)
+        A(md_table(["strategy", "ms/frame", "× analytic", "Newton it/frame", "pair evaluation ms/frame",
+                    "linear solve ms/frame", "peak MiB", "LS failures", "iteration caps", "frames with intersections"],
+                   [[f"`{r['strategy']}`", fmt(r["ms_per_frame"]),
+                     fmt(r["ms_per_frame"] / ana["ms_per_frame"]) if ana else "n/a", fmt(r["newton_per_frame"]),
+                     fmt(r["pair_ms"]), fmt(r["solve_ms"]), fmt(r["peak_mib"]), r["line_search_failures"],
+                     r["iteration_caps"], r["frames_with_intersections"]]
+                    for r in sorted(rows, key=lambda r: STRATEGIES.index(r["strategy"]))]) + "\n")
+
+    # --- broad phase ---
+    A("## 3. Broad phase: FCL, Bullet and brute force\n")
+    A(f"![broad-phase scaling]({img}/broad_phase_scaling.png)\n")
+    s = bp.get("settings", {})
+    A("`%s`: crumpled cloths of n×n quads (`pce::sim::crumpled_grid`), vertex-face and edge-edge candidates at "
+      "the distance in the settings below; *build* is the first query of a fresh broad phase, *update* moves "
+      "every vertex a little and queries again (trees refitted), *query* repeats a query with nothing moved. "
+      "Medians over repetitions. Every broad phase returns the same candidates (checked by the benchmark at "
+      "every size, and by `tests/sim/test_broad_phase.cpp`). Brute force is O(n²) and stops at the size where a "
+      "call gets too slow. Settings: `%s`.\n" % (bp["command"], json.dumps(s)))
+    rows = sorted(bp["rows"], key=lambda r: (r["n"], r["broad_phase"]))
+    A(md_table(["n", "triangles", "broad phase", "build ms", "update ms", "query ms", "vertex-face", "edge-edge"],
+               [[r["n"], r["triangles"], r["broad_phase"], fmt(r.get("build_ms")), fmt(r.get("update_ms")),
+                 fmt(r.get("query_ms")), r["vertex_face"], r["edge_edge"]] for r in rows]) + "\n")
+    A("Fitted exponents k of time ∝ triangles^k (least squares on log–log, n ≥ 40):\n")
+    A(md_table(["broad phase", "build", "update", "query"],
+               [[k, fmt(v["build_ms"]), fmt(v["update_ms"]), fmt(v["query_ms"])] for k, v in bp["exponents"].items()]) + "\n")
+
+    # --- threads ---
+    A("## 4. Threads, and where a frame goes\n")
+    A(f"![threads and stage shares]({img}/threads.png)\n")
+    tr = threads["rows"]
+    A("`pce-sim` on `%s` (%s), `analytic`, Newton, `--threads 1` and `--threads %d` (this machine has %s cores, so "
+      "that is the sweep it allows), one run at a time with nothing else running. Pair evaluation and the "
+      "assembly's scatter run in OpenMP loops; CHOLMOD's factorisation is serial (OpenBLAS serial, see "
+      "`docs/simulation.md`).\n" % (threads["scene"], ", ".join(f"{a} {b}" for a, b in threads["changes"].items()),
+                                    tr[-1]["threads"], machine["cores"]))
+    A(md_table(["threads", "ms/frame", "Newton it/frame"] + [STAGE_NAMES[k] + " ms" for k in STAGES] +
+               ["speed-up: frame", "pair evaluation", "assembly"],
+               [[r["threads"], fmt(r["ms_per_frame"]), fmt(r["newton_per_frame"])] + [fmt(r[k]) for k in STAGES] +
+                [fmt(r["speedup_ms_per_frame"]), fmt(r["speedup_pair_ms"]), fmt(r["speedup_assembly_ms"])] for r in tr]) + "\n")
+    shares = [r for r in scenes["rows"] if r["kind"] == "config" and r["strategy"] == "analytic"
+              and r["mode"] == "newton" and r["tolerance"] in (None, 0.01)]
+    A("Share of a frame per stage (Newton, `analytic`, the scene's tolerance, one thread):\n")
+    A(md_table(["scene", "ms/frame"] + [STAGE_NAMES[k] for k in STAGES + ["other_ms"]],
+               [[r["scene"], fmt(r["ms_per_frame"])] + [f"{100 * r[k] / r['ms_per_frame']:.0f} %" if r["ms_per_frame"] else "n/a"
+                                                       for k in STAGES + ["other_ms"]] for r in shares]) + "\n")
+    A("## Files\n")
+    A("`benchmarks/results/`: `machine.json`, `pce_bench.json`/`.csv`, `accuracy.json`/`.csv`, "
+      "`broad_phase.json`/`.csv`, `threads.csv`, `scenes.csv`, `step_*.json` (each step's numbers as this page "
+      "used them; `run_all --steps scenes` reruns one step and reads the others from there), and the scene "
+      "variants in `scenes/`. The simulations' own outputs go to `runs/` (not kept in git).\n")
+    ctx.docs.parent.mkdir(parents=True, exist_ok=True)
+    ctx.docs.write_text("\n".join(L))
+
+
+def conclusion(cost, acc, bp, threads, scenes):
+    """The short "what accuracy costs" section, numbers from this run."""
+    ns = cost["ns"]
+
+    def ratio(pair, a, b, scalar="double"):
+        x, y = ns.get(f"{pair}/{a}/{scalar}"), ns.get(f"{pair}/{b}/{scalar}")
+        return x / y if x and y else float("nan")
+
+    def dist(pair, s, fam=("random",), scalar="double", key="median"):
+        d = pair_summary(acc, pair, scalar, s, families=fam)
+        return d[key] if d else float("nan")
+
+    def scene_row(name, s, mode="newton", tol=0.01):
+        for r in scenes["rows"]:
+            if r["scene"] == name and r["strategy"] == s and r["mode"] == mode and r["kind"] == "config" and \
+                    (r["tolerance"] == tol or (tol == 0.01 and r["tolerance"] is None)):
+                return r
+        return None
+
+    L = ["## What accuracy costs\n"]
+    vf = "vertex_face"
+    L.append(
+        "- **Per pair, `analytic` is the cheap PSD Hessian and close to the true projection.** Vertex-face, "
+        f"double: `analytic` costs {fmt(ratio(vf, 'analytic', 'exact_hessian'))}× the exact (indefinite) Hessian "
+        f"and 1/{fmt(1 / ratio(vf, 'analytic', 'numerical'))} of `numerical`; on random pairs its median distance "
+        f"to the nearest PSD matrix is {fmt(dist(vf, 'analytic'))} (max {fmt(dist(vf, 'analytic', key='max'))}), "
+        f"near contact {fmt(dist(vf, 'analytic', ('near_contact',)))}.")
+    L.append(
+        f"- **`exact` buys the true projection for {fmt(ratio(vf, 'exact', 'analytic'))}× `analytic`** "
+        f"(1/{fmt(1 / ratio(vf, 'exact', 'numerical'))} of `numerical`): median distance "
+        f"{fmt(dist(vf, 'exact'))} in double against `numerical`'s {fmt(dist(vf, 'numerical'))}.")
+    L.append(
+        f"- **`gauss_newton` is the cheapest ({fmt(ratio(vf, 'gauss_newton', 'analytic'))}× `analytic`) and the "
+        f"least faithful**: it drops the length's curvature, median distance {fmt(dist(vf, 'gauss_newton'))}.")
+    L.append(
+        f"- **float** costs {fmt(ns.get(vf + '/analytic/float', math.nan) / ns.get(vf + '/analytic/double', math.nan))}× "
+        f"double for `analytic`; its median distance is {fmt(dist(vf, 'analytic', scalar='float'))} "
+        f"(`exact` in float: {fmt(dist(vf, 'exact', scalar='float'))}).")
+    # Per scene: the strategies at the scene's own tolerance.
+    for name in [n for n in ("hammock", "hammock_coarse", "drape", "strands", "twist")
+                 if any(r["scene"] == n for r in scenes["rows"])]:
+        parts = []
+        for s in STRATEGIES:
+            r = scene_row(name, s)
+            if r:
+                parts.append(f"`{s}` {fmt(r['ms_per_frame'])} ms/{fmt(r['newton_per_frame'])} it")
+        single = scene_row(name, "analytic", "single", None)
+        L.append(f"- **{name}** (Newton, tolerance 0.01, per frame): " + ", ".join(parts) +
+                 (f"; single solve `analytic` {fmt(single['ms_per_frame'])} ms, deviation {fmt(single['dev_rms'])} m RMS"
+                  if single and single.get("dev_rms") is not None else "") + ".")
+    ex = bp["exponents"]
+    L.append("- **Broad phase**: time ∝ triangles^k with k (query) = " +
+             ", ".join(f"{k} {fmt(v['query_ms'])}" for k, v in ex.items()) + ".")
+    tr = threads["rows"]
+    if len(tr) > 1:
+        L.append(f"- **Threads**: {tr[-1]['threads']} threads speed pair evaluation up {fmt(tr[-1]['speedup_pair_ms'])}×, "
+                 f"assembly {fmt(tr[-1]['speedup_assembly_ms'])}×, a whole frame {fmt(tr[-1]['speedup_ms_per_frame'])}×.")
+    guide = (ROOT / "benchmarks" / "guidance.md")
+    if guide.exists():
+        L.append("\n" + guide.read_text().strip())
+    return "\n".join(L) + "\n"
+
+
+# ---------------------------------------------------------------------------------------------
+
+def self_test():
+    """Checks the pieces that turn raw outputs into numbers (run by --self-test)."""
+    assert abs(fit_exponent([10, 100, 1000], [3e-3 * n ** 1.5 for n in (10, 100, 1000)]) - 1.5) < 1e-12
+    assert abs(fit_exponent([1, 2, 4, 8], [5, 5, 5, 5])) < 1e-12
+    rms, mx = deviation([(0, 0, 0), (1, 1, 1)], [(0, 0, 3), (1, 1, 1)])
+    assert abs(rms - math.sqrt(4.5)) < 1e-12 and abs(mx - 3) < 1e-12
+    assert median([3, float("nan"), 1, 2]) == 2
+    assert fmt(1234.5) == "1 234" and fmt(0.5) == "0.5" and fmt(1e-5) == "1.0e-05"
+    try:
+        deviation([(0, 0, 0)], [])
+    except ValueError:
+        pass
+    else:
+        raise AssertionError("deviation accepted different vertex counts")
+    print("run_all self-test: ok")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--quick", action="store_true", help="a seconds-long subset of every step (smoke test)")
+    ap.add_argument("--build", default=str(ROOT / "build"), help="CMake build folder with the executables")
+    ap.add_argument("--results", default=None, help="results folder (default benchmarks/results, or "
+                                                   "build/run_all_quick with --quick)")
+    ap.add_argument("--docs", default=None, help="the page to write (default docs/benchmarks.md; with --quick, "
+                                                "RESULTS/benchmarks.md)")
+    ap.add_argument("--jobs", type=int, default=2, help="scene runs at a time (each uses one thread)")
+    ap.add_argument("--steps", default="all", help="comma-separated steps to run (%s); the others' last results "
+                                                   "are read from the results folder" % ", ".join(ALL_STEPS))
+    ap.add_argument("--self-test", action="store_true", help="check the number-crunching helpers and exit")
+    args = ap.parse_args()
+    if args.self_test:
+        self_test()
+        return 0
+    if args.results is None:
+        args.results = str(Path(args.build) / "run_all_quick") if args.quick else str(ROOT / "benchmarks" / "results")
+    if args.docs is None:
+        args.docs = str(Path(args.results) / "benchmarks.md") if args.quick else str(ROOT / "docs" / "benchmarks.md")
+    ctx = Context(args)
+    ctx.results.mkdir(parents=True, exist_ok=True)
+    ctx.images.mkdir(parents=True, exist_ok=True)
+    steps = ALL_STEPS if args.steps == "all" else args.steps.split(",")
+    unknown = [x for x in steps if x not in ALL_STEPS]
+    if unknown:
+        raise ValueError(f"--steps: unknown step(s) {', '.join(unknown)} (steps: {', '.join(ALL_STEPS)})")
+    needs = {"pair_cost": "pce-bench", "accuracy": "pce-accuracy", "broad_phase": "pce-broad-phase-bench",
+             "threads": "pce-sim", "scenes": "pce-sim"}
+    for x in steps:
+        ctx.exe(needs[x])  # fail before running anything
+    t0 = time.monotonic()
+    log(f"results in {ctx.results}, page {ctx.docs}{' (quick)' if ctx.quick else ''}; steps: {', '.join(steps)}")
+    machine = step_machine(ctx)
+    data = {}
+
+    def done(name, value):
+        data[name] = value
+        (ctx.results / f"step_{name}.json").write_text(json.dumps(value, indent=1, default=str))
+
+    if "pair_cost" in steps:
+        log("pce-bench (alone on the machine)")
+        done("pair_cost", step_pair_cost(ctx))
+    with concurrent.futures.ThreadPoolExecutor(max_workers=2) as pool:
+        fa = pool.submit(step_accuracy, ctx) if "accuracy" in steps else None
+        if fa:
+            log("pce-accuracy" + (", with pce-broad-phase-bench on the other core" if "broad_phase" in steps else ""))
+        if "broad_phase" in steps:
+            bp = step_broad_phase(ctx)
+            bp["exponents"] = broad_phase_exponents(bp, ctx.quick)
+            done("broad_phase", bp)
+        if fa:
+            done("accuracy", fa.result())
+    if "threads" in steps:
+        log("threads (one run at a time)")
+        done("threads", step_threads(ctx))
+    if "scenes" in steps:
+        log(f"scenes ({ctx.jobs} runs at a time)")
+        scenes = step_scenes(ctx)
+        for r in scenes["rows"]:
+            r.pop("final_obj", None)
+        done("scenes", scenes)
+    for name in ALL_STEPS:  # steps not run now: their last results
+        if name not in data:
+            f = ctx.results / f"step_{name}.json"
+            if not f.exists():
+                raise RuntimeError(f"{f} is missing: run step '{name}' first")
+            data[name] = json.loads(f.read_text())
+    cost, acc, bp, threads, scenes = (data[k] for k in ALL_STEPS)
+    total = time.monotonic() - t0
+    log("plots and page")
+    plot_pair(ctx, acc, cost)
+    plot_scenes(ctx, scenes)
+    plot_broad_phase(ctx, bp)
+    plot_threads(ctx, threads, scenes)
+    write_report(ctx, machine, cost, acc, bp, threads, scenes, total)
+    missing = [p for p in [ctx.docs] + [ctx.images / f for f in ("pair_accuracy_cost.png", "scene_pareto.png",
+                                                                   "broad_phase_scaling.png", "threads.png")]
+               if not p.exists() or p.stat().st_size == 0]
+    if missing:
+        raise RuntimeError("missing outputs: " + ", ".join(map(str, missing)))
+    failures = [r for r in scenes["rows"] if r["exit_code"] not in (0,)]
+    log(f"done in {total / 60:.1f} min: {ctx.docs}" + (f"; {len(failures)} scene runs ended early (reported)" if failures else ""))
+    return 0
+
+
+if __name__ == "__main__":
+    try:
+        sys.exit(main())
+    except (RuntimeError, ValueError, OSError, KeyError, json.JSONDecodeError) as e:
+        print(f"run_all: {e}", file=sys.stderr)
+        sys.exit(1)
