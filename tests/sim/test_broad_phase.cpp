@@ -1,42 +1,49 @@
 // SPDX-License-Identifier: MIT
-// pce::sim broad phase (src/sim/broad_phase/fcl.cpp): the FCL dynamic-AABB-tree broad phase
-// returns exactly the brute-force reference's vectors (same pairs, same order) for
-// vertex-face and edge-edge on crumpled cloths, overlapping sheets, strands, flat grids
-// whose pairs sit exactly on the box boundary, after the vertices move (refit) and after
-// the topology changes (rebuild).
+// pce::sim broad phases (src/sim/broad_phase/fcl.cpp, bullet.cpp): FCL's dynamic AABB tree
+// and Bullet's btDbvt each return exactly the brute-force reference's vectors (same pairs,
+// same order) for vertex-face and edge-edge on crumpled cloths, overlapping sheets,
+// strands, flat grids whose pairs sit exactly on the box boundary, after the vertices move
+// (refit), after the topology changes (rebuild), with a non-finite vertex, and on the
+// initial state of every shipped scene (examples/scenes/*.json). Every test body runs for
+// both kinds (TEST_P over fcl and bullet).
 //
 // DISABLED_Timing (run with --gtest_also_run_disabled_tests --gtest_filter=*Timing*) prints
-// the query times of both on a crumpled 100×100 cloth; it asserts nothing about speed.
+// the query times of each kind and of the brute force on a crumpled 100×100 cloth; it
+// asserts nothing about speed. The full comparison is the pce-broad-phase-bench program.
 #include <pce/sim/broad_phase.hpp>
 #include <pce/sim/candidates.hpp>
 #include <pce/sim/generators.hpp>
+#include <pce/sim/input_error.hpp>
+#include <pce/sim/scene.hpp>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <functional>
+#include <ostream>
+#include <limits>
 #include <random>
+#include <set>
+
+namespace pce::sim {
+/// gtest prints a kind by its name ("fcl", "bullet") in failure messages.
+inline void PrintTo(BroadPhaseKind kind, std::ostream* os) { *os << to_string(kind); }
+}  // namespace pce::sim
 
 namespace {
 
 using Pairs = std::vector<std::array<int, 2>>;
 
-/// A w×w cloth of n×n quads, crumpled: a fold wave of amplitude `fold` along z plus random
-/// displacements of up to `jitter` times the spacing in x, y and twice that in z.
+using pce::sim::BroadPhaseKind;
+
 pce::sim::Mesh crumpled(int n, unsigned seed, double fold = 0.05, double jitter = 0.4) {
-  pce::sim::Mesh m = pce::sim::grid(1.0, 1.0, n, n);
-  const double h = 1.0 / n, pi = std::acos(-1.0);
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-1, 1);
-  for (Eigen::Index v = 0; v < m.vertex_count(); ++v) {
-    const double x = m.positions(0, v), y = m.positions(1, v);
-    m.positions.col(v) += Eigen::Vector3d(jitter * h * u(rng), jitter * h * u(rng),
-                                          2 * jitter * h * u(rng) + fold * std::sin(6 * pi * x) * std::cos(4 * pi * y));
-  }
-  return m;
+  return pce::sim::crumpled_grid(n, seed, fold, jitter);
 }
 
 Pairs brute_vf(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& t, double d) {
@@ -46,12 +53,12 @@ Pairs brute_ee(const Eigen::Matrix3Xd& x, const Eigen::Matrix2Xi& e, double d) {
   return pce::sim::brute_force_candidates(x, Eigen::Matrix3Xi(3, 0), e, d).edge_edge;
 }
 
-/// Runs both queries on `fcl` and compares the vectors exactly; returns the pair counts.
-std::array<std::size_t, 2> expect_same(pce::sim::BroadPhase& fcl, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& t,
+/// Runs both queries on `bp` and compares the vectors exactly; returns the pair counts.
+std::array<std::size_t, 2> expect_same(pce::sim::BroadPhase& bp, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& t,
                                        const Eigen::Matrix2Xi& e, double d, const std::string& what) {
   Pairs vf, ee;
-  fcl.vertex_face(x, t, d, vf);
-  fcl.edge_edge(x, e, d, ee);
+  bp.vertex_face(x, t, d, vf);
+  bp.edge_edge(x, e, d, ee);
   const Pairs bvf = brute_vf(x, t, d), bee = brute_ee(x, e, d);
   EXPECT_EQ(vf.size(), bvf.size()) << what << ", vertex-face, distance " << d;
   EXPECT_TRUE(vf == bvf) << what << ", vertex-face, distance " << d;
@@ -60,20 +67,26 @@ std::array<std::size_t, 2> expect_same(pce::sim::BroadPhase& fcl, const Eigen::M
   return {bvf.size(), bee.size()};
 }
 
-TEST(FclBroadPhase, CrumpledClothEqualsBruteForce) {
+/// Every test body below runs once per tree-based kind.
+class TreeBroadPhase : public ::testing::TestWithParam<BroadPhaseKind> {
+ protected:
+  std::unique_ptr<pce::sim::BroadPhase> make() const { return pce::sim::make_broad_phase(GetParam()); }
+};
+
+TEST_P(TreeBroadPhase, CrumpledClothEqualsBruteForce) {
   for (unsigned seed = 1; seed <= 3; ++seed) {
     const pce::sim::Mesh m = crumpled(20, seed);
     const Eigen::Matrix2Xi edges = pce::sim::unique_edges(m.triangles);
-    auto fcl = pce::sim::make_broad_phase(pce::sim::BroadPhaseKind::fcl);
+    auto bp = make();
     for (double d : {0.0, 0.005, 0.02, 0.08}) {
-      const auto counts = expect_same(*fcl, m.positions, m.triangles, edges, d, "crumpled seed " + std::to_string(seed));
+      const auto counts = expect_same(*bp, m.positions, m.triangles, edges, d, "crumpled seed " + std::to_string(seed));
       EXPECT_GT(counts[0], 0u);
       EXPECT_GT(counts[1], 0u);
     }
   }
 }
 
-TEST(FclBroadPhase, TwoOverlappingSheets) {
+TEST_P(TreeBroadPhase, TwoOverlappingSheets) {
   // A second sheet 0.004 above the first, rotated by 30° and shifted, both crumpled a little.
   const pce::sim::Mesh a = crumpled(15, 7, 0.0, 0.1), b0 = crumpled(12, 8, 0.0, 0.1);
   const Eigen::Matrix3d R = Eigen::AngleAxisd(0.5236, Eigen::Vector3d::UnitZ()).toRotationMatrix();
@@ -86,83 +99,178 @@ TEST(FclBroadPhase, TwoOverlappingSheets) {
   both.triangles.resize(3, a.triangles.cols() + b0.triangles.cols());
   both.triangles << a.triangles, (b0.triangles.array() + static_cast<int>(na)).matrix();
   const Eigen::Matrix2Xi edges = pce::sim::unique_edges(both.triangles);
-  auto fcl = pce::sim::make_broad_phase(pce::sim::BroadPhaseKind::fcl);
+  auto bp = make();
   for (double d : {0.0, 0.002, 0.01}) {
-    const auto counts = expect_same(*fcl, both.positions, both.triangles, edges, d, "two sheets");
+    const auto counts = expect_same(*bp, both.positions, both.triangles, edges, d, "two sheets");
     EXPECT_GT(counts[0], 0u);
   }
 }
 
-TEST(FclBroadPhase, StrandsEdgeEdge) {
+TEST_P(TreeBroadPhase, StrandsEdgeEdge) {
   const pce::sim::Mesh m = pce::sim::strands(25, 30, 1.0, 0.02, 0.012);
-  auto fcl = pce::sim::make_broad_phase(pce::sim::BroadPhaseKind::fcl);
+  auto bp = make();
   for (double d : {0.0, 0.003, 0.01, 0.03}) {
     Pairs ee;
-    fcl->edge_edge(m.positions, m.segments, d, ee);
+    bp->edge_edge(m.positions, m.segments, d, ee);
     const Pairs bee = brute_ee(m.positions, m.segments, d);
     EXPECT_TRUE(ee == bee) << "strands, distance " << d << ": " << ee.size() << " vs " << bee.size();
     EXPECT_GT(bee.size(), 0u);
   }
 }
 
-TEST(FclBroadPhase, FlatGridPairsExactlyOnTheBoundary) {
+TEST_P(TreeBroadPhase, FlatGridPairsExactlyOnTheBoundary) {
   // Grid coordinates (i/n − ½)·w are not exact binary fractions, and the distances equal
   // the spacing: many pairs sit on the brute force's `<=` boundary up to one rounding.
   for (int n : {7, 10, 13}) {
     const pce::sim::Mesh m = pce::sim::grid(1.3, 0.7, n, n + 2);
     const Eigen::Matrix2Xi edges = pce::sim::unique_edges(m.triangles);
-    auto fcl = pce::sim::make_broad_phase(pce::sim::BroadPhaseKind::fcl);
+    auto bp = make();
     for (double d : {0.0, 1.3 / n, 0.7 / (n + 2), 2 * 1.3 / n, 0.1})
-      expect_same(*fcl, m.positions, m.triangles, edges, d, "flat grid " + std::to_string(n));
+      expect_same(*bp, m.positions, m.triangles, edges, d, "flat grid " + std::to_string(n));
   }
 }
 
-TEST(FclBroadPhase, RefitAfterTheVerticesMove) {
+TEST_P(TreeBroadPhase, RefitAfterTheVerticesMove) {
   pce::sim::Mesh m = crumpled(16, 11);
   const Eigen::Matrix2Xi edges = pce::sim::unique_edges(m.triangles);
-  auto fcl = pce::sim::make_broad_phase(pce::sim::BroadPhaseKind::fcl);
+  auto bp = make();
   std::mt19937_64 rng(12);
   std::uniform_real_distribution<double> u(-1, 1);
   for (int step = 0; step < 5; ++step) {
-    expect_same(*fcl, m.positions, m.triangles, edges, 0.015, "refit step " + std::to_string(step));
+    expect_same(*bp, m.positions, m.triangles, edges, 0.015, "refit step " + std::to_string(step));
     // Large moves, so the old tree's boxes are far from right: a missing refit would show.
     for (Eigen::Index v = 0; v < m.vertex_count(); ++v)
       m.positions.col(v) += Eigen::Vector3d(0.03 * u(rng), 0.03 * u(rng), 0.1 * u(rng));
   }
 }
 
-TEST(FclBroadPhase, RebuildAfterTheTopologyChanges) {
-  auto fcl = pce::sim::make_broad_phase(pce::sim::BroadPhaseKind::fcl);
+TEST_P(TreeBroadPhase, RebuildAfterTheTopologyChanges) {
+  auto bp = make();
   // Different sizes: 12×12, then 9×14, then back.
   for (int k = 0; k < 3; ++k) {
     const pce::sim::Mesh m = k == 1 ? crumpled(9, 20 + k) : crumpled(12, 20 + k);
-    expect_same(*fcl, m.positions, m.triangles, pce::sim::unique_edges(m.triangles), 0.02, "size change " + std::to_string(k));
+    expect_same(*bp, m.positions, m.triangles, pce::sim::unique_edges(m.triangles), 0.02, "size change " + std::to_string(k));
   }
   // Same counts, different indices: the triangles and edges of one cloth reversed in
   // order and the vertex numbering mirrored.
   pce::sim::Mesh m = crumpled(12, 30);
   const Eigen::Matrix2Xi edges = pce::sim::unique_edges(m.triangles);
-  expect_same(*fcl, m.positions, m.triangles, edges, 0.02, "before renumbering");
+  expect_same(*bp, m.positions, m.triangles, edges, 0.02, "before renumbering");
   const int n = static_cast<int>(m.vertex_count());
   Eigen::Matrix3Xd mirrored = m.positions.rowwise().reverse();
   Eigen::Matrix3Xi tris = (n - 1 - m.triangles.rowwise().reverse().array()).matrix();
   Eigen::Matrix2Xi redges = (n - 1 - edges.rowwise().reverse().array()).matrix();
-  expect_same(*fcl, mirrored, tris, redges, 0.02, "after renumbering");
+  expect_same(*bp, mirrored, tris, redges, 0.02, "after renumbering");
   // And a strand set through the same object (edges only, no triangles).
   const pce::sim::Mesh s = pce::sim::strands(9, 12, 0.5, 0.03, 0.02);
-  expect_same(*fcl, s.positions, Eigen::Matrix3Xi(3, 0), s.segments, 0.01, "strands after cloth");
+  expect_same(*bp, s.positions, Eigen::Matrix3Xi(3, 0), s.segments, 0.01, "strands after cloth");
 }
 
-TEST(FclBroadPhase, DegenerateInputs) {
-  auto fcl = pce::sim::make_broad_phase(pce::sim::BroadPhaseKind::fcl);
+TEST_P(TreeBroadPhase, DegenerateInputs) {
+  auto bp = make();
   const pce::sim::Mesh m = pce::sim::grid(1, 1, 1, 1);  // 4 vertices, 2 triangles sharing an edge
-  expect_same(*fcl, m.positions, m.triangles, pce::sim::unique_edges(m.triangles), 0.1, "one quad");
+  expect_same(*bp, m.positions, m.triangles, pce::sim::unique_edges(m.triangles), 0.1, "one quad");
   Pairs out{{1, 2}};
-  fcl->vertex_face(m.positions, Eigen::Matrix3Xi(3, 0), 1.0, out);
+  bp->vertex_face(m.positions, Eigen::Matrix3Xi(3, 0), 1.0, out);
   EXPECT_TRUE(out.empty());
   out = {{1, 2}};
-  fcl->edge_edge(m.positions, Eigen::Matrix2Xi(2, 0), 1.0, out);
+  bp->edge_edge(m.positions, Eigen::Matrix2Xi(2, 0), 1.0, out);
   EXPECT_TRUE(out.empty());
+}
+
+TEST_P(TreeBroadPhase, NonFiniteVertex) {
+  // One vertex NaN, one at +inf: neither tree survives such boxes, so the query falls back
+  // to the brute force (box_rule::padding), and the next finite query uses the tree again.
+  pce::sim::Mesh m = crumpled(10, 40);
+  const pce::sim::Mesh finite = m;
+  const Eigen::Matrix2Xi edges = pce::sim::unique_edges(m.triangles);
+  m.positions(2, 17) = std::numeric_limits<double>::quiet_NaN();
+  m.positions(0, 60) = std::numeric_limits<double>::infinity();
+  auto bp = make();
+  for (double d : {0.0, 0.02}) {
+    const auto counts = expect_same(*bp, m.positions, m.triangles, edges, d, "non-finite vertex");
+    EXPECT_GT(counts[0], 0u);
+    expect_same(*bp, finite.positions, m.triangles, edges, d, "finite again");
+  }
+}
+
+/// The self-contact distances a scene's `self_vertex_face` / `self_edge_edge` effects declare.
+std::set<double> self_contact_distances(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  std::set<double> d;
+  for (const auto& e : j.value("effects", nlohmann::json::array()))
+    if (e.value("type", "").rfind("self_", 0) == 0 && e.contains("penalty")) d.insert(e["penalty"].value("distance", 0.0));
+  return d;
+}
+
+TEST(BroadPhases, ShippedScenesInitialStateAllKindsAgree) {
+  // For every shipped scene: its initial positions, triangles and edges, queried by FCL,
+  // Bullet and the brute force at 0, each self-contact distance d, the query radius 2d
+  // (distance + margin, docs/simulation.md §4.2) and 0.05: identical vectors.
+  const std::filesystem::path dir = std::filesystem::path(PCE_SOURCE_DIR) / "examples" / "scenes";
+  std::set<std::string> seen;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".json") continue;
+    SCOPED_TRACE(entry.path().string());
+    const auto scene = pce::sim::load_scene(entry.path());
+    const pce::sim::Simulation& sim = scene->simulation;
+    seen.insert(entry.path().stem().string());
+    std::set<double> distances{0.0, 0.05};
+    for (double d : self_contact_distances(entry.path())) distances.insert({d, 2 * d});
+    auto fcl = pce::sim::make_broad_phase(BroadPhaseKind::fcl);
+    auto bullet = pce::sim::make_broad_phase(BroadPhaseKind::bullet);
+    std::size_t total = 0;
+    for (double d : distances) {
+      const std::string what = entry.path().filename().string() + ", distance " + std::to_string(d);
+      const Pairs bvf = brute_vf(sim.x, sim.model.triangles, d), bee = brute_ee(sim.x, sim.model.edges, d);
+      for (auto* bp : {fcl.get(), bullet.get()}) {
+        Pairs vf, ee;
+        bp->vertex_face(sim.x, sim.model.triangles, d, vf);
+        bp->edge_edge(sim.x, sim.model.edges, d, ee);
+        EXPECT_TRUE(vf == bvf) << what << ", vertex-face, " << (bp == fcl.get() ? "fcl" : "bullet") << ": " << vf.size()
+                               << " vs " << bvf.size();
+        EXPECT_TRUE(ee == bee) << what << ", edge-edge, " << (bp == fcl.get() ? "fcl" : "bullet") << ": " << ee.size()
+                               << " vs " << bee.size();
+      }
+      total += bvf.size() + bee.size();
+    }
+    EXPECT_GT(total, 0u);
+  }
+  for (const char* name : {"hammock", "drape", "strands", "twist"}) EXPECT_EQ(seen.count(name), 1u) << name;
+}
+
+TEST(BroadPhases, NamesAndSceneKey) {
+  for (BroadPhaseKind k : {BroadPhaseKind::fcl, BroadPhaseKind::bullet, BroadPhaseKind::brute})
+    EXPECT_EQ(pce::sim::broad_phase_kind(pce::sim::to_string(k)), k);
+  EXPECT_STREQ(pce::sim::to_string(BroadPhaseKind::bullet), "bullet");
+  EXPECT_FALSE(pce::sim::broad_phase_kind("bvh").has_value());
+  // `solver.broad_phase: "bullet"` loads; an unknown name is an error listing all three.
+  nlohmann::json j = nlohmann::json::parse(R"({
+    "dt": 0.025, "frames": 1,
+    "meshes": [{"name": "cloth", "generator": {"type": "grid", "width": 1, "height": 1, "nx": 4, "ny": 4}}],
+    "effects": [{"type": "gravity"}], "solver": {"broad_phase": "bullet"}
+  })");
+  EXPECT_NO_THROW(pce::sim::load_scene_text(j.dump(), "scene.json", PCE_TEST_TMP));
+  j["solver"]["broad_phase"] = "bvh";
+  try {
+    pce::sim::load_scene_text(j.dump(), "scene.json", PCE_TEST_TMP);
+    ADD_FAILURE() << "an unknown broad phase loaded";
+  } catch (const pce::sim::InputError& e) {
+    EXPECT_EQ(e.where(), "solver.broad_phase");
+    EXPECT_NE(std::string(e.what()).find(R"("fcl", "bullet", "brute")"), std::string::npos) << e.what();
+  }
+}
+
+TEST(BroadPhases, CrumpledGridIsReproducible) {
+  // The generator the tests and pce-broad-phase-bench share: same seed, same cloth.
+  const pce::sim::Mesh a = pce::sim::crumpled_grid(8, 3), b = pce::sim::crumpled_grid(8, 3);
+  const pce::sim::Mesh c = pce::sim::crumpled_grid(8, 4), flat = pce::sim::grid(1, 1, 8, 8);
+  EXPECT_TRUE((a.positions.array() == b.positions.array()).all());
+  EXPECT_FALSE((a.positions.array() == c.positions.array()).all());
+  EXPECT_TRUE((a.triangles.array() == flat.triangles.array()).all());
+  EXPECT_LE((a.positions - flat.positions).topRows(2).cwiseAbs().maxCoeff(), 0.4 / 8);
+  EXPECT_THROW(pce::sim::crumpled_grid(8, 3, -1.0), pce::sim::InputError);
 }
 
 double milliseconds(const std::function<void()>& f, int repeat) {
@@ -171,23 +279,24 @@ double milliseconds(const std::function<void()>& f, int repeat) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / repeat;
 }
 
-TEST(FclBroadPhase, DISABLED_Timing) {
+TEST_P(TreeBroadPhase, DISABLED_Timing) {
   const pce::sim::Mesh m = crumpled(100, 5);
   const Eigen::Matrix2Xi edges = pce::sim::unique_edges(m.triangles);
   const double d = 0.02;  // 2% of the 1 m sheet
-  auto fcl = pce::sim::make_broad_phase(pce::sim::BroadPhaseKind::fcl);
+  auto bp = make();
+  const char* kind = pce::sim::to_string(GetParam());
   Pairs vf, ee;
-  const double first_vf = milliseconds([&] { fcl->vertex_face(m.positions, m.triangles, d, vf); }, 1);
-  const double first_ee = milliseconds([&] { fcl->edge_edge(m.positions, edges, d, ee); }, 1);
+  const double first_vf = milliseconds([&] { bp->vertex_face(m.positions, m.triangles, d, vf); }, 1);
+  const double first_ee = milliseconds([&] { bp->edge_edge(m.positions, edges, d, ee); }, 1);
   // Refit path: move every vertex a little between queries, as a time step would.
   Eigen::Matrix3Xd x = m.positions;
   std::mt19937_64 rng(6);
   std::uniform_real_distribution<double> u(-1e-3, 1e-3);
   const double refit_vf = milliseconds([&] {
     x = x.unaryExpr([&](double c) { return c + u(rng); });
-    fcl->vertex_face(x, m.triangles, d, vf);
+    bp->vertex_face(x, m.triangles, d, vf);
   }, 5);
-  const double refit_ee = milliseconds([&] { fcl->edge_edge(x, edges, d, ee); }, 5);
+  const double refit_ee = milliseconds([&] { bp->edge_edge(x, edges, d, ee); }, 5);
   Pairs bvf, bee;
   const double brute_vf_ms = milliseconds([&] { bvf = brute_vf(x, m.triangles, d); }, 1);
   const double brute_ee_ms = milliseconds([&] { bee = brute_ee(x, edges, d); }, 1);
@@ -195,10 +304,15 @@ TEST(FclBroadPhase, DISABLED_Timing) {
   EXPECT_TRUE(ee == bee);
   std::printf("crumpled 100x100 cloth: %td vertices, %td triangles, %td edges, distance %g\n", m.vertex_count(),
               m.triangles.cols(), edges.cols(), d);
-  std::printf("vertex-face: %zu pairs; fcl first (build) %.1f ms, fcl refit %.1f ms, brute force %.1f ms\n", bvf.size(),
+  std::printf("vertex-face: %zu pairs; %s first (build) %.1f ms, refit %.1f ms, brute force %.1f ms\n", bvf.size(), kind,
               first_vf, refit_vf, brute_vf_ms);
-  std::printf("edge-edge:   %zu pairs; fcl first (build) %.1f ms, fcl refit %.1f ms, brute force %.1f ms\n", bee.size(),
+  std::printf("edge-edge:   %zu pairs; %s first (build) %.1f ms, refit %.1f ms, brute force %.1f ms\n", bee.size(), kind,
               first_ee, refit_ee, brute_ee_ms);
 }
+
+INSTANTIATE_TEST_SUITE_P(Kinds, TreeBroadPhase, ::testing::Values(BroadPhaseKind::fcl, BroadPhaseKind::bullet),
+                         [](const ::testing::TestParamInfo<BroadPhaseKind>& info) {
+                           return std::string(pce::sim::to_string(info.param));
+                         });
 
 }  // namespace

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // pce-sim: run a scene (contract §2, docs/simulation.md).
-//   pce-sim SCENE.json [--out DIR] [--frames N] [--hessian S] [--broad-phase fcl|brute]
+//   pce-sim SCENE.json [--out DIR] [--frames N] [--hessian S] [--broad-phase fcl|bullet|brute]
 //           [--threads T] [--single-solve] [--tolerance TOL] [--no-frames]
 // Writes DIR/frame_NNNN.obj, DIR/last_frame.png, DIR/stats.json (one record per frame) and
 // DIR/summary.json. Exit codes: 0 done; 2 invalid input (one line naming file and field, or
@@ -116,7 +116,7 @@ int main(int argc, char** argv) {
   app.add_option("--frames", frames, "frames to simulate (overrides the scene)")->check(CLI::Range(1, 10000000));
   app.add_option("--hessian", hessian, "Hessian strategy of every contact effect")
       ->check(CLI::IsMember({"analytic", "exact", "numerical", "gauss_newton", "abs"}));
-  app.add_option("--broad-phase", broad_phase, "broad phase")->check(CLI::IsMember({"fcl", "brute"}));
+  app.add_option("--broad-phase", broad_phase, "broad phase")->check(CLI::IsMember({"fcl", "bullet", "brute"}));
   app.add_option("--threads", threads, "threads for pair evaluation (0: all)")->check(CLI::NonNegativeNumber);
   app.add_flag("--single-solve", single_solve, "one linearised solve per step (the paper's mode)");
   app.add_option("--tolerance", tolerance, "Newton tolerance on max|dx|/(h*size), 1/s")->check(CLI::PositiveNumber);
@@ -133,7 +133,7 @@ int main(int argc, char** argv) {
   SceneOverrides o;
   if (frames > 0) o.frames = frames;
   if (!hessian.empty()) o.hessian = hessian;
-  if (!broad_phase.empty()) o.broad_phase = broad_phase == "brute" ? BroadPhaseKind::brute : BroadPhaseKind::fcl;
+  if (!broad_phase.empty()) o.broad_phase = broad_phase_kind(broad_phase);  // checked by IsMember above
   if (threads >= 0) o.threads = threads;
   if (single_solve) o.single_solve = true;
   if (tolerance > 0) o.tolerance = tolerance;

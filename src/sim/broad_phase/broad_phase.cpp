@@ -8,9 +8,16 @@ namespace pce::sim {
 const char* to_string(BroadPhaseKind kind) {
   switch (kind) {
     case BroadPhaseKind::fcl: return "fcl";
+    case BroadPhaseKind::bullet: return "bullet";
     case BroadPhaseKind::brute: return "brute";
   }
   return "unknown";
+}
+
+std::optional<BroadPhaseKind> broad_phase_kind(const std::string& name) {
+  for (BroadPhaseKind k : {BroadPhaseKind::fcl, BroadPhaseKind::bullet, BroadPhaseKind::brute})
+    if (name == to_string(k)) return k;
+  return std::nullopt;
 }
 
 namespace {
@@ -28,7 +35,8 @@ class BruteForce final : public BroadPhase {
 };
 }  // namespace
 
-std::unique_ptr<BroadPhase> make_fcl_broad_phase();  // broad_phase/fcl.cpp
+std::unique_ptr<BroadPhase> make_fcl_broad_phase();     // broad_phase/fcl.cpp
+std::unique_ptr<BroadPhase> make_bullet_broad_phase();  // broad_phase/bullet.cpp
 
 Instrumentation& instrumentation() {
   static Instrumentation counters;
@@ -37,7 +45,11 @@ Instrumentation& instrumentation() {
 
 std::unique_ptr<BroadPhase> make_broad_phase(BroadPhaseKind kind) {
   ++instrumentation().broad_phases_built;
-  if (kind == BroadPhaseKind::brute) return std::make_unique<BruteForce>();
+  switch (kind) {
+    case BroadPhaseKind::brute: return std::make_unique<BruteForce>();
+    case BroadPhaseKind::bullet: return make_bullet_broad_phase();
+    case BroadPhaseKind::fcl: break;
+  }
   return make_fcl_broad_phase();
 }
 

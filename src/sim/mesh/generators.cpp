@@ -3,6 +3,7 @@
 #include <pce/sim/input_error.hpp>
 
 #include <cmath>
+#include <random>
 #include <string>
 
 namespace pce::sim {
@@ -60,6 +61,22 @@ Mesh strands(int count, int segments, double length, double spacing, double curl
     }
   }
   m.triangles.resize(3, 0);
+  return m;
+}
+
+Mesh crumpled_grid(int n, unsigned seed, double fold, double jitter) {
+  require(std::isfinite(fold) && fold >= 0 && std::isfinite(jitter) && jitter >= 0, "crumpled_grid",
+          "fold and jitter must be finite and non-negative");
+  Mesh m = grid(1.0, 1.0, n, n);
+  const double h = 1.0 / n, pi = std::acos(-1.0);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (Eigen::Index v = 0; v < m.vertex_count(); ++v) {
+    const double x = m.positions(0, v), y = m.positions(1, v);
+    const double dx = jitter * h * u(rng), dy = jitter * h * u(rng);  // drawn in this order
+    const double dz = 2 * jitter * h * u(rng) + fold * std::sin(6 * pi * x) * std::cos(4 * pi * y);
+    m.positions.col(v) += Eigen::Vector3d(dx, dy, dz);
+  }
   return m;
 }
 

@@ -226,8 +226,7 @@ std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::strin
     const std::string ls = s.choice("linear_solver", {"direct", "ldlt", "cg"}, std::string("direct"));
     sim.solver.linear = ls == "cg" ? LinearSolver::cg : ls == "ldlt" ? LinearSolver::ldlt : LinearSolver::direct;
     sim.solver.threads = static_cast<int>(s.integer("threads", 0L, 0, 1024));
-    broad_phase = s.choice("broad_phase", {"fcl", "brute"}, std::string("fcl")) == "brute" ? BroadPhaseKind::brute
-                                                                                            : BroadPhaseKind::fcl;
+    broad_phase = *broad_phase_kind(s.choice("broad_phase", {"fcl", "bullet", "brute"}, std::string("fcl")));
   }
   if (overrides.frames) sim.frames = *overrides.frames;
   if (overrides.threads) sim.solver.threads = *overrides.threads;

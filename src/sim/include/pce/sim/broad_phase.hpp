@@ -5,22 +5,28 @@
 /// query distance, overlap, adjacent pairs excluded (`pce/sim/candidates.hpp`). Every
 /// implementation returns exactly the set and order of `brute_force_candidates`.
 /// Implementations keep their acceleration structure between queries (FCL's dynamic AABB
-/// tree is refitted, not rebuilt, while the topology is unchanged).
+/// tree and Bullet's `btDbvt` are refitted, not rebuilt, while the topology is unchanged).
 #pragma once
 
 #include <Eigen/Core>
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace pce::sim {
 
-enum class BroadPhaseKind { fcl, brute };
+/// FCL's dynamic AABB tree (`broad_phase/fcl.cpp`), Bullet's `btDbvt`
+/// (`broad_phase/bullet.cpp`), or the O(n²) reference `brute_force_candidates`.
+enum class BroadPhaseKind { fcl, bullet, brute };
 
-/// `"fcl"`, `"brute"`.
+/// `"fcl"`, `"bullet"`, `"brute"`.
 const char* to_string(BroadPhaseKind kind);
+
+/// The kind `to_string` names `name`; nothing for any other string.
+std::optional<BroadPhaseKind> broad_phase_kind(const std::string& name);
 
 class BroadPhase {
  public:

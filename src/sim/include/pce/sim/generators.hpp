@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file
 /// Meshes made by `pce::sim` itself, for scenes that do not load OBJ files (contract §2:
-/// "a rectangular cloth grid of given resolution, a bundle of straight or curly strands").
+/// "a rectangular cloth grid of given resolution, a bundle of straight or curly strands"),
+/// and the crumpled cloths the broad-phase tests and benchmark share.
 #pragma once
 
 #include <pce/sim/mesh.hpp>
@@ -20,5 +21,12 @@ Mesh grid(double width, double height, int nx, int ny);
 /// with a phase that differs from strand to strand. Strand k's vertices are consecutive,
 /// starting at index k (segments + 1).
 Mesh strands(int count, int segments, double length, double spacing, double curl = 0.0);
+
+/// A 1 × 1 `grid` of n × n quads (spacing s = 1/n), crumpled: vertex (x, y, 0) moves by
+/// (jitter·s·u₁, jitter·s·u₂, 2·jitter·s·u₃ + fold·sin(6πx)·cos(4πy)), u₁, u₂, u₃ drawn in
+/// that order from U(−1, 1) by a `std::mt19937_64` seeded with `seed`. Reproducible for a
+/// given standard library; many close and crossing triangles, so broad phases see dense
+/// and sparse regions at once. `fold`, `jitter` finite and ≥ 0.
+Mesh crumpled_grid(int n, unsigned seed, double fold = 0.05, double jitter = 0.4);
 
 }  // namespace pce::sim
