@@ -7,7 +7,7 @@ Steps, in this order (each writes JSON/CSV into the results folder):
   pair_cost    pce_bench.json: pce-bench, ns per pair (median of interleaved repetitions)
   accuracy     accuracy.json/.csv: pce-accuracy, distance to the 50-digit nearest-PSD Hessian
   broad_phase  broad_phase.json/.csv: pce-broad-phase-bench, FCL vs Bullet vs brute force
-  threads      threads.json/.csv: pce-sim at 1 and 2 threads, stage times
+  threads      threads.csv: pce-sim at 1 and 2 threads, stage times
   scenes       scenes.json/.csv: pce-sim per scene x strategy x mode x tolerance, deviation
                from a tight-tolerance reference run
 then draws the PNG plots (next to the docs file, in images/benchmarks/) and writes the docs
@@ -144,8 +144,10 @@ def write_csv(path, rows, columns=None):
 
 
 def fmt(x, digits=3):
-    if x is None or (isinstance(x, float) and not math.isfinite(x)):
+    if x is None or (isinstance(x, float) and math.isnan(x)):
         return "n/a"
+    if isinstance(x, float) and math.isinf(x):
+        return "∞" if x > 0 else "−∞"
     if isinstance(x, int):
         return str(x)
     if x == 0:
@@ -672,7 +674,9 @@ def write_report(ctx, machine, cost, acc, bp, threads, scenes, total_s):
     s = bp.get("settings", {})
     A("`%s`: crumpled cloths of n×n quads (`pce::sim::crumpled_grid`), vertex-face and edge-edge candidates at "
       "the distance in the settings below; *build* is the first query of a fresh broad phase, *update* moves "
-      "every vertex a little and queries again (trees refitted), *query* repeats a query with nothing moved. "
+      "every vertex by up to 0.05 spacing and queries again (trees refitted), *query* repeats a query with "
+      "nothing moved (the broad phases have no 'unchanged' shortcut, so it refits too). Each time is one "
+      "vertex-face plus one edge-edge call. "
       "Medians over repetitions. Every broad phase returns the same candidates (checked by the benchmark at "
       "every size, and by `tests/sim/test_broad_phase.cpp`). Brute force is O(n²) and stops at the size where a "
       "call gets too slow. Settings: `%s`.\n" % (bp["command"], json.dumps(s)))
@@ -875,7 +879,14 @@ def main():
                if not p.exists() or p.stat().st_size == 0]
     if missing:
         raise RuntimeError("missing outputs: " + ", ".join(map(str, missing)))
+    page = ctx.docs.read_text()
+    absent = [h for h in ("## What accuracy costs", "## 1. Per pair", "## 2. Per scene", "## 3. Broad phase",
+                          "## 4. Threads") if h not in page]
+    if absent:
+        raise RuntimeError(f"{ctx.docs}: sections missing: {', '.join(absent)}")
     failures = [r for r in scenes["rows"] if r["exit_code"] not in (0,)]
+    if failures and ctx.quick:
+        raise RuntimeError("scene runs failed: " + "; ".join(f"{r['tag']}: {r['failure']}" for r in failures))
     log(f"done in {total / 60:.1f} min: {ctx.docs}" + (f"; {len(failures)} scene runs ended early (reported)" if failures else ""))
     return 0
 
