@@ -6,8 +6,9 @@
 ///
 /// The brute force accepts (v, t) when x_v lies in t's box grown by d, and (a, b) when the
 /// edges' boxes are at most d apart along every axis, each with its own floating-point
-/// expressions (`broad_phase/brute_force.cpp`). Two boxes each grown by d/2 overlap under
-/// the same *exact* comparison, but not after rounding. So a tree sees boxes grown by
+/// expressions (`accept_vertex_face`, `accept_edge_edge` below, which
+/// `broad_phase/brute_force.cpp` calls). Two boxes each grown by d/2 overlap under the
+/// same *exact* comparison, but not after rounding. So a tree sees boxes grown by
 /// h = d/2 + pad, pad = 4 ε (M + d) (M the largest finite |coordinate|, `padding`): the
 /// brute force's fl(lo − d) and the tree's fl(x − h), fl(hi + h) each err by at most
 /// ½ ulp(M + d) ≤ ε (M + d)/2, so the margin 2·pad = 8 ε (M + d) on the exact comparison
