@@ -5,7 +5,7 @@
 /// benchmark bodies themselves (one per measured quantity), templated on the pair kind
 /// and the scalar. `bench_vertex_face.cpp` and `bench_edge_edge.cpp` register them under
 /// the names `<pair>/<quantity>/<scalar>`; `bench_main.cpp` runs everything and prints
-/// the ratio summary. See `docs/benchmarks.md`.
+/// the ratio summary. See `docs/pce-bench.md`.
 #pragma once
 
 #include <pce/pce.hpp>

@@ -246,7 +246,7 @@ def step_pair_cost(ctx):
         pair, quantity, scalar = name.split("/")
         rows.append({"pair": pair, "quantity": quantity, "scalar": scalar, "ns_per_pair": t})
     write_csv(ctx.results / "pce_bench.csv", rows)
-    return {"ns": ns, "command": " ".join(str(c) for c in cmd[:1]) + " " + " ".join(cmd[1:])}
+    return {"ns": ns, "command": " ".join(["pce-bench"] + [str(c) for c in cmd[1:]])}
 
 
 def step_accuracy(ctx):
@@ -507,11 +507,17 @@ def plot_threads(ctx, threads, scenes):
     shares = {r["scene"]: r for r in shares}
     names = list(shares)
     bottom = [0.0] * len(names)
+    # Pair evaluation includes the line search's energy-only passes, which the line search's
+    # time counts too, so the stages can add up to more than the frame: bars are shares of
+    # the larger of the two.
+    def whole(r):
+        return max(r["ms_per_frame"], sum(r[k] for k in STAGES + ["other_ms"]))
     for k in STAGES + ["other_ms"]:
-        vals = [shares[n][k] / shares[n]["ms_per_frame"] if shares[n]["ms_per_frame"] > 0 else 0 for n in names]
+        vals = [shares[n][k] / whole(shares[n]) if whole(shares[n]) > 0 else 0 for n in names]
         axes[1].bar(names, vals, bottom=bottom, label=STAGE_NAMES[k])
         bottom = [b + v for b, v in zip(bottom, vals)]
     axes[1].set_ylabel("share of a frame")
+    axes[1].tick_params(axis="x", labelrotation=20, labelsize=8)
     axes[1].set_title("where a frame goes (Newton, analytic, 1 thread)")
     axes[1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1, 1))
     fig.tight_layout()
@@ -591,6 +597,13 @@ def write_report(ctx, machine, cost, acc, bp, threads, scenes, total_s):
       "`near_contact` (L/d̂ from 1e-6 to 1e-2) and every hard family of `docs/stability.md`; lengths signed and "
       "unsigned, penalties quadratic, cubic and log barrier. Wall time of the accuracy run: %.0f s.\n"
       % (cost["command"], acc["command"], acc.get("wall_s", float("nan"))))
+    quantities = ["value_gradient", "exact_hessian", "eigensystem"] + STRATEGIES
+    A("Every `pce-bench` quantity, ns per pair (median); `exact_hessian` is the indefinite Hessian the "
+      "strategies start from, `eigensystem` the closed-form eigenpairs:\n")
+    A(md_table(["quantity"] + [f"{p.replace('_', '-')} {sc}" for p in PAIRS for sc in ("double", "float")],
+               [[f"`{q}`"] + [fmt(cost["ns"].get(f"{p}/{q}/{sc}")) for p in PAIRS for sc in ("double", "float")]
+                for q in quantities]) + "\n")
+    A("Per pair kind, cost beside accuracy:\n")
     for pair in PAIRS:
         rows = []
         for scalar in ("double", "float"):
@@ -678,8 +691,8 @@ def write_report(ctx, machine, cost, acc, bp, threads, scenes, total_s):
       "nothing moved (the broad phases have no 'unchanged' shortcut, so it refits too). Each time is one "
       "vertex-face plus one edge-edge call. "
       "Medians over repetitions. Every broad phase returns the same candidates (checked by the benchmark at "
-      "every size, and by `tests/sim/test_broad_phase.cpp`). Brute force is O(n²) and stops at the size where a "
-      "call gets too slow. Settings: `%s`.\n" % (bp["command"], json.dumps(s)))
+      "every size, and by `tests/sim/test_broad_phase.cpp`). Brute force is quadratic in the primitive count and stops "
+      "at the size where a call would take longer than its limit. Settings: `%s`.\n" % (bp["command"], json.dumps(s)))
     rows = sorted(bp["rows"], key=lambda r: (r["n"], r["broad_phase"]))
     A(md_table(["n", "triangles", "broad phase", "build ms", "update ms", "query ms", "vertex-face", "edge-edge"],
                [[r["n"], r["triangles"], r["broad_phase"], fmt(r.get("build_ms")), fmt(r.get("update_ms")),
@@ -693,17 +706,22 @@ def write_report(ctx, machine, cost, acc, bp, threads, scenes, total_s):
     A(f"![threads and stage shares]({img}/threads.png)\n")
     tr = threads["rows"]
     A("`pce-sim` on `%s` (%s), `analytic`, Newton, `--threads 1` and `--threads %d` (this machine has %s cores, so "
-      "that is the sweep it allows), one run at a time with nothing else running. Pair evaluation and the "
-      "assembly's scatter run in OpenMP loops; CHOLMOD's factorisation is serial (OpenBLAS serial, see "
-      "`docs/simulation.md`).\n" % (threads["scene"], ", ".join(f"{a} {b}" for a, b in threads["changes"].items()),
-                                    tr[-1]["threads"], machine["cores"]))
+      "that is the sweep it allows), one run at a time with nothing else running: "
+      "`pce-sim benchmarks/results/scenes/threads_%s.json --no-frames --hessian analytic --threads T`. Pair "
+      "evaluation runs in an OpenMP loop; the scatter of the pair blocks into the sparse matrix is serial (so "
+      "results are identical bit for bit whatever the thread count), and so is CHOLMOD's factorisation "
+      "(OpenBLAS serial, see `docs/simulation.md`).\n" % (threads["scene"], ", ".join(f"{a} {b}" for a, b in threads["changes"].items()),
+                                    tr[-1]["threads"], machine["cores"], threads["scene"]))
     A(md_table(["threads", "ms/frame", "Newton it/frame"] + [STAGE_NAMES[k] + " ms" for k in STAGES] +
                ["speed-up: frame", "pair evaluation", "assembly"],
                [[r["threads"], fmt(r["ms_per_frame"]), fmt(r["newton_per_frame"])] + [fmt(r[k]) for k in STAGES] +
                 [fmt(r["speedup_ms_per_frame"]), fmt(r["speedup_pair_ms"]), fmt(r["speedup_assembly_ms"])] for r in tr]) + "\n")
     shares = [r for r in scenes["rows"] if r["kind"] == "config" and r["strategy"] == "analytic"
               and r["mode"] == "newton" and r["tolerance"] in (None, 0.01)]
-    A("Share of a frame per stage (Newton, `analytic`, the scene's tolerance, one thread):\n")
+    A("Share of a frame per stage (Newton, `analytic`, the scene's tolerance, one thread). *Pair evaluation* "
+      "includes the line search's energy-only passes, which *line search* counts too, so a row can add up to "
+      "a little more than 100 % (the plot divides by the larger of the sum and the frame); *assembly* is the "
+      "pattern, the inertia term and the serial scatter of the pair blocks into the sparse matrix.\n")
     A(md_table(["scene", "ms/frame"] + [STAGE_NAMES[k] for k in STAGES + ["other_ms"]],
                [[r["scene"], fmt(r["ms_per_frame"])] + [f"{100 * r[k] / r['ms_per_frame']:.0f} %" if r["ms_per_frame"] else "n/a"
                                                        for k in STAGES + ["other_ms"]] for r in shares]) + "\n")
@@ -807,8 +825,9 @@ def main():
     ap.add_argument("--docs", default=None, help="the page to write (default docs/benchmarks.md; with --quick, "
                                                 "RESULTS/benchmarks.md)")
     ap.add_argument("--jobs", type=int, default=2, help="scene runs at a time (each uses one thread)")
-    ap.add_argument("--steps", default="all", help="comma-separated steps to run (%s); the others' last results "
-                                                   "are read from the results folder" % ", ".join(ALL_STEPS))
+    ap.add_argument("--steps", default="all", help="comma-separated steps to run (%s), 'all' or 'none' (only the "
+                                                   "plots and the page); the others' last results are read from the "
+                                                   "results folder" % ", ".join(ALL_STEPS))
     ap.add_argument("--self-test", action="store_true", help="check the number-crunching helpers and exit")
     args = ap.parse_args()
     if args.self_test:
@@ -821,7 +840,7 @@ def main():
     ctx = Context(args)
     ctx.results.mkdir(parents=True, exist_ok=True)
     ctx.images.mkdir(parents=True, exist_ok=True)
-    steps = ALL_STEPS if args.steps == "all" else args.steps.split(",")
+    steps = ALL_STEPS if args.steps == "all" else [] if args.steps == "none" else args.steps.split(",")
     unknown = [x for x in steps if x not in ALL_STEPS]
     if unknown:
         raise ValueError(f"--steps: unknown step(s) {', '.join(unknown)} (steps: {', '.join(ALL_STEPS)})")
@@ -831,49 +850,63 @@ def main():
         ctx.exe(needs[x])  # fail before running anything
     t0 = time.monotonic()
     log(f"results in {ctx.results}, page {ctx.docs}{' (quick)' if ctx.quick else ''}; steps: {', '.join(steps)}")
-    machine = step_machine(ctx)
+    # The machine and commit the measurements ran on: rewritten only when something is measured.
+    machine = step_machine(ctx) if steps else json.loads((ctx.results / "machine.json").read_text())
     data = {}
 
-    def done(name, value):
+    def done(name, value, started):
+        value["wall_s"] = time.monotonic() - started
         data[name] = value
-        (ctx.results / f"step_{name}.json").write_text(json.dumps(value, indent=1, default=str))
+        # accuracy.json already holds the accuracy rows; the step file keeps the rest.
+        kept = {k: v for k, v in value.items() if not (name == "accuracy" and k == "rows")}
+        (ctx.results / f"step_{name}.json").write_text(json.dumps(kept, indent=1, default=str))
 
     if "pair_cost" in steps:
         log("pce-bench (alone on the machine)")
-        done("pair_cost", step_pair_cost(ctx))
+        t = time.monotonic()
+        done("pair_cost", step_pair_cost(ctx), t)
     with concurrent.futures.ThreadPoolExecutor(max_workers=2) as pool:
+        t = time.monotonic()
         fa = pool.submit(step_accuracy, ctx) if "accuracy" in steps else None
         if fa:
             log("pce-accuracy" + (", with pce-broad-phase-bench on the other core" if "broad_phase" in steps else ""))
         if "broad_phase" in steps:
             bp = step_broad_phase(ctx)
             bp["exponents"] = broad_phase_exponents(bp, ctx.quick)
-            done("broad_phase", bp)
+            done("broad_phase", bp, t)
         if fa:
-            done("accuracy", fa.result())
+            done("accuracy", fa.result(), t)
     if "threads" in steps:
         log("threads (one run at a time)")
-        done("threads", step_threads(ctx))
+        t = time.monotonic()
+        done("threads", step_threads(ctx), t)
     if "scenes" in steps:
         log(f"scenes ({ctx.jobs} runs at a time)")
+        t = time.monotonic()
         scenes = step_scenes(ctx)
         for r in scenes["rows"]:
             r.pop("final_obj", None)
-        done("scenes", scenes)
+        done("scenes", scenes, t)
     for name in ALL_STEPS:  # steps not run now: their last results
         if name not in data:
             f = ctx.results / f"step_{name}.json"
             if not f.exists():
                 raise RuntimeError(f"{f} is missing: run step '{name}' first")
             data[name] = json.loads(f.read_text())
+            if name == "accuracy":
+                data[name]["rows"] = json.loads((ctx.results / "accuracy.json").read_text())["rows"]
     cost, acc, bp, threads, scenes = (data[k] for k in ALL_STEPS)
     total = time.monotonic() - t0
+    # The page reports the time the whole pipeline takes: the steps' own times (accuracy and
+    # broad phase run side by side, so the longer of the two counts).
+    run_total = (data["pair_cost"].get("wall_s", 0) + max(acc.get("wall_s", 0), bp.get("wall_s", 0)) +
+                 threads.get("wall_s", 0) + scenes.get("wall_s", 0))
     log("plots and page")
     plot_pair(ctx, acc, cost)
     plot_scenes(ctx, scenes)
     plot_broad_phase(ctx, bp)
     plot_threads(ctx, threads, scenes)
-    write_report(ctx, machine, cost, acc, bp, threads, scenes, total)
+    write_report(ctx, machine, cost, acc, bp, threads, scenes, run_total)
     missing = [p for p in [ctx.docs] + [ctx.images / f for f in ("pair_accuracy_cost.png", "scene_pareto.png",
                                                                    "broad_phase_scaling.png", "threads.png")]
                if not p.exists() or p.stat().st_size == 0]
