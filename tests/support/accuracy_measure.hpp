@@ -135,6 +135,26 @@ template <class Energy> void fill_reference(const Energy& e, Reference& r) {
   r.length = static_cast<long double>(e.length);
 }
 
+/// The 50-digit reference of a plane kind (`pce::VertexFace`, `pce::EdgeEdge`), signed or
+/// unsigned: the body of `reference_vertex_face` and `reference_edge_edge`, each
+/// instantiated in its own translation unit.
+template <class Pair> Reference plane_reference(const Sample& s, const pce::Vec12<long double>& x) {
+  Reference r;
+  const pce::Vec12<HighPrecision> y = cast12<HighPrecision>(x);
+  with_builtin_penalty(s.penalty, [&](const auto& pen) {
+    with_length(s.length, [&](const auto& len) {
+      pce::PairEnergy<HighPrecision> e;
+      r.status = pce::pair_energy<Pair>(y, len, pen, e);
+      if (r.status != pce::Status::ok) return 0;
+      fill_reference(e, r);
+      r.l = static_cast<long double>(e.frame.l);
+      return 0;
+    });
+    return 0;
+  });
+  return r;
+}
+
 /// What the scalar S computes at its rounding of the input.
 struct Measured {
   pce::Status status = pce::Status::invalid_input;

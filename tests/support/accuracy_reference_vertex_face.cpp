@@ -6,20 +6,7 @@
 namespace pce_test {
 
 Reference reference_vertex_face(const Sample& s, const pce::Vec12<long double>& x) {
-  Reference r;
-  const pce::Vec12<HighPrecision> y = cast12<HighPrecision>(x);
-  with_builtin_penalty(s.penalty, [&](const auto& pen) {
-    with_length(s.length, [&](const auto& len) {
-      pce::PairEnergy<HighPrecision> e;
-      r.status = pce::pair_energy<pce::VertexFace>(y, len, pen, e);
-      if (r.status != pce::Status::ok) return 0;
-      fill_reference(e, r);
-      r.l = static_cast<long double>(e.frame.l);
-      return 0;
-    });
-    return 0;
-  });
-  return r;
+  return plane_reference<pce::VertexFace>(s, x);
 }
 
 }  // namespace pce_test

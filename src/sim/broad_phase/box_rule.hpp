@@ -45,6 +45,14 @@ inline bool padding(const Eigen::Matrix3Xd& x, double distance, double& pad) {
   return true;
 }
 
+/// What every tree query starts with: h = d/2 + pad, and whether `topology` differs from
+/// the one the trees were built for (then `built_for` takes it). Returns false, and sets
+/// nothing, when a coordinate is not finite: the caller answers with
+/// `brute_force_candidates` itself.
+template <class Matrix>
+bool begin_query(const Eigen::Matrix3Xd& x, double distance, const Matrix& topology, Matrix& built_for, double& h,
+                 bool& new_topology);
+
 /// The box a tree stores for vertex v: [x_v − h, x_v + h].
 inline void vertex_box(const Eigen::Matrix3Xd& x, int v, double h, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
   lo = x.col(v).array() - h;
@@ -115,6 +123,17 @@ inline void sort_pairs(std::vector<std::array<int, 2>>& pairs, int n, std::vecto
 /// test that decides between refitting a tree and rebuilding it.
 template <class Matrix> bool same_topology(const Matrix& a, const Matrix& b) {
   return a.cols() == b.cols() && (a.array() == b.array()).all();
+}
+
+template <class Matrix>
+bool begin_query(const Eigen::Matrix3Xd& x, double distance, const Matrix& topology, Matrix& built_for, double& h,
+                 bool& new_topology) {
+  double pad = 0;
+  if (!padding(x, distance, pad)) return false;
+  new_topology = !same_topology(topology, built_for);
+  if (new_topology) built_for = topology;
+  h = distance / 2 + pad;
+  return true;
 }
 
 }  // namespace pce::sim::box_rule

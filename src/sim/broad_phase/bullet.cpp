@@ -148,14 +148,12 @@ class BulletBroadPhase final : public BroadPhase {
                    std::vector<std::array<int, 2>>& out) override {
     out.clear();
     if (x.cols() == 0 || triangles.cols() == 0) return;
-    double pad = 0;
-    if (!box_rule::padding(x, distance, pad)) {  // non-finite coordinates: the reference itself
+    double h = 0;
+    bool new_topology = false;
+    if (!box_rule::begin_query(x, distance, triangles, vf_triangles_, h, new_topology)) {  // non-finite: the reference
       out = brute_force_candidates(x, triangles, Eigen::Matrix2Xi(2, 0), distance).vertex_face;
       return;
     }
-    const bool new_topology = !box_rule::same_topology(triangles, vf_triangles_);
-    if (new_topology) vf_triangles_ = triangles;
-    const double h = distance / 2 + pad;
     const int n = static_cast<int>(x.cols()), m = static_cast<int>(triangles.cols());
     vertices_.set(n, false, [&](int v, Eigen::Vector3d& lo, Eigen::Vector3d& hi) { box_rule::vertex_box(x, v, h, lo, hi); });
     triangles_.set(m, new_topology, [&](int t, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
@@ -170,14 +168,12 @@ class BulletBroadPhase final : public BroadPhase {
                  std::vector<std::array<int, 2>>& out) override {
     out.clear();
     if (edges.cols() < 2) return;
-    double pad = 0;
-    if (!box_rule::padding(x, distance, pad)) {
+    double h = 0;
+    bool new_topology = false;
+    if (!box_rule::begin_query(x, distance, edges, ee_edges_, h, new_topology)) {
       out = brute_force_candidates(x, Eigen::Matrix3Xi(3, 0), edges, distance).edge_edge;
       return;
     }
-    const bool new_topology = !box_rule::same_topology(edges, ee_edges_);
-    if (new_topology) ee_edges_ = edges;
-    const double h = distance / 2 + pad;
     const int m = static_cast<int>(edges.cols());
     edges_.set(m, new_topology, [&](int e, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
       box_rule::edge_box(x, edges, e, h, lo, hi);
