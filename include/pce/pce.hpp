@@ -2,6 +2,31 @@
 /// @file
 /// Umbrella header: penalty-based collision energies with closed-form eigensystems
 /// (Shi & Kim, "A Unified Analysis of Penalty-Based Collision Energies", PACMCGIT 6(3), 2023).
+///
+/// @mainpage API reference
+///
+/// The API reference of the header-only core (namespace `pce`, `include/pce`, Eigen only)
+/// and of the simulation toolkit (namespace `pce::sim`, `src/sim/include/pce/sim`).
+///
+/// **Per pair** (`#include <pce/pce.hpp>`): a pair kind (pce::VertexFace, pce::EdgeEdge,
+/// pce::PointEdge, pce::PointPoint), a length (pce::SignedLength, pce::UnsignedLength) and
+/// a penalty (pce::QuadraticPenalty, pce::CubicPenalty, pce::LogBarrierPenalty) go into
+/// pce::pair_energy(), then pce::energy_gradient(), pce::energy_hessian(),
+/// pce::energy_eigensystem() and pce::projected_hessian() with a pce::Projection strategy; or
+/// everything at once with pce::evaluate(). pce::closest_feature_energy() evaluates the
+/// distance between the primitives by whichever kind holds the closest points, and
+/// pce::mollified_pair_energy() fades the energy out at degenerate frames. The evaluating
+/// calls return a pce::Status and write their outputs only on `ok`.
+///
+/// **Simulation** (`pce::sim`, the `pce-sim` tool's library): pce::sim::load_scene() builds a
+/// pce::sim::Simulation from a JSON scene; pce::sim::Simulation::step advances one frame
+/// by projected Newton over the declared pce::sim::Effect terms; contact effects find
+/// candidates through a pce::sim::BroadPhase (FCL, Bullet or brute force).
+///
+/// The prose documentation (mathematics, conventions, stability, fuzzing, pce-probe, the
+/// simulator, benchmarks) is in the repository's `docs/` folder, starting at
+/// `docs/index.md`. This reference is built by `cmake --build <build> --target pce-docs`
+/// into `<build>/docs/api/html/index.html`.
 #pragma once
 
 #include <pce/core/jacobi.hpp>

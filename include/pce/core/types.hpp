@@ -11,15 +11,25 @@
 
 namespace pce {
 
+/// Column vector of N scalars.
 template <class Scalar, int N> using VecN = Eigen::Matrix<Scalar, N, 1>;
+/// N×N matrix.
 template <class Scalar, int N> using MatN = Eigen::Matrix<Scalar, N, N>;
+/// A point or direction in 3-space.
 template <class Scalar> using Vec3 = VecN<Scalar, 3>;
+/// The coordinates of a point-point pair (p, q).
 template <class Scalar> using Vec6 = VecN<Scalar, 6>;
+/// The coordinates of a point-edge pair (p, e0, e1), or a 9-dimensional frame vector.
 template <class Scalar> using Vec9 = VecN<Scalar, 9>;
+/// The coordinates of a vertex-face (p, t0, t1, t2) or edge-edge (ea0, ea1, eb0, eb1) pair.
 template <class Scalar> using Vec12 = VecN<Scalar, 12>;
+/// 3×3 matrix (a frame-space block).
 template <class Scalar> using Mat3 = MatN<Scalar, 3>;
+/// 6×6 matrix: a point-point Hessian, or a point-edge frame-space matrix.
 template <class Scalar> using Mat6 = MatN<Scalar, 6>;
+/// 9×9 matrix: a point-edge Hessian, or a plane kind's frame-space matrix.
 template <class Scalar> using Mat9 = MatN<Scalar, 9>;
+/// 12×12 matrix: the Hessian of a vertex-face or edge-edge pair.
 template <class Scalar> using Mat12 = MatN<Scalar, 12>;
 /// Coefficients of the reduced frame in the four vertices: `c_k = sum_j P(k, j) x_j`.
 template <class Scalar> using Mat34 = Eigen::Matrix<Scalar, 3, 4>;

@@ -54,6 +54,7 @@ inline const char* to_string(Feature f) {
 /// roles of the evaluated kind, and that kind's evaluated energy (only the one named by
 /// `feature` is meaningful).
 template <class Scalar> struct ClosestFeatureEnergy {
+  /// The kind that holds the closest points, and so is evaluated.
   Feature feature;
   /// Point indices (0..3 in the 12-vector) of the evaluated kind's points: (p, e0, e1) for
   /// `point_edge`, (p, q, −) for `point_point`, unused for the plane kinds.
@@ -266,9 +267,12 @@ template <class Scalar> Mat12<Scalar> projected_hessian(const ClosestFeatureEner
 /// The closed-form frame-space eigenvalues of the evaluated kind (9, 6 or 3 of them,
 /// ascending), copied into the first `count` entries.
 template <class Scalar> struct FeatureEigenvalues {
+  /// The eigenvalues in the first `count` entries, zeros after them.
   Vec9<Scalar> values;
+  /// 9 (`point_plane`, `line_line`), 6 (`point_edge`) or 3 (`point_point`).
   int count;
 };
+/// The frame-space eigenvalues of `e.feature`'s kind, from that kind's `energy_eigensystem`.
 template <class Scalar> FeatureEigenvalues<Scalar> feature_eigenvalues(const ClosestFeatureEnergy<Scalar>& e) {
   FeatureEigenvalues<Scalar> r;
   r.values.setZero();

@@ -41,6 +41,7 @@ namespace pce {
 struct Mollifier {
   double threshold = 0;  ///< X̂ > 0, in length⁴ (same units as |e0 × e1|²)
 
+  /// Whether X̂ is finite and positive (else evaluation reports `invalid_input`).
   bool valid() const { return std::isfinite(threshold) && threshold > 0; }
 };
 
@@ -63,7 +64,9 @@ template <class Scalar> struct MollifiedEnergy {
   PairEnergy<Scalar> base;  ///< the plain energy's frame, length and ψ (valid when has_frame)
   Scalar X = 0;             ///< |e0 × e1|²
   Scalar mollifier = 0;     ///< m(X) ∈ [0, 1]; 1 means identical to the plain energy
+  ///@{
   Scalar dm = 0, d2m = 0;   ///< m′(X), m″(X)
+  ///@}
   Scalar value = 0;         ///< m ψ
 };
 

@@ -55,9 +55,11 @@ template <class Length> constexpr bool is_signed_length() { return std::is_same_
 
 /// Everything one pair needs, evaluated once: the frame, σ = dL/dl, L and ψ, ψ′, ψ″.
 template <class Scalar> struct PairEnergy {
+  /// The pair's reduced frame (`frames/frame.hpp`).
   Frame<Scalar> frame;
   Scalar sigma;   ///< dL/dl (±1)
   Scalar length;  ///< L = σ l
+  /// Ψ, ψ′, ψ″ at L.
   PenaltyDerivatives<Scalar> psi;
 };
 

@@ -26,8 +26,10 @@ namespace pce {
 
 /// Everything one point-edge pair needs, evaluated once.
 template <class Scalar> struct PointEdgeEnergy {
+  /// The pair's frame.
   PointEdgeFrame<Scalar> frame;
   Scalar length;  ///< L = d
+  /// Ψ, ψ′, ψ″ at L.
   PenaltyDerivatives<Scalar> psi;
 };
 

@@ -21,8 +21,10 @@ namespace pce {
 
 /// Everything one point-point pair needs, evaluated once.
 template <class Scalar> struct PointPointEnergy {
+  /// The pair's frame.
   PointPointFrame<Scalar> frame;
   Scalar length;  ///< L = d
+  /// Ψ, ψ′, ψ″ at L.
   PenaltyDerivatives<Scalar> psi;
 };
 

@@ -14,6 +14,7 @@ template <class Scalar> struct PairEnergy;
 
 /// Tag type for the edge-edge pair kind.
 struct EdgeEdge {
+  /// The kind's name, as `pce-probe` and the tests spell it.
   static constexpr const char* name = "edge_edge";
   static constexpr int dofs = 12;       ///< coordinates: four points
   static constexpr int frame_dofs = 9;  ///< frame coordinates (e0, e1⊥, e2⊥)

@@ -41,9 +41,14 @@ template <class Scalar> struct Frame {
 /// possibly nonzero 3×3 blocks; the (0,1) block of every Hessian in this library is zero
 /// (supplement Eq. 37), as are its transposes.
 template <class Scalar> struct FrameBlocks {
+  ///@{
   Mat3<Scalar> h00, h11, h22;  ///< diagonal blocks
+  ///@}
+  ///@{
   Mat3<Scalar> h02, h12;       ///< off-diagonal blocks; (2,0) and (2,1) are their transposes
+  ///@}
 
+  /// All five blocks zero.
   static FrameBlocks Zero() {
     FrameBlocks b;
     b.h00.setZero();

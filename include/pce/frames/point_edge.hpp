@@ -31,9 +31,11 @@ template <class Scalar> struct PointEdgeFrame {
 
 /// Tag type for the point-edge pair kind.
 struct PointEdge {
+  /// The kind's name, as `pce-probe` and the tests spell it.
   static constexpr const char* name = "point_edge";
   static constexpr int dofs = 9;        ///< coordinates: p, e0, e1
   static constexpr int frame_dofs = 6;  ///< frame coordinates (e, r⊥)
+  /// The evaluated energy of this kind (`energy/point_edge_energy.hpp`).
   template <class Scalar> using Energy = PointEdgeEnergy<Scalar>;
 
   /// Builds the reduced frame of `x = (p, e0, e1)`: `invalid_input` for non-finite or

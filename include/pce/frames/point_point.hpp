@@ -25,9 +25,11 @@ template <class Scalar> struct PointPointFrame {
 
 /// Tag type for the point-point pair kind.
 struct PointPoint {
+  /// The kind's name, as `pce-probe` and the tests spell it.
   static constexpr const char* name = "point_point";
   static constexpr int dofs = 6;        ///< coordinates: p, q
   static constexpr int frame_dofs = 3;  ///< frame coordinates (e = p − q)
+  /// The evaluated energy of this kind (`energy/point_point_energy.hpp`).
   template <class Scalar> using Energy = PointPointEnergy<Scalar>;
 
   /// Builds the frame of `x = (p, q)`: `invalid_input` for non-finite or absurd

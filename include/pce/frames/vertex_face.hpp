@@ -15,6 +15,7 @@ template <class Scalar> struct PairEnergy;
 
 /// Tag type for the vertex-face pair kind.
 struct VertexFace {
+  /// The kind's name, as `pce-probe` and the tests spell it.
   static constexpr const char* name = "vertex_face";
   static constexpr int dofs = 12;       ///< coordinates: four points
   static constexpr int frame_dofs = 9;  ///< frame coordinates (e0, e1⊥, e2⊥)

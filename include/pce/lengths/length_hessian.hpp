@@ -35,16 +35,20 @@ namespace pce {
 /// in the basis (n̂ in frame slot k, ê_k in frame slot 2):
 /// `q_big = (s, w)/√(1+w²)`, `q_small = (w, −s)/√(1+w²)`.
 template <class Scalar> struct LengthFamily {
+  ///@{
   Scalar lambda_big, lambda_small;  ///< λ_big·λ_small = −1/a², |λ_big| ≥ 1/a ≥ |λ_small|
+  ///@}
   Scalar s;                         ///< sgn(l), +1 at l = 0
   Scalar w;                         ///< w = 1/ρ ∈ (0, 1]
   Scalar n2;                        ///< 1/(1 + w²), the squared normalisation of both vectors
 
+  /// `q_big = (s, w)/√(1+w²)`, the unit eigenvector of λ_big.
   Eigen::Matrix<Scalar, 2, 1> big() const {
     using std::sqrt;
     const Scalar c = sqrt(n2);
     return {s * c, w * c};
   }
+  /// `q_small = (w, −s)/√(1+w²)`, the unit eigenvector of λ_small.
   Eigen::Matrix<Scalar, 2, 1> small() const {
     using std::sqrt;
     const Scalar c = sqrt(n2);
@@ -75,7 +79,9 @@ template <class Scalar> LengthFamily<Scalar> length_family(const Scalar& l, cons
 /// point-edge, 3 for point-point): `values` ascending, `vectors` the matching orthonormal
 /// columns.
 template <class Scalar, int N = 9> struct FrameEigensystem {
+  /// Eigenvalues, ascending.
   VecN<Scalar, N> values;
+  /// Column i is the unit eigenvector of `values(i)`.
   MatN<Scalar, N> vectors;
 };
 

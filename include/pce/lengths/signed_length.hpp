@@ -15,6 +15,7 @@ enum class Side : int { positive = 1, negative = -1 };
 
 /// Signed length `L = side · l`. Smooth everywhere the frame exists.
 struct SignedLength {
+  /// Which side of the plane counts as outside (L > 0).
   Side side = Side::positive;
 
   /// dL/dl: +1 or −1 according to `side`.

@@ -22,11 +22,13 @@ struct CubicPenalty {
   double eps = 0.0;        ///< activation length ε
   double delta = 0.0;      ///< smoothing δ ≥ 0 (a squared length)
 
+  /// Whether the parameters are admissible (finite, k ≥ 0, …); else `invalid_input`.
   bool valid() const {
     return std::isfinite(stiffness) && stiffness >= 0 && std::isfinite(eps) && std::isfinite(delta) &&
            delta >= 0;
   }
 
+  /// ψ(L), ψ′(L), ψ″(L).
   template <class Scalar> PenaltyDerivatives<Scalar> evaluate(const Scalar& L) const {
     using std::abs;
     using std::sqrt;

@@ -17,8 +17,10 @@ struct QuadraticPenalty {
   double stiffness = 1.0;  ///< k ≥ 0
   double eps = 0.0;        ///< activation length ε
 
+  /// Whether the parameters are admissible (finite, k ≥ 0, …); else `invalid_input`.
   bool valid() const { return std::isfinite(stiffness) && stiffness >= 0 && std::isfinite(eps); }
 
+  /// ψ(L), ψ′(L), ψ″(L).
   template <class Scalar> PenaltyDerivatives<Scalar> evaluate(const Scalar& L) const {
     const Scalar e = Scalar(eps);
     if (!(L < e)) return {Scalar(0), Scalar(0), Scalar(0)};

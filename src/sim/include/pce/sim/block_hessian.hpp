@@ -30,7 +30,9 @@ class Pattern {
       for (std::size_t b = 0; b < K; ++b)
         if (v[a] >= 0 && v[b] >= 0 && v[a] <= v[b]) pairs_.push_back(key(v[a], v[b]));
   }
+  /// Declares the diagonal block of `vertex` (≥ 0).
   void add(int vertex) { pairs_.push_back(key(vertex, vertex)); }
+  /// Forgets every declaration.
   void clear() { pairs_.clear(); }
   /// The declared pairs (i ≤ j), packed as (j << 32) | i, unsorted and possibly repeated.
   const std::vector<std::uint64_t>& pairs() const { return pairs_; }
@@ -42,6 +44,9 @@ class Pattern {
   std::vector<std::uint64_t> pairs_;
 };
 
+/// The Hessian of the incremental potential: 3×3 blocks over vertex pairs, stored as the
+/// upper triangle of a sparse 3n×3n matrix (see the file comment) with the structure a
+/// `Pattern` declares.
 class BlockHessian {
  public:
   /// Builds the compressed structure for `n` vertices from `pattern` (every diagonal block
@@ -70,7 +75,9 @@ class BlockHessian {
   void add_diagonal(const Eigen::VectorXd& d);
   /// The assembled upper triangle.
   const Eigen::SparseMatrix<double>& matrix() const { return m_; }
+  /// The assembled upper triangle, writable (the linear solvers read it in place).
   Eigen::SparseMatrix<double>& matrix() { return m_; }
+  /// Number of vertices n (the matrix is 3n×3n).
   int vertex_count() const { return n_; }
   /// Number of stored 3×3 blocks (the pattern's size).
   std::size_t block_count() const { return block_count_; }

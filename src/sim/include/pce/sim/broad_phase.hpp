@@ -28,6 +28,8 @@ const char* to_string(BroadPhaseKind kind);
 /// The kind `to_string` names `name`; nothing for any other string.
 std::optional<BroadPhaseKind> broad_phase_kind(const std::string& name);
 
+/// One broad phase: candidate pairs for a query distance, exactly those (and in the order)
+/// of `brute_force_candidates`. Contact effects hold one each and query it per time step.
 class BroadPhase {
  public:
   virtual ~BroadPhase() = default;
@@ -39,6 +41,7 @@ class BroadPhase {
                          std::vector<std::array<int, 2>>& out) = 0;
 };
 
+/// A new broad phase of the given kind, with an empty acceleration structure.
 std::unique_ptr<BroadPhase> make_broad_phase(BroadPhaseKind kind);
 
 }  // namespace pce::sim

@@ -17,6 +17,7 @@
 
 namespace pce::sim {
 
+/// The candidate pairs of one query.
 struct Candidates {
   std::vector<std::array<int, 2>> vertex_face;  ///< (vertex, triangle), sorted
   std::vector<std::array<int, 2>> edge_edge;    ///< (edge a, edge b) with a < b, sorted

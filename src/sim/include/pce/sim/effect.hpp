@@ -20,6 +20,9 @@ namespace pce::sim {
 /// Numbers an effect reports for the frame's statistics (`stats.json`), e.g. contact counts.
 using EffectCounters = std::map<std::string, double>;
 
+/// One term of the incremental potential (see the file comment); the solver calls these
+/// in the order begin_step, declare, then per Newton iteration update_pattern, evaluate,
+/// max_step, still_valid (and refresh when that says no), and report once per frame.
 class Effect {
  public:
   virtual ~Effect() = default;

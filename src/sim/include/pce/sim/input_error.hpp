@@ -12,6 +12,7 @@
 
 namespace pce::sim {
 
+/// An invalid input: `what()` is the one line `file: where: what`.
 class InputError : public std::runtime_error {
  public:
   /// `file: where: what` (a missing `where` is left out)
@@ -19,6 +20,7 @@ class InputError : public std::runtime_error {
       : std::runtime_error(file + ": " + (where.empty() ? std::string() : where + ": ") + what),
         file_(std::move(file)),
         where_(std::move(where)) {}
+  /// The file the input came from.
   const std::string& file() const { return file_; }
   /// The JSON path or `line N` of the offending field; empty for the file as a whole.
   const std::string& where() const { return where_; }

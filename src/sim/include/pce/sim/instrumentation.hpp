@@ -10,11 +10,17 @@
 
 namespace pce::sim {
 
+/// The counters (see the file comment); all start at 0.
 struct Instrumentation {
+  /// Broad phases constructed (`make_broad_phase`).
   std::atomic<long> broad_phases_built{0};
+  /// Broad-phase queries made by contact effects.
   std::atomic<long> broad_phase_queries{0};
+  /// Vertex-face pairs evaluated by contact effects.
   std::atomic<long> vertex_face_pairs_evaluated{0};
+  /// Edge-edge pairs evaluated by contact effects.
   std::atomic<long> edge_edge_pairs_evaluated{0};
+  /// Bending hinges allocated.
   std::atomic<long> bending_hinges_allocated{0};
 };
 

@@ -12,18 +12,23 @@
 
 namespace pce::sim {
 
+/// A triangle mesh (cloth, obstacle surface) and/or a set of segments (strands).
 struct Mesh {
   Eigen::Matrix3Xd positions;  ///< one column per vertex
   Eigen::Matrix3Xi triangles;  ///< vertex indices, counter-clockwise seen from the normal's side
   Eigen::Matrix2Xi segments;   ///< strand segments (OBJ `l` elements)
 
+  /// Number of vertices (columns of `positions`).
   Eigen::Index vertex_count() const { return positions.cols(); }
 };
 
 /// Rigid placement and uniform scale: x ↦ translation + rotation · (scale · x).
 struct Transform {
+  /// Added last.
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  /// Applied after the scale.
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  /// Uniform scale, applied first.
   double scale = 1.0;
 };
 

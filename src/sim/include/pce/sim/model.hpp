@@ -16,10 +16,15 @@ namespace pce::sim {
 struct MeshRange {
   std::string name;       ///< the scene's mesh name
   int first_vertex = 0;   ///< global index of its vertex 0
+  /// Number of its vertices.
   int vertex_count = 0;
+  /// Global index of its first triangle (column of `Model::triangles`).
   int first_triangle = 0;
+  /// Number of its triangles.
   int triangle_count = 0;
+  /// Global index of its first segment (column of `Model::segments`).
   int first_segment = 0;
+  /// Number of its segments.
   int segment_count = 0;
 };
 
@@ -30,8 +35,10 @@ struct Model {
   Eigen::Matrix2Xi segments;   ///< strand segments
   Eigen::Matrix2Xi edges;      ///< unique triangle edges followed by the strand segments
   Eigen::VectorXd mass;        ///< lumped vertex masses (kg), > 0
+  /// Where each scene mesh lives, in scene order.
   std::vector<MeshRange> meshes;
 
+  /// Number of deformable vertices (columns of `rest`).
   int vertex_count() const { return static_cast<int>(rest.cols()); }
 };
 
@@ -40,6 +47,7 @@ struct StepContext {
   int frame = 0;                ///< the frame being computed (1 for the first step)
   double time = 0;              ///< time at the end of the step (s)
   double dt = 0;                ///< step size (s)
+  /// The model being simulated.
   const Model* model = nullptr;
   const Eigen::Matrix3Xd* x_start = nullptr;  ///< positions at the start of the step
   const Eigen::Matrix3Xd* v_start = nullptr;  ///< velocities at the start of the step

@@ -15,15 +15,20 @@
 
 namespace pce::sim {
 
+/// An obstacle's shape: closed-form `sphere`, `box` and `capsule`, or a triangle `mesh`.
 enum class ShapeKind { sphere, box, capsule, mesh };
 
 /// A rigid path: from `start` to `stop` (s) a body translates with `velocity` (m/s) and
 /// rotates about its centre with `angular_velocity` (rad/s, axis × rate); it rests before
 /// `start` and after `stop`. Obstacles move by it, and so do pin groups' targets.
 struct Motion {
+  /// Translation velocity v (m/s).
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  /// Angular velocity ω (rad/s, axis × rate), about the body's centre.
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
+  /// Time (s) the motion starts.
   double start = 0;
+  /// Time (s) the motion stops (never, by default).
   double stop = std::numeric_limits<double>::infinity();
 
   /// Time spent moving by time t: τ = clamp(t − start, 0, stop − start).
@@ -37,8 +42,12 @@ struct Motion {
   }
 };
 
+/// A rigid obstacle of the scene: its shape in local coordinates, its pose at t = 0 and
+/// its `Motion`.
 struct Obstacle {
+  /// The scene's obstacle name.
   std::string name;
+  /// Which of the shape fields below apply.
   ShapeKind kind = ShapeKind::sphere;
   double radius = 0;                                   ///< sphere, capsule
   double half_length = 0;                              ///< capsule: half its axis, along local z
@@ -46,6 +55,7 @@ struct Obstacle {
   Mesh mesh;                                           ///< kind mesh: triangles in local coordinates
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< centre at t = 0
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  ///< orientation at t = 0
+  /// Its path after t = 0.
   Motion motion;
 
   /// World pose at time `t` (s): x_world = pose * x_local.
@@ -56,9 +66,12 @@ struct Obstacle {
 /// inside) with the outward unit normal at the closest surface point. Closed forms for
 /// sphere, box and capsule; for a mesh, the unsigned distance to the nearest triangle.
 struct SurfaceDistance {
+  /// Signed distance, negative inside (unsigned for a mesh).
   double distance = 0;
+  /// Outward unit normal at the closest surface point.
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
 };
+/// The `SurfaceDistance` of world point `p` to obstacle `o` at `pose`.
 SurfaceDistance surface_distance(const Obstacle& o, const Eigen::Isometry3d& pose, const Eigen::Vector3d& p);
 
 /// A triangle mesh of the obstacle's surface in world coordinates at `pose`, for drawing

@@ -20,6 +20,7 @@
 
 namespace pce::sim {
 
+/// One mesh to draw, in world coordinates, with its colour.
 struct RenderMesh {
   Eigen::Matrix3Xd positions;  ///< one column per vertex
   Eigen::Matrix3Xi triangles;  ///< drawn as shaded surfaces
@@ -27,8 +28,11 @@ struct RenderMesh {
   Eigen::Vector3f color = Eigen::Vector3f(0.8f, 0.35f, 0.25f);  ///< linear RGB in [0, 1]
 };
 
+/// Image size, camera and style of `render_png`.
 struct RenderOptions {
+  ///@{
   int width = 960, height = 720;  ///< pixels
+  ///@}
   /// Where the camera looks (need not be unit); looking slightly down from the front right.
   Eigen::Vector3d view_direction = Eigen::Vector3d(-1.0, -2.0, -0.9).normalized();
   double margin = 0.05;  ///< empty border on each side, as a fraction of the image size

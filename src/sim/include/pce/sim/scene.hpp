@@ -21,17 +21,24 @@ namespace pce::sim {
 
 /// Command-line values that override the scene's.
 struct SceneOverrides {
+  /// Frames to simulate (`frames`).
   std::optional<int> frames;
   std::optional<std::string> hessian;      ///< every contact effect's Hessian strategy
+  /// Every contact effect's broad phase (`solver.broad_phase`).
   std::optional<BroadPhaseKind> broad_phase;
+  /// OpenMP threads (`solver.threads`).
   std::optional<int> threads;
+  /// One linearised solve per step (`solver.single_solve`).
   std::optional<bool> single_solve;
+  /// Newton's stopping tolerance (`solver.tolerance`).
   std::optional<double> tolerance;
 };
 
 /// A loaded scene: the simulation plus what the output side needs.
 struct Scene {
+  /// The scene file it was loaded from (the name used in errors for a text).
   std::filesystem::path file;
+  /// The simulation the scene declares, at frame 0.
   Simulation simulation;
   int output_every = 1;                 ///< write every k-th frame's mesh (the last always)
   Eigen::Vector3d view_direction = Eigen::Vector3d(-1.0, -2.0, -0.9);  ///< picture camera

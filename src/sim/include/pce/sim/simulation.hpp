@@ -25,8 +25,12 @@
 
 namespace pce::sim {
 
+/// How the Newton system H Δx = −g is solved (scene key `solver.linear_solver`):
+/// `direct` (CHOLMOD when built with it, else Eigen's LDLᵀ), `ldlt` (Eigen's sparse LDLᵀ)
+/// or `cg` (conjugate gradients).
 enum class LinearSolver { direct, ldlt, cg };
 
+/// The scene's `solver` block: step size, Newton's stopping rule, linear solver, threads.
 struct SolverSettings {
   double dt = 1.0 / 40.0;      ///< time step (s), one per frame
   int max_iterations = 50;     ///< Newton iteration cap per step
@@ -38,27 +42,44 @@ struct SolverSettings {
 
 /// What one frame cost and reached (`stats.json`, contract §2).
 struct FrameStats {
+  /// Frame number, 1-based.
   int frame = 0;
+  /// The whole step (`Simulation::step`), wall-clock ms.
   double wall_ms = 0;
+  /// Linear solves in this step.
   int newton_iterations = 0;
   double residual = 0;          ///< max|Δx|/(h·ℓ) of the last Newton direction
   double energy = 0;            ///< incremental potential at the accepted state
   int line_search_failures = 0; ///< iterations whose line search found no decrease
+  /// Newton mode only: `max_iterations` were used up.
   bool hit_iteration_cap = false;
+  ///@{
+  /// Wall-clock ms of one stage: broad-phase queries, per-pair evaluation, assembly, linear
+  /// solves, line search (they overlap, `docs/simulation.md` §6.1).
   double broad_phase_ms = 0, pair_ms = 0, assembly_ms = 0, solve_ms = 0, line_search_ms = 0;
+  ///@}
   std::vector<std::pair<std::string, double>> effect_ms;  ///< per evaluated effect, in scene order
   EffectCounters counters;      ///< merged effect counters (contact counts, distances, …)
 };
 
+/// A whole simulation: the model, its obstacles, the declared effects, the solver settings
+/// and the current state; `step()` advances it by one time step (one frame).
 class Simulation {
  public:
+  /// The deformable vertices and elements.
   Model model;
+  /// The scene's rigid obstacles.
   std::vector<Obstacle> obstacles;
+  /// The scene's effects, in scene order: the whole incremental potential.
   std::vector<std::unique_ptr<Effect>> effects;
+  /// Step size, stopping rule, linear solver, threads.
   SolverSettings solver;
   int frames = 1;               ///< frames to simulate
+  ///@{
   Eigen::Matrix3Xd x, v;        ///< current positions and velocities
+  ///@}
   int frame = 0;                ///< frames done
+  /// Simulated time (s) at the end of the last step.
   double time = 0;
 
   /// Advances one time step. Throws std::runtime_error("frame N: …") when the state
