@@ -1,5 +1,6 @@
 // Evaluate the penalty energy of a few vertex-face and edge-edge pairs: length, energy,
 // gradient norm, the closed-form eigenvalues, and how each PSD strategy compares.
+// Check: every strategy but `none` gives a PSD Hessian (the exit code says so).
 //
 //   ./pce-example-basic_energies
 #include <pce/pce.hpp>
@@ -7,6 +8,8 @@
 #include <cstdio>
 
 namespace {
+
+bool all_psd = true;  // every strategy except `none` must give a PSD Hessian
 
 template <class Pair, class Length, class Penalty>
 void show(const char* what, const pce::Vec12<double>& x, const Length& length, const Penalty& penalty) {
@@ -27,6 +30,8 @@ void show(const char* what, const pce::Vec12<double>& x, const Length& length, c
                             pce::Projection::gauss_newton, pce::Projection::abs}) {
     const Eigen::SelfAdjointEigenSolver<pce::Mat12<double>> es(pce::projected_hessian(e, p));
     std::printf(" %s %.3g", pce::to_string(p), es.eigenvalues().minCoeff());
+    if (p != pce::Projection::none && es.eigenvalues().minCoeff() < -1e-12 * es.eigenvalues().cwiseAbs().maxCoeff())
+      all_psd = false;
   }
   std::printf("\n");
 }
@@ -54,5 +59,6 @@ int main() {
   pce::Vec12<double> parallel = ee;
   parallel.segment<3>(9) << 2, -1, 0.02;  // eb parallel to ea
   show<pce::EdgeEdge>("edge-edge, parallel edges", parallel, pce::UnsignedLength{}, barrier);
-  return 0;
+  std::printf("%s\n", all_psd ? "ok: every projected Hessian is PSD" : "FAILED: a projected Hessian is not PSD");
+  return all_psd ? 0 : 1;
 }
