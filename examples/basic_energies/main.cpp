@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Evaluate the penalty energy of a few vertex-face and edge-edge pairs: length, energy,
 // gradient norm, the closed-form eigenvalues, and how each PSD strategy compares.
 // Check: every strategy but `none` gives a PSD Hessian (the exit code says so).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The paper's "unified" point: any penalty ψ(L) gets the gradient, the exact Hessian, its
 // closed-form eigensystem and every PSD projection for free. Here a user-written
 // exponential penalty ψ = k exp(−L/w) is plugged in and checked against a numerical
