@@ -33,9 +33,9 @@ using namespace pce_test;
 
 struct Settings {
   bool quick = false;
-  int count = 1000;            ///< samples per random / near_contact group
+  int count = 1000;  ///< samples per random / near_contact group
   unsigned long long seed = 20231;
-  int hard_stride = 1;         ///< every k-th hard case (--quick: 8)
+  int hard_stride = 1;  ///< every k-th hard case (--quick: 8)
   std::string out, csv;
 };
 
@@ -74,7 +74,7 @@ std::string describe(const Sample& s) {
 struct Tally {
   std::vector<Row> rows;
   std::map<std::string, Worst> worst_dist, worst_psd;  ///< key: scalar/strategy
-  std::map<std::string, int> statuses;                  ///< "scalar status expected|unexpected family"
+  std::map<std::string, int> statuses;                 ///< "scalar status expected|unexpected family"
   int samples = 0;
 };
 
@@ -96,8 +96,10 @@ void measure_group(const std::vector<Sample>& samples, const std::string& family
       const SampleOutcome o = sc == 0 ? measure_sample<float>(s) : measure_sample<double>(s);
       ++t.samples;
       if (o.status == pce::Status::ok && o.reference_status != pce::Status::ok)  // no rel_dist for these
-        ++t.statuses[std::string(scalar_name(sc)) + " ok (50 digits: " + pce::to_string(o.reference_status) + ", not "
-                     "measured) " + s.family];
+        ++t.statuses[std::string(scalar_name(sc)) + " ok (50 digits: " + pce::to_string(o.reference_status) +
+                     ", not "
+                     "measured) " +
+                     s.family];
       if (o.status != pce::Status::ok) {
         const bool expected = o.status == o.reference_status;
         ++t.statuses[std::string(scalar_name(sc)) + " " + pce::to_string(o.status) +
@@ -200,7 +202,8 @@ void print_tables(const Tally& t) {
 
 void print_worst(const Tally& t) {
   std::printf("\n## Worst rel_dist per scalar and strategy\n");
-  for (const auto& [key, w] : t.worst_dist) std::printf("%-20s %9s  %s\n", key.c_str(), num(w.value).c_str(), w.where.c_str());
+  for (const auto& [key, w] : t.worst_dist)
+    std::printf("%-20s %9s  %s\n", key.c_str(), num(w.value).c_str(), w.where.c_str());
   std::printf("\n## PSD violations (most negative λ_min/max|λ| per scalar and strategy)\n");
   if (t.worst_psd.empty()) std::printf("none\n");
   for (const auto& [key, w] : t.worst_psd) {
@@ -209,43 +212,53 @@ void print_worst(const Tally& t) {
       if (std::string(r.scalar) + " " + r.strategy == key) count += r.psd_violations;
     std::printf("%-20s %5d violation(s), worst %9s  %s\n", key.c_str(), count, num(-w.value).c_str(), w.where.c_str());
   }
-  std::printf("\n## Non-ok statuses and status mismatches (samples: scalar, status, the 50-digit status at the same input, family)\n");
+  std::printf(
+      "\n## Non-ok statuses and status mismatches (samples: scalar, status, the 50-digit status at the same input, "
+      "family)\n");
   if (t.statuses.empty()) std::printf("none\n");
   for (const auto& [key, count] : t.statuses) std::printf("%6d  %s\n", count, key.c_str());
 }
 
-const char* const kColumns[] = {"pair", "length", "penalty", "family", "scalar", "strategy", "configurations",
-                                "not_ok", "status_mismatch", "non_finite", "psd_violations", "sign_ambiguous",
-                                "zero_reference", "rel_dist_median", "rel_dist_p90", "rel_dist_max"};
+const char* const kColumns[] = {"pair",           "length",         "penalty",        "family",          "scalar",
+                                "strategy",       "configurations", "not_ok",         "status_mismatch", "non_finite",
+                                "psd_violations", "sign_ambiguous", "zero_reference", "rel_dist_median", "rel_dist_p90",
+                                "rel_dist_max"};
 
 bool write_json(const std::string& path, const Tally& t, const Settings& s) {
   FILE* f = std::fopen(path.c_str(), "w");
   if (!f) return false;
-  std::fprintf(f, "{\n  \"settings\": {\"quick\": %s, \"seed\": %llu, \"count_random\": %d, \"count_near_contact\": %d, "
-                  "\"hard_case_stride\": %d, \"samples_measured\": %d,\n",
+  std::fprintf(f,
+               "{\n  \"settings\": {\"quick\": %s, \"seed\": %llu, \"count_random\": %d, \"count_near_contact\": %d, "
+               "\"hard_case_stride\": %d, \"samples_measured\": %d,\n",
                s.quick ? "true" : "false", s.seed, s.count, s.count, s.hard_stride, t.samples);
-  std::fprintf(f, "    \"reference\": \"project_psd of the exact Hessian, both in 50 digits (cpp_bin_float<50>) at the "
-                  "input rounded to the scalar\",\n");
-  std::fprintf(f, "    \"rel_dist\": \"||P - P*||_F / ||P*||_F (||H*||_F when ||P*|| = 0; 0 if both and P are 0, else "
-                  "1e999); nearest-rank quantiles over ok, finite results with an ok reference\",\n");
-  std::fprintf(f, "    \"psd_violation\": \"lambda_min(P) < -tau * max|lambda(P)|, lambda in long double, tau = n * "
-                  "epsilon\", \"tau_float_n12\": %.3e, \"tau_double_n12\": %.3e,\n",
+  std::fprintf(f,
+               "    \"reference\": \"project_psd of the exact Hessian, both in 50 digits (cpp_bin_float<50>) at the "
+               "input rounded to the scalar\",\n");
+  std::fprintf(f,
+               "    \"rel_dist\": \"||P - P*||_F / ||P*||_F (||H*||_F when ||P*|| = 0; 0 if both and P are 0, else "
+               "1e999); nearest-rank quantiles over ok, finite results with an ok reference\",\n");
+  std::fprintf(f,
+               "    \"psd_violation\": \"lambda_min(P) < -tau * max|lambda(P)|, lambda in long double, tau = n * "
+               "epsilon\", \"tau_float_n12\": %.3e, \"tau_double_n12\": %.3e,\n",
                psd_tolerance<float>(12), psd_tolerance<double>(12));
-  std::fprintf(f, "    \"random\": \"size s log-uniform 1e-2..1e2, offset <= s, range R = s/2, L = R*U(0.02, 0.98)\",\n");
+  std::fprintf(f,
+               "    \"random\": \"size s log-uniform 1e-2..1e2, offset <= s, range R = s/2, L = R*U(0.02, 0.98)\",\n");
   std::fprintf(f, "    \"near_contact\": \"as random, L = R*10^U(-6, -2)\",\n");
-  std::fprintf(f, "    \"hard\": \"tests/support/hard_cases.hpp; own penalty for its kind, other kinds with the same "
-                  "active range (cubic delta = (R/10)^2), stiffness 1\"},\n  \"rows\": [\n");
+  std::fprintf(f,
+               "    \"hard\": \"tests/support/hard_cases.hpp; own penalty for its kind, other kinds with the same "
+               "active range (cubic delta = (R/10)^2), stiffness 1\"},\n  \"rows\": [\n");
   for (std::size_t i = 0; i < t.rows.size(); ++i) {
     const Row& r = t.rows[i];
-    std::fprintf(f,
-                 "    {\"pair\": \"%s\", \"length\": \"%s\", \"penalty\": \"%s\", \"family\": \"%s\", \"scalar\": \"%s\", "
-                 "\"strategy\": \"%s\", \"configurations\": %d, \"not_ok\": %d, \"status_mismatch\": %d, "
-                 "\"non_finite\": %d, \"psd_violations\": %d, \"sign_ambiguous\": %d, \"zero_reference\": %d, "
-                 "\"rel_dist_median\": %s, \"rel_dist_p90\": %s, \"rel_dist_max\": %s}%s\n",
-                 r.pair.c_str(), r.length.c_str(), r.penalty.c_str(), r.family.c_str(), r.scalar.c_str(),
-                 r.strategy.c_str(), r.configurations, r.not_ok, r.status_mismatch, r.non_finite, r.psd_violations,
-                 r.sign_ambiguous, r.zero_reference, json_num(r.median).c_str(), json_num(r.p90).c_str(),
-                 json_num(r.max).c_str(), i + 1 < t.rows.size() ? "," : "");
+    std::fprintf(
+        f,
+        "    {\"pair\": \"%s\", \"length\": \"%s\", \"penalty\": \"%s\", \"family\": \"%s\", \"scalar\": \"%s\", "
+        "\"strategy\": \"%s\", \"configurations\": %d, \"not_ok\": %d, \"status_mismatch\": %d, "
+        "\"non_finite\": %d, \"psd_violations\": %d, \"sign_ambiguous\": %d, \"zero_reference\": %d, "
+        "\"rel_dist_median\": %s, \"rel_dist_p90\": %s, \"rel_dist_max\": %s}%s\n",
+        r.pair.c_str(), r.length.c_str(), r.penalty.c_str(), r.family.c_str(), r.scalar.c_str(), r.strategy.c_str(),
+        r.configurations, r.not_ok, r.status_mismatch, r.non_finite, r.psd_violations, r.sign_ambiguous,
+        r.zero_reference, json_num(r.median).c_str(), json_num(r.p90).c_str(), json_num(r.max).c_str(),
+        i + 1 < t.rows.size() ? "," : "");
   }
   std::fprintf(f, "  ]\n}\n");
   return std::fclose(f) == 0;
@@ -265,8 +278,10 @@ bool write_csv(const std::string& path, const Tally& t) {
 }
 
 int usage(const char* msg) {
-  std::fprintf(stderr, "pce-accuracy: %s\nusage: pce-accuracy [--quick] [--count N] [--seed S] [--out FILE.json] "
-                       "[--csv FILE.csv]\n", msg);
+  std::fprintf(stderr,
+               "pce-accuracy: %s\nusage: pce-accuracy [--quick] [--count N] [--seed S] [--out FILE.json] "
+               "[--csv FILE.csv]\n",
+               msg);
   return 2;
 }
 
@@ -344,9 +359,10 @@ int main(int argc, char** argv) {
 
   std::printf("pce-accuracy%s: %d sample evaluations (each: 50-digit reference + 5 strategies), %zu rows, %.1f s\n",
               s.quick ? " --quick" : "", t.samples, t.rows.size(), seconds);
-  std::printf("rel_dist = ||P - P*||_F/||P*||_F, P* the nearest PSD matrix of the 50-digit Hessian at the rounded "
-              "input; PSD violation: lambda_min < -n*eps*max|lambda| (float %.1e, double %.1e for n = 12)\n",
-              psd_tolerance<float>(12), psd_tolerance<double>(12));
+  std::printf(
+      "rel_dist = ||P - P*||_F/||P*||_F, P* the nearest PSD matrix of the 50-digit Hessian at the rounded "
+      "input; PSD violation: lambda_min < -n*eps*max|lambda| (float %.1e, double %.1e for n = 12)\n",
+      psd_tolerance<float>(12), psd_tolerance<double>(12));
   print_tables(t);
   print_worst(t);
   int rc = 0;

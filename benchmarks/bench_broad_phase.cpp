@@ -57,8 +57,8 @@ struct Result {
 };
 
 /// One vertex-face plus one edge-edge query on `bp`; returns milliseconds.
-double query(pce::sim::BroadPhase& bp, const Eigen::Matrix3Xd& x, const pce::sim::Mesh& m, const Eigen::Matrix2Xi& edges,
-             double d, Result& r) {
+double query(pce::sim::BroadPhase& bp, const Eigen::Matrix3Xd& x, const pce::sim::Mesh& m,
+             const Eigen::Matrix2Xi& edges, double d, Result& r) {
   const auto t0 = std::chrono::steady_clock::now();
   bp.vertex_face(x, m.triangles, d, r.vf);
   bp.edge_edge(x, edges, d, r.ee);
@@ -86,7 +86,8 @@ int main(int argc, char** argv) {
   std::string out_file;
   std::vector<std::string> names{"fcl", "bullet", "brute"};
   app.add_option("--sizes", sizes, "cloth resolutions n (n x n quads)")->delimiter(',')->check(CLI::Range(1, 4096));
-  app.add_option("--repetitions", repetitions, "repetitions per size (n > 140: half as many)")->check(CLI::Range(1, 1000));
+  app.add_option("--repetitions", repetitions, "repetitions per size (n > 140: half as many)")
+      ->check(CLI::Range(1, 1000));
   app.add_option("--broad-phases", names, "broad phases to run, the first is the reference")
       ->delimiter(',')
       ->check(CLI::IsMember({"fcl", "bullet", "brute"}));
@@ -161,7 +162,8 @@ int main(int argc, char** argv) {
         brute_last_work = work;
       }
       if (!(updated == queried)) {
-        std::fprintf(stderr, "pce-broad-phase-bench: %s, n = %d: the repeated query differs from the update\n", name, n);
+        std::fprintf(stderr, "pce-broad-phase-bench: %s, n = %d: the repeated query differs from the update\n", name,
+                     n);
         mismatch = true;
       }
       if (!have_reference) {
@@ -172,23 +174,36 @@ int main(int argc, char** argv) {
         std::fprintf(stderr,
                      "pce-broad-phase-bench: %s, n = %d: candidates differ from %s's (vertex-face %zu vs %zu, "
                      "edge-edge %zu vs %zu after the build; %zu vs %zu, %zu vs %zu after the update)\n",
-                     name, n, names.front().c_str(), built.vf.size(), reference_built.vf.size(),
-                     built.ee.size(), reference_built.ee.size(), updated.vf.size(), reference_moved.vf.size(),
-                     updated.ee.size(), reference_moved.ee.size());
+                     name, n, names.front().c_str(), built.vf.size(), reference_built.vf.size(), built.ee.size(),
+                     reference_built.ee.size(), updated.vf.size(), reference_moved.vf.size(), updated.ee.size(),
+                     reference_moved.ee.size());
         mismatch = true;
       }
-      const Row row{kind, n, m.vertex_count(), m.triangles.cols(), edges.cols(), d, median(build), median(update),
-                    median(again), updated.vf.size(), updated.ee.size(), kind_reps};
+      const Row row{kind,
+                    n,
+                    m.vertex_count(),
+                    m.triangles.cols(),
+                    edges.cols(),
+                    d,
+                    median(build),
+                    median(update),
+                    median(again),
+                    updated.vf.size(),
+                    updated.ee.size(),
+                    kind_reps};
       rows.push_back(row);
       std::printf("%-7s %5d %8td %9td %9td %9.5f %10.2f %10.2f %10.2f %10zu %10zu %4d\n", name, n, row.vertices,
-                  row.triangles, row.edges, d, row.build_ms, row.update_ms, row.query_ms, row.vertex_face, row.edge_edge,
-                  row.repetitions);
+                  row.triangles, row.edges, d, row.build_ms, row.update_ms, row.query_ms, row.vertex_face,
+                  row.edge_edge, row.repetitions);
       std::fflush(stdout);
     }
   }
-  std::printf("times: one vertex-face + one edge-edge query, medians, wall clock; distance 0.5/n; "
-              "update = vertices moved by <= %.2f spacing; pair counts after the update\n", move);
-  std::printf(mismatch ? "MISMATCH between broad phases (see stderr)\n" : "all broad phases returned identical candidates\n");
+  std::printf(
+      "times: one vertex-face + one edge-edge query, medians, wall clock; distance 0.5/n; "
+      "update = vertices moved by <= %.2f spacing; pair counts after the update\n",
+      move);
+  std::printf(mismatch ? "MISMATCH between broad phases (see stderr)\n"
+                       : "all broad phases returned identical candidates\n");
 
   if (!out_file.empty()) {
     nlohmann::json j;

@@ -62,14 +62,22 @@ enum class Quantity {
 
 inline const char* to_string(Quantity q) {
   switch (q) {
-    case Quantity::value_gradient: return "value_gradient";
-    case Quantity::exact_hessian: return "exact_hessian";
-    case Quantity::eigensystem: return "eigensystem";
-    case Quantity::analytic: return "analytic";
-    case Quantity::abs: return "abs";
-    case Quantity::exact: return "exact";
-    case Quantity::gauss_newton: return "gauss_newton";
-    case Quantity::numerical: return "numerical";
+    case Quantity::value_gradient:
+      return "value_gradient";
+    case Quantity::exact_hessian:
+      return "exact_hessian";
+    case Quantity::eigensystem:
+      return "eigensystem";
+    case Quantity::analytic:
+      return "analytic";
+    case Quantity::abs:
+      return "abs";
+    case Quantity::exact:
+      return "exact";
+    case Quantity::gauss_newton:
+      return "gauss_newton";
+    case Quantity::numerical:
+      return "numerical";
   }
   return "unknown";
 }
@@ -178,12 +186,12 @@ template <class Pair, class Scalar> int check_pair(const X<Pair, Scalar>& x, dou
 
 /// Statistics of one pool, printed by `pce-bench` before the timings.
 struct PoolStats {
-  std::size_t draws = 0;     ///< random draws needed (rejections = draws - kPoolSize)
-  int min_negative = 12;     ///< fewest clearly negative eigenvalues of an exact Hessian
-  int max_negative = 0;      ///< most
-  double worst_ratio = -1;   ///< largest (closest to 0) min-eig / max-|eig| over the pool, both scalars
-  double gap_median = 0;     ///< ‖analytic − exact‖_F / ‖exact‖_F over the double pool: median
-  double gap_max = 0;        ///< ... and maximum
+  std::size_t draws = 0;    ///< random draws needed (rejections = draws - kPoolSize)
+  int min_negative = 12;    ///< fewest clearly negative eigenvalues of an exact Hessian
+  int max_negative = 0;     ///< most
+  double worst_ratio = -1;  ///< largest (closest to 0) min-eig / max-|eig| over the pool, both scalars
+  double gap_median = 0;    ///< ‖analytic − exact‖_F / ‖exact‖_F over the double pool: median
+  double gap_max = 0;       ///< ... and maximum
 };
 
 /// The pool of one pair kind in one scalar: kPoolSize pairs, each accepted only if it
@@ -253,12 +261,18 @@ template <class Pair, class Scalar> const Pool<Pair, Scalar>& pool() {
 
 inline pce::Projection projection_of(Quantity q) {
   switch (q) {
-    case Quantity::analytic: return pce::Projection::analytic;
-    case Quantity::abs: return pce::Projection::abs;
-    case Quantity::exact: return pce::Projection::exact;
-    case Quantity::gauss_newton: return pce::Projection::gauss_newton;
-    case Quantity::numerical: return pce::Projection::numerical;
-    default: return pce::Projection::none;
+    case Quantity::analytic:
+      return pce::Projection::analytic;
+    case Quantity::abs:
+      return pce::Projection::abs;
+    case Quantity::exact:
+      return pce::Projection::exact;
+    case Quantity::gauss_newton:
+      return pce::Projection::gauss_newton;
+    case Quantity::numerical:
+      return pce::Projection::numerical;
+    default:
+      return pce::Projection::none;
   }
 }
 
@@ -298,10 +312,14 @@ template <class Pair, class Scalar, Quantity Q> void bench_pair(benchmark::State
 template <class Pair, class Scalar> void register_scalar() {
   using Fn = void (*)(benchmark::State&);
   const Fn fns[] = {
-      &bench_pair<Pair, Scalar, Quantity::value_gradient>, &bench_pair<Pair, Scalar, Quantity::exact_hessian>,
-      &bench_pair<Pair, Scalar, Quantity::eigensystem>,    &bench_pair<Pair, Scalar, Quantity::analytic>,
-      &bench_pair<Pair, Scalar, Quantity::abs>,            &bench_pair<Pair, Scalar, Quantity::exact>,
-      &bench_pair<Pair, Scalar, Quantity::gauss_newton>,   &bench_pair<Pair, Scalar, Quantity::numerical>,
+      &bench_pair<Pair, Scalar, Quantity::value_gradient>,
+      &bench_pair<Pair, Scalar, Quantity::exact_hessian>,
+      &bench_pair<Pair, Scalar, Quantity::eigensystem>,
+      &bench_pair<Pair, Scalar, Quantity::analytic>,
+      &bench_pair<Pair, Scalar, Quantity::abs>,
+      &bench_pair<Pair, Scalar, Quantity::exact>,
+      &bench_pair<Pair, Scalar, Quantity::gauss_newton>,
+      &bench_pair<Pair, Scalar, Quantity::numerical>,
   };
   static_assert(sizeof(fns) / sizeof(fns[0]) == sizeof(kQuantities) / sizeof(kQuantities[0]));
   for (std::size_t k = 0; k < sizeof(fns) / sizeof(fns[0]); ++k)

@@ -107,12 +107,13 @@ void print_ratios(std::ostream& os, const Collected& c, bool cpu) {
      << " time per pair, this run, best repetition). Requirements, for double, not asserted:\n"
         "  [1] analytic/hessian <= 1.25 and analytic/numerical <= 1/15 (closed form vs the 12x12 baseline)\n"
         "  [2] exact/analytic <= 2 and exact/numerical <= 1/8 (the exact projection at closed-form cost;\n"
-        "      required of the plane kinds, vertex_face and edge_edge: for the point kinds the columns say how close)\n";
+        "      required of the plane kinds, vertex_face and edge_edge: for the point kinds the columns say how "
+        "close)\n";
   std::snprintf(line, sizeof line, "%-12s %-7s %9s %9s %9s %9s %10s %9s %9s %9s %9s  %s\n", "pair", "scalar", "hess ns",
                 "analyt ns", "exact ns", "numer ns", "analytic/", "exact/", "numer/", "numer/", "abs/", "requirements");
   os << line;
-  std::snprintf(line, sizeof line, "%-12s %-7s %9s %9s %9s %9s %10s %9s %9s %9s %9s\n", "", "", "", "", "", "", "hessian",
-                "analytic", "analytic", "exact", "hessian");
+  std::snprintf(line, sizeof line, "%-12s %-7s %9s %9s %9s %9s %10s %9s %9s %9s %9s\n", "", "", "", "", "", "",
+                "hessian", "analytic", "analytic", "exact", "hessian");
   os << line;
   for (const char* p : pairs)
     for (const char* s : scalars) {
@@ -197,13 +198,14 @@ int main(int argc, char** argv) {
   if (benchmark::ReportUnrecognizedArguments(n, args.data())) return 1;
 
 #ifndef NDEBUG
-  std::fprintf(stderr, "pce-bench: WARNING: built without NDEBUG (not a Release build); timings are not "
-                       "meaningful\n");
+  std::fprintf(stderr,
+               "pce-bench: WARNING: built without NDEBUG (not a Release build); timings are not "
+               "meaningful\n");
 #endif
   std::fprintf(stderr,
-               "pce-bench: log barrier k=1, dhat=%g on the signed length (point kinds: unsigned), L uniform in [%g, %g]*dhat, seed %llu\n",
-               pce_bench::kDhat, pce_bench::kLMin, pce_bench::kLMax,
-               static_cast<unsigned long long>(pce_bench::kSeed));
+               "pce-bench: log barrier k=1, dhat=%g on the signed length (point kinds: unsigned), L uniform in [%g, "
+               "%g]*dhat, seed %llu\n",
+               pce_bench::kDhat, pce_bench::kLMin, pce_bench::kLMax, static_cast<unsigned long long>(pce_bench::kSeed));
   print_pool("vertex_face", pce_bench::register_vertex_face_benchmarks());
   print_pool("edge_edge", pce_bench::register_edge_edge_benchmarks());
   print_pool("point_edge", pce_bench::register_point_edge_benchmarks());

@@ -108,9 +108,10 @@ std::string bound_cell(const Measurement& m, double bound) {
 }
 
 void print_full(const std::vector<Row>& rows) {
-  std::printf("| family | severity | length | status | value before | value after | value bound | gradient before | "
-              "gradient after | gradient bound | Hessian before | Hessian after | Hessian bound | "
-              "min PSD eig/max\\|eig\\| | before ok | ok |\n");
+  std::printf(
+      "| family | severity | length | status | value before | value after | value bound | gradient before | "
+      "gradient after | gradient bound | Hessian before | Hessian after | Hessian bound | "
+      "min PSD eig/max\\|eig\\| | before ok | ok |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows) {
     const HardCase& hc = *r.hc;
@@ -141,8 +142,9 @@ std::string pair_cell(const Row& r, int which) {
 
 /// One line per family and representative severity: signed and unsigned side by side.
 void print_condensed(const std::vector<Row>& rows) {
-  std::printf("| family | severity | signed: value | signed: gradient | signed: Hessian | unsigned: value | "
-              "unsigned: gradient | unsigned: Hessian |\n");
+  std::printf(
+      "| family | severity | signed: value | signed: gradient | signed: Hessian | unsigned: value | "
+      "unsigned: gradient | unsigned: Hessian |\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const Row& r = rows[i];

@@ -23,7 +23,8 @@ pce::Vec12<double> four(const V& a, const V& b, const V& c, const V& d) {
 
 template <class Pair> pce::ClosestFeatureEnergy<double> eval(const pce::Vec12<double>& x, double eps = 10.0) {
   pce::ClosestFeatureEnergy<double> e;
-  EXPECT_EQ(pce::closest_feature_energy<Pair>(x, pce::UnsignedLength{}, pce::QuadraticPenalty{1.0, eps}, e), pce::Status::ok);
+  EXPECT_EQ(pce::closest_feature_energy<Pair>(x, pce::UnsignedLength{}, pce::QuadraticPenalty{1.0, eps}, e),
+            pce::Status::ok);
   return e;
 }
 
@@ -61,9 +62,11 @@ TEST(ClosestFeature, DistanceMatchesBruteForceAndEveryFeatureOccurs) {
       EXPECT_GE(e.length, s - 0.1) << x.transpose();
     }
     if (vf) {
-      EXPECT_EQ(seen, (std::set<pce::Feature>{pce::Feature::point_plane, pce::Feature::point_edge, pce::Feature::point_point}));
+      EXPECT_EQ(seen, (std::set<pce::Feature>{pce::Feature::point_plane, pce::Feature::point_edge,
+                                              pce::Feature::point_point}));
     } else {
-      EXPECT_EQ(seen, (std::set<pce::Feature>{pce::Feature::line_line, pce::Feature::point_edge, pce::Feature::point_point}));
+      EXPECT_EQ(seen,
+                (std::set<pce::Feature>{pce::Feature::line_line, pce::Feature::point_edge, pce::Feature::point_point}));
     }
   }
 }
@@ -71,7 +74,8 @@ TEST(ClosestFeature, DistanceMatchesBruteForceAndEveryFeatureOccurs) {
 TEST(ClosestFeature, FaceInteriorIsThePlainUnsignedPlaneEnergy) {
   const pce::Vec12<double> x = four({0.2, 0.3, -0.05}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0});
   pce::PairEnergy<double> plain;
-  ASSERT_EQ(pce::pair_energy<pce::VertexFace>(x, pce::UnsignedLength{}, pce::QuadraticPenalty{1.0, 10.0}, plain), pce::Status::ok);
+  ASSERT_EQ(pce::pair_energy<pce::VertexFace>(x, pce::UnsignedLength{}, pce::QuadraticPenalty{1.0, 10.0}, plain),
+            pce::Status::ok);
   const pce::ClosestFeatureEnergy<double> e = eval<pce::VertexFace>(x);
   EXPECT_EQ(e.feature, pce::Feature::point_plane);
   EXPECT_EQ(pce::energy_gradient(e), pce::energy_gradient(plain));
@@ -88,7 +92,8 @@ TEST(ClosestFeature, StatusesAndWhatASignedRequestGets) {
       << "closest-feature distances are unsigned";
   pce::Vec12<double> bad = vf;
   bad[7] = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_EQ(pce::closest_feature_energy<pce::VertexFace>(bad, pce::UnsignedLength{}, quad, e), pce::Status::invalid_input);
+  EXPECT_EQ(pce::closest_feature_energy<pce::VertexFace>(bad, pce::UnsignedLength{}, quad, e),
+            pce::Status::invalid_input);
   // p exactly on an edge of a proper triangle: inside the face's closed region, the plane
   // kind at l = 0 (σ = +1), ok.
   EXPECT_EQ(pce::closest_feature_energy<pce::VertexFace>(four({0.5, 0, 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}),
@@ -131,7 +136,7 @@ TEST(ClosestFeature, StatusesAndWhatASignedRequestGets) {
 // given such a frame's verdict directly here.
 TEST(ClosestFeature, ANoisyPlaneFrameCannotWinOverTheSegments) {
   pce::Vec12<double> x;
-  x << 0.25, 0.25, 1,  0, 0, 0,  1, 0, 0,  0, 1, 0;  // p above the face interior, l = 1
+  x << 0.25, 0.25, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0;  // p above the face interior, l = 1
   pce::Feature feature;
   std::array<int, 3> points;
   pce::detail::classify<pce::VertexFace>(x, true, 1.0, feature, points);
@@ -142,7 +147,7 @@ TEST(ClosestFeature, ANoisyPlaneFrameCannotWinOverTheSegments) {
   pce::detail::classify<pce::VertexFace>(x, false, 1.0, feature, points);
   EXPECT_EQ(feature, pce::Feature::point_edge) << "foot outside: a segment";
   pce::Vec12<double> y;
-  y << 0, 0, 0,  1, 0, 0,  0.5, -1, 1,  0.5, 1, 1;  // edges crossing at height 1
+  y << 0, 0, 0, 1, 0, 0, 0.5, -1, 1, 0.5, 1, 1;  // edges crossing at height 1
   pce::detail::classify<pce::EdgeEdge>(y, true, 1.0, feature, points);
   EXPECT_EQ(feature, pce::Feature::line_line);
   pce::detail::classify<pce::EdgeEdge>(y, true, -7.0, feature, points);
@@ -151,7 +156,8 @@ TEST(ClosestFeature, ANoisyPlaneFrameCannotWinOverTheSegments) {
 
 TEST(ClosestFeature, ParallelAndCrossingEdges) {
   // Exactly parallel and overlapping: an endpoint and the other edge's inside.
-  pce::ClosestFeatureEnergy<double> e = eval<pce::EdgeEdge>(four({-1, 0, 0}, {1, 0, 0}, {-0.5, 0.3, 0.1}, {1.5, 0.3, 0.1}));
+  pce::ClosestFeatureEnergy<double> e =
+      eval<pce::EdgeEdge>(four({-1, 0, 0}, {1, 0, 0}, {-0.5, 0.3, 0.1}, {1.5, 0.3, 0.1}));
   EXPECT_EQ(e.feature, pce::Feature::point_edge);
   EXPECT_NEAR(e.length, std::sqrt(0.1), 1e-15);
   // Exactly parallel, not overlapping: two endpoints.
@@ -211,23 +217,39 @@ TEST(ClosestFeature, SweepsAcrossEveryRegionBoundary) {
   const V t0(0, 0, 0), t1(1, 0, 0), t2(0, 1, 0);
   const double h = 0.2;
   using PF = pce::Feature;
-  sweep_boundary<pce::VertexFace>("vertex-face: face | edge t0t1",
-                                  [&](double d) { return four({0.4, d, h}, t0, t1, t2); }, PF::point_edge, PF::point_plane);
-  sweep_boundary<pce::VertexFace>("vertex-face: face | edge t1t2 (hypotenuse)",
-                                  [&](double d) { return four(V(0.5, 0.5, h) - d * V(1, 1, 0) / std::sqrt(2.0), t0, t1, t2); },
-                                  PF::point_edge, PF::point_plane);
-  sweep_boundary<pce::VertexFace>("vertex-face: corner t0 | edge t0t1",
-                                  [&](double d) { return four({d, -0.3, h}, t0, t1, t2); }, PF::point_point, PF::point_edge);
-  sweep_boundary<pce::VertexFace>("vertex-face: edge t1t2 | corner t1",
-                                  [&](double d) { return four(V(1.2, 0.2, h) + d * V(-1, 1, 0) / std::sqrt(2.0), t0, t1, t2); },
-                                  PF::point_point, PF::point_edge);
+  sweep_boundary<pce::VertexFace>(
+      "vertex-face: face | edge t0t1",
+      [&](double d) {
+        return four({0.4, d, h}, t0, t1, t2);
+      },
+      PF::point_edge, PF::point_plane);
+  sweep_boundary<pce::VertexFace>(
+      "vertex-face: face | edge t1t2 (hypotenuse)",
+      [&](double d) { return four(V(0.5, 0.5, h) - d * V(1, 1, 0) / std::sqrt(2.0), t0, t1, t2); }, PF::point_edge,
+      PF::point_plane);
+  sweep_boundary<pce::VertexFace>(
+      "vertex-face: corner t0 | edge t0t1",
+      [&](double d) {
+        return four({d, -0.3, h}, t0, t1, t2);
+      },
+      PF::point_point, PF::point_edge);
+  sweep_boundary<pce::VertexFace>(
+      "vertex-face: edge t1t2 | corner t1",
+      [&](double d) { return four(V(1.2, 0.2, h) + d * V(-1, 1, 0) / std::sqrt(2.0), t0, t1, t2); }, PF::point_point,
+      PF::point_edge);
   // Edge-edge: edge b crosses above edge a at x = x0; line-line while x0 < 1.
-  sweep_boundary<pce::EdgeEdge>("edge-edge: line-line | point-edge",
-                                [&](double d) { return four({-1, 0, 0}, {1, 0, 0}, {1 + d, -1, h}, {1 + d, 1, h}); },
-                                PF::line_line, PF::point_edge);
-  sweep_boundary<pce::EdgeEdge>("edge-edge: point-edge | point-point",
-                                [&](double d) { return four({-1, 0, 0}, {1, 0, 0}, {1.5, -d, h}, {1.5, 2, h}); },
-                                PF::point_point, PF::point_edge);
+  sweep_boundary<pce::EdgeEdge>(
+      "edge-edge: line-line | point-edge",
+      [&](double d) {
+        return four({-1, 0, 0}, {1, 0, 0}, {1 + d, -1, h}, {1 + d, 1, h});
+      },
+      PF::line_line, PF::point_edge);
+  sweep_boundary<pce::EdgeEdge>(
+      "edge-edge: point-edge | point-point",
+      [&](double d) {
+        return four({-1, 0, 0}, {1, 0, 0}, {1.5, -d, h}, {1.5, 2, h});
+      },
+      PF::point_point, PF::point_edge);
 }
 
 /// A random candidate whose closest features do not change within ±2e-3·scale of any
@@ -256,17 +278,19 @@ template <class Pair> pce::Vec12<double> draw_interior(std::mt19937_64& rng, dou
 
 TEST(ClosestFeature, ConformanceVertexFace) {
   const ExactStats st = run_kind_suite<ClosestKind<pce::VertexFace>>(
-      [](std::mt19937_64& rng, double s, double o, double& L) { return draw_interior<pce::VertexFace>(rng, s, o, L); }, 47);
-  std::printf("closest vertex-face: exact vs numerical compared on %d (worst %.2e), numerical inaccurate on %d\n", st.compared,
-              st.worst_vs_numerical, st.numerical_inaccurate);
+      [](std::mt19937_64& rng, double s, double o, double& L) { return draw_interior<pce::VertexFace>(rng, s, o, L); },
+      47);
+  std::printf("closest vertex-face: exact vs numerical compared on %d (worst %.2e), numerical inaccurate on %d\n",
+              st.compared, st.worst_vs_numerical, st.numerical_inaccurate);
   EXPECT_GT(st.compared, 100);
 }
 
 TEST(ClosestFeature, ConformanceEdgeEdge) {
   const ExactStats st = run_kind_suite<ClosestKind<pce::EdgeEdge>>(
-      [](std::mt19937_64& rng, double s, double o, double& L) { return draw_interior<pce::EdgeEdge>(rng, s, o, L); }, 53);
-  std::printf("closest edge-edge: exact vs numerical compared on %d (worst %.2e), numerical inaccurate on %d\n", st.compared,
-              st.worst_vs_numerical, st.numerical_inaccurate);
+      [](std::mt19937_64& rng, double s, double o, double& L) { return draw_interior<pce::EdgeEdge>(rng, s, o, L); },
+      53);
+  std::printf("closest edge-edge: exact vs numerical compared on %d (worst %.2e), numerical inaccurate on %d\n",
+              st.compared, st.worst_vs_numerical, st.numerical_inaccurate);
   EXPECT_GT(st.compared, 100);
 }
 
@@ -290,7 +314,8 @@ TEST(ClosestFeatureHardCases, FarPointsParallelEdgesNearBoundaries) {
     // Nearly parallel overlapping edges; nearly touching crossing edges.
     expect_stable_all_scalars<KEE>(place({-1, 0, 0}, {1, 0, 0}, {-0.5, 0.3, 0.1}, {1.5, 0.3 + d, 0.1}),
                                    pce::QuadraticPenalty{1.0, 1.0});
-    expect_stable_all_scalars<KEE>(place({-1, 0, 0}, {1, 0, 0}, {0.2, -1, d}, {0.3, 1, d}), pce::QuadraticPenalty{1.0, 1.0});
+    expect_stable_all_scalars<KEE>(place({-1, 0, 0}, {1, 0, 0}, {0.2, -1, d}, {0.3, 1, d}),
+                                   pce::QuadraticPenalty{1.0, 1.0});
   }
 }
 
@@ -335,9 +360,10 @@ TEST(ClosestFeature, FootConsistencyRefusesNoisyInsideClaims) {
   std::uniform_real_distribution<double> u(-1, 1);
   int accepted_vf = 0, accepted_ee = 0;
   for (int trial = 0; trial < 500; ++trial) {
-    const pce::Vec12<double> y = four(V(u(rng), u(rng), u(rng)), V(u(rng), u(rng), u(rng)),
-                                      V(u(rng), u(rng), u(rng)), V(u(rng), u(rng), u(rng)));
-    if (pce::VertexFace::frame(y, f) == pce::Status::ok) accepted_vf += pce::detail::foot_consistent<pce::VertexFace>(y, f);
+    const pce::Vec12<double> y = four(V(u(rng), u(rng), u(rng)), V(u(rng), u(rng), u(rng)), V(u(rng), u(rng), u(rng)),
+                                      V(u(rng), u(rng), u(rng)));
+    if (pce::VertexFace::frame(y, f) == pce::Status::ok)
+      accepted_vf += pce::detail::foot_consistent<pce::VertexFace>(y, f);
     if (pce::EdgeEdge::frame(y, f) == pce::Status::ok) accepted_ee += pce::detail::foot_consistent<pce::EdgeEdge>(y, f);
   }
   EXPECT_EQ(accepted_vf, 500);

@@ -7,7 +7,6 @@
 
 #include <pce/core/jacobi.hpp>
 
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -32,8 +31,9 @@ template <class S, int N> pce::MatN<S, N> random_symmetric(std::mt19937_64& rng,
 }
 
 /// max|A V − V diag(d)| / max|A| and max|VᵀV − I|, in long double.
-template <class S, int N> std::pair<long double, long double> quality(const pce::MatN<S, N>& A, const pce::VecN<S, N>& d,
-                                                                       const pce::MatN<S, N>& V) {
+template <class S, int N> std::pair<long double, long double> quality(const pce::MatN<S, N>& A,
+                                                                      const pce::VecN<S, N>& d,
+                                                                      const pce::MatN<S, N>& V) {
   using LM = Eigen::Matrix<long double, N, N>;
   const LM Al = A.template cast<long double>(), Vl = V.template cast<long double>();
   const Eigen::Matrix<long double, N, 1> dl = d.template cast<long double>();
@@ -76,7 +76,8 @@ TYPED_TEST(SymmetricQr, EveryMagnitudeOfTheScalar) {
   std::mt19937_64 rng(11);
   // From the subnormal range to the largest finite numbers: the solver squares entries,
   // which must neither overflow nor underflow (docs/fuzzing.md, finding 3).
-  for (int ex = L::min_exponent - L::digits + 4; ex < L::max_exponent - 4; ex += (L::max_exponent - L::min_exponent) / 40) {
+  for (int ex = L::min_exponent - L::digits + 4; ex < L::max_exponent - 4;
+       ex += (L::max_exponent - L::min_exponent) / 40) {
     const pce::MatN<S, 5> A = random_symmetric<S, 5>(rng, 1) * std::ldexp(S(1), ex);
     if (ex < L::min_exponent) {  // subnormal entries: only the eigenvalues' absolute accuracy is defined
       pce::VecN<S, 5> d;
@@ -115,7 +116,7 @@ TEST(SymmetricQr, FuzzerFindingGradedFloatMatrix) {
   A << 1.30461e-11f, 9.48081e-12f, 5.13223e-12f, -9.62271e-21f, 4.63951e-20f,  //
       9.48081e-12f, 6.88987e-12f, 3.72968e-12f, 0, 1.66748e-20f,               //
       5.13223e-12f, 3.72968e-12f, 2.01898e-12f, 0, -2.35817e-20f,              //
-      -9.62271e-21f, 0, 0, 0, 0,                                                //
+      -9.62271e-21f, 0, 0, 0, 0,                                               //
       4.63951e-20f, 1.66748e-20f, -2.35817e-20f, 0, 0;
   expect_qr_accurate<float, 5>(A, "fuzzer finding");
 }
@@ -127,10 +128,10 @@ TYPED_TEST(SymmetricQr, SmallTailBelowTheSubdiagonalIsNotDropped) {
   using S = TypeParam;
   const S t = std::sqrt(std::numeric_limits<S>::epsilon()) / S(4);
   pce::MatN<S, 5> A;
-  A << S(0), S(1), t, t, S(0),  //
+  A << S(0), S(1), t, t, S(0),         //
       S(1), S(0.5), S(0), S(0), S(0),  //
-      t, S(0), S(-0.25), S(0), S(0),  //
-      t, S(0), S(0), S(0.75), S(0),  //
+      t, S(0), S(-0.25), S(0), S(0),   //
+      t, S(0), S(0), S(0.75), S(0),    //
       S(0), S(0), S(0), S(0), S(0.125);
   expect_qr_accurate<S, 5>(A, "small tail");
 }

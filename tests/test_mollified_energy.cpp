@@ -50,7 +50,8 @@ TEST(MollifiedEnergy, EqualsPlainEnergyAboveThreshold) {
   EXPECT_EQ(pce::projected_hessian(m, pce::Projection::analytic), pce::projected_hessian(p, pce::Projection::analytic));
 }
 
-template <class Pair> void check_in_band(const pce::Vec12<double>& x, const pce::Mollifier& mol, double expect_m_below) {
+template <class Pair>
+void check_in_band(const pce::Vec12<double>& x, const pce::Mollifier& mol, double expect_m_below) {
   for (LengthKind lk : {LengthKind::signed_positive, LengthKind::unsigned_}) {
     with_length(lk, [&](const auto& len) {
       SCOPED_TRACE(name(lk));
@@ -193,8 +194,9 @@ TEST(MollifiedEnergy, CollapsingTriangleAndBadInput) {
   bad[2] = std::nan("");
   EXPECT_EQ(pce::mollified_pair_energy<pce::VertexFace>(bad, pce::UnsignedLength{}, kQuad, mol, e),
             pce::Status::invalid_input);
-  EXPECT_EQ(pce::mollified_pair_energy<pce::VertexFace>(sliver(0.1), pce::UnsignedLength{}, kQuad, pce::Mollifier{0.0}, e),
-            pce::Status::invalid_input);
+  EXPECT_EQ(
+      pce::mollified_pair_energy<pce::VertexFace>(sliver(0.1), pce::UnsignedLength{}, kQuad, pce::Mollifier{0.0}, e),
+      pce::Status::invalid_input);
   EXPECT_EQ(pce::mollified_pair_energy<pce::VertexFace>(sliver(0.1), pce::UnsignedLength{}, kQuad,
                                                         pce::Mollifier{std::nan("")}, e),
             pce::Status::invalid_input);

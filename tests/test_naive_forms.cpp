@@ -45,7 +45,8 @@ template <class S> struct Library {
   pce::Frame<S> frame;
 };
 
-template <class S> Library<S> library(PairKind kind, LengthKind length, const PenaltySpec& spec, const pce::Vec12<S>& x) {
+template <class S>
+Library<S> library(PairKind kind, LengthKind length, const PenaltySpec& spec, const pce::Vec12<S>& x) {
   Library<S> r{};
   with_pair(kind, [&](auto pair) {
     using Pair = decltype(pair);
@@ -106,8 +107,8 @@ TEST(NaiveForms, DerivativesMatchFiniteDifferences) {
           const LD h = 1e-6L;
           const pce::Vec12<LD> gfd =
               fd_gradient([&](const pce::Vec12<LD>& y) { return naive_pair_energy(kind, len, pen, y).value; }, x, h);
-          const pce::Mat12<LD> Hfd = fd_jacobian(
-              [&](const pce::Vec12<LD>& y) { return naive_pair_energy(kind, len, pen, y).gradient; }, x, h);
+          const pce::Mat12<LD> Hfd =
+              fd_jacobian([&](const pce::Vec12<LD>& y) { return naive_pair_energy(kind, len, pen, y).gradient; }, x, h);
           EXPECT_LT(rel_error(nv.gradient, gfd), 1e-9);
           EXPECT_LT(rel_error(nv.hessian, Hfd), 1e-9);
         }

@@ -75,7 +75,7 @@ Case draw_case(const Combo& c, double scale, double offset, std::mt19937_64& rng
   const double l = sign * mag;
   const double L = c.length == LengthKind::unsigned_ ? mag : side * l;
   PenaltySpec p{c.penalty, 0.5 + 5 * U(rng), 0, 0, 0, 0};
-  p.eps = L + scale * (0.2 + U(rng));          // active, with a margin for finite differences
+  p.eps = L + scale * (0.2 + U(rng));  // active, with a margin for finite differences
   p.delta = U(rng) < 0.25 ? 0.0 : scale * scale * U(rng);
   p.dhat = L * (1.3 + 2 * U(rng));
   p.width = scale * (0.5 + U(rng));
@@ -156,8 +156,9 @@ template <class S> void check_against_reference(const pce::PairEnergy<S>& e, con
       << "analytic projection vs high precision";
   EXPECT_LT(rel_error(pce::energy_eigensystem(e).values, pce::energy_eigensystem(r).values), tol)
       << "eigenvalues vs high precision";
-  EXPECT_LT(rel_error(pce::projected_hessian(e, pce::Projection::exact), pce::projected_hessian(r, pce::Projection::exact)),
-            tol)
+  EXPECT_LT(
+      rel_error(pce::projected_hessian(e, pce::Projection::exact), pce::projected_hessian(r, pce::Projection::exact)),
+      tol)
       << "exact projection vs high precision";
   check_exact_against_numerical(e, r);
 }
@@ -215,10 +216,8 @@ template <class S> void check_energy_algebra(const pce::PairEnergy<S>& e, const 
       EXPECT_LT(max_abs((*all[i] - all[i]->transpose()).eval()), tol * n) << names[i] << " symmetric";
     }
     const double Hd = std::max(Hn, 1e-300);
-    EXPECT_LT(rel_error(Pa, dense_filtered(e, clamp)), Tol<S>::reference())
-        << "analytic = Jᵀ clamp(Hc) J";
-    EXPECT_LT(rel_error(Pb, dense_filtered(e, flip)), Tol<S>::reference())
-        << "abs = Jᵀ |Hc| J";
+    EXPECT_LT(rel_error(Pa, dense_filtered(e, clamp)), Tol<S>::reference()) << "analytic = Jᵀ clamp(Hc) J";
+    EXPECT_LT(rel_error(Pb, dense_filtered(e, flip)), Tol<S>::reference()) << "abs = Jᵀ |Hc| J";
     const S c2 = e.psi.second > S(0) ? e.psi.second : S(0);
     EXPECT_LT(rel_error(Pg, (c2 * gL * gL.transpose()).eval(), Hd), Tol<S>::algebra()) << "GN = ψ″⁺ ∇L∇Lᵀ";
     // analytic ⪰ exact, abs ⪰ analytic, numerical ⪰ exact (each difference is Jᵀ(PSD)J).
@@ -227,7 +226,8 @@ template <class S> void check_energy_algebra(const pce::PairEnergy<S>& e, const 
     EXPECT_GE(min_eigenvalue((Pn - H).eval()), -tol * Hd * 12) << "numerical - exact is PSD";
     EXPECT_GE(min_eigenvalue((Px - H).eval()), -tol * Hd * 12) << "exact projection - exact Hessian is PSD";
     // analytic is never closer to the Hessian than the nearest PSD matrix.
-    EXPECT_LE(static_cast<double>((Px - H).norm()), static_cast<double>((Pa - H).norm()) * (1 + 1e3 * Tol<S>::eps()) + tol * Hd)
+    EXPECT_LE(static_cast<double>((Px - H).norm()),
+              static_cast<double>((Pa - H).norm()) * (1 + 1e3 * Tol<S>::eps()) + tol * Hd)
         << "exact is at least as close to the Hessian as analytic";
     // The nearest PSD matrix is a fixed point of the projection.
     EXPECT_LT(rel_error(pce::project_psd(Pn), Pn, Hd), 100 * tol) << "numerical projection idempotent";
@@ -341,9 +341,15 @@ TEST_P(Conformance, RandomConfigurations) {
         with_length(c.length, [&](const auto& len) {
           with_penalty(cs.penalty, [&](const auto& pen) {
             switch (c.scalar) {
-              case ScalarKind::float_: check_case<SuitePair, float>(c, cs, len, pen); break;
-              case ScalarKind::double_: check_case<SuitePair, double>(c, cs, len, pen); break;
-              case ScalarKind::long_double: check_case<SuitePair, long double>(c, cs, len, pen); break;
+              case ScalarKind::float_:
+                check_case<SuitePair, float>(c, cs, len, pen);
+                break;
+              case ScalarKind::double_:
+                check_case<SuitePair, double>(c, cs, len, pen);
+                break;
+              case ScalarKind::long_double:
+                check_case<SuitePair, long double>(c, cs, len, pen);
+                break;
             }
             return 0;
           });
@@ -361,7 +367,8 @@ std::vector<Combo> all_combos() {
   for (PairKind p : {kSuitePair})
     for (LengthKind l : {LengthKind::signed_positive, LengthKind::signed_negative, LengthKind::unsigned_})
       for (PenaltyKind q : {PenaltyKind::quadratic, PenaltyKind::cubic, PenaltyKind::log_barrier, PenaltyKind::custom})
-        for (ScalarKind s : {ScalarKind::float_, ScalarKind::double_, ScalarKind::long_double}) v.push_back({p, l, q, s});
+        for (ScalarKind s : {ScalarKind::float_, ScalarKind::double_, ScalarKind::long_double})
+          v.push_back({p, l, q, s});
   return v;
 }
 

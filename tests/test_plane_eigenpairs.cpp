@@ -43,8 +43,10 @@ template <class S> LMat5 reduced_matrix(const pce::Mat3<S>& R, const S (&d)[3], 
 /// The size of S's terms, as in the header: the largest of |d_k||r_k|², |e_k||r_k|.
 template <class S> long double term_size(const pce::Mat3<S>& R, const S (&d)[3], const S (&e)[2]) {
   long double s = 0;
-  for (int k = 0; k < 3; ++k) s = std::max(s, std::fabs(static_cast<long double>(d[k])) * R.col(k).template cast<long double>().squaredNorm());
-  for (int k = 0; k < 2; ++k) s = std::max(s, std::fabs(static_cast<long double>(e[k])) * R.col(k).template cast<long double>().norm());
+  for (int k = 0; k < 3; ++k)
+    s = std::max(s, std::fabs(static_cast<long double>(d[k])) * R.col(k).template cast<long double>().squaredNorm());
+  for (int k = 0; k < 2; ++k)
+    s = std::max(s, std::fabs(static_cast<long double>(e[k])) * R.col(k).template cast<long double>().norm());
   return s;
 }
 
@@ -223,17 +225,21 @@ TYPED_TEST(ContactRegime, PlaneKindsTakeTheTwoEigenpairPath) {
     pce::Status status;
     if (trial % 2 == 0) {  // a vertex above a face
       const Eigen::Vector3d n = (b - a).cross(c - a);
-      if ((b - a).norm() < 0.3 || (c - a).norm() < 0.3 || (c - b).norm() < 0.3 || n.norm() < 0.3 * (b - a).norm() * (c - a).norm()) continue;
+      if ((b - a).norm() < 0.3 || (c - a).norm() < 0.3 || (c - b).norm() < 0.3 ||
+          n.norm() < 0.3 * (b - a).norm() * (c - a).norm())
+        continue;
       if (s + t > 1) s = 1 - s, t = 1 - t;
       x << a + s * (b - a) + t * (c - a) + L * n.normalized(), a, b, c;
-      status = pce::pair_energy<pce::VertexFace>(pce::Vec12<S>(x.cast<S>()), pce::SignedLength{}, pce::LogBarrierPenalty{1.0, dhat}, e);
+      status = pce::pair_energy<pce::VertexFace>(pce::Vec12<S>(x.cast<S>()), pce::SignedLength{},
+                                                 pce::LogBarrierPenalty{1.0, dhat}, e);
     } else {  // two crossing edges at distance L
       const Eigen::Vector3d e0 = b - a, e1 = d - c, n = e0.cross(e1);
       if (e0.norm() < 0.3 || e1.norm() < 0.3 || n.norm() < 0.3 * e0.norm() * e1.norm()) continue;
       const Eigen::Vector3d p = a + (0.1 + 0.8 * s) * e0 + L * n.normalized();  // the closest point of edge 1
       const Eigen::Vector3d c1 = p - (0.1 + 0.8 * t) * e1;
       x << a, b, c1, c1 + e1;
-      status = pce::pair_energy<pce::EdgeEdge>(pce::Vec12<S>(x.cast<S>()), pce::SignedLength{}, pce::LogBarrierPenalty{1.0, dhat}, e);
+      status = pce::pair_energy<pce::EdgeEdge>(pce::Vec12<S>(x.cast<S>()), pce::SignedLength{},
+                                               pce::LogBarrierPenalty{1.0, dhat}, e);
     }
     if (status != pce::Status::ok) continue;
     ++tried;
@@ -281,9 +287,11 @@ namespace {
 // tolerance at 64 ε·s the pair goes to the QR fallback, whose result is PSD to rounding.
 TEST(PlaneEigenpairsFuzzerFinding, InaccurateVectorsAreRefused) {
   pce::Vec12<double> x;
-  x << 0x1p+0, -0x1p+1, -0x1p+0, -0x1p+1, -0x1p+0, 0x0p+0, 0x1.4f8b588e368f1p-17, -0x1p+0, 0x1p+0, 0x0p+0, 0x0p+0, 0x0p+0;
+  x << 0x1p+0, -0x1p+1, -0x1p+0, -0x1p+1, -0x1p+0, 0x0p+0, 0x1.4f8b588e368f1p-17, -0x1p+0, 0x1p+0, 0x0p+0, 0x0p+0,
+      0x0p+0;
   pce::PairEnergy<double> e;
-  ASSERT_EQ(pce::pair_energy<pce::EdgeEdge>(x, pce::SignedLength{}, pce::CubicPenalty{1.7976931348623157e+308, -1.3431664318406875, 0}, e),
+  ASSERT_EQ(pce::pair_energy<pce::EdgeEdge>(x, pce::SignedLength{},
+                                            pce::CubicPenalty{1.7976931348623157e+308, -1.3431664318406875, 0}, e),
             pce::Status::ok);
   const pce::Mat12<double> P = pce::projected_hessian(e, pce::Projection::exact);
   ASSERT_TRUE(P.allFinite());

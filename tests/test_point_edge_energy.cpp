@@ -25,7 +25,7 @@ TEST(PointEdgeFrame, Conventions) {
   EXPECT_DOUBLE_EQ(f.beta, 0.25);  // foot e0 + β e = (0.5, 0, 0)
   EXPECT_LT((f.t - Eigen::Vector3d(1, 0, 0)).norm(), 1e-15);
   EXPECT_LT((f.u - Eigen::Vector3d(0, 0.6, 0.8)).norm(), 1e-15);  // from the line to p
-  EXPECT_LT((f.n - f.t.cross(f.u)).norm(), 1e-15);               // right-handed (t, u, n)
+  EXPECT_LT((f.n - f.t.cross(f.u)).norm(), 1e-15);                // right-handed (t, u, n)
   // c1 = r⊥ = Σ P(1,j) x_j = d û
   const pce::Vec9<double> x = pe({0.5, 0.3, 0.4}, {0, 0, 0}, {2, 0, 0});
   Eigen::Vector3d c1 = Eigen::Vector3d::Zero();
@@ -60,7 +60,8 @@ TYPED_TEST(PointEdgeStatus, EveryFailureIsExplicitAndWritesNothing) {
   pce::Vec9<double> bad = pe({0.5, 0.3, 0}, {0, 0, 0}, {1, 0, 0});
   bad[4] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(status(bad, u, quad), pce::Status::invalid_input);
-  EXPECT_EQ(status(pe({0.5, 0.3, 0}, {0, 0, 0}, {1, 0, 0}), u, pce::QuadraticPenalty{-1.0, 1.0}), pce::Status::invalid_input);
+  EXPECT_EQ(status(pe({0.5, 0.3, 0}, {0, 0, 0}, {1, 0, 0}), u, pce::QuadraticPenalty{-1.0, 1.0}),
+            pce::Status::invalid_input);
   EXPECT_EQ(status(pe({0.5, -0.3, 0}, {0, 0, 0}, {1, 0, 0}), u, pce::LogBarrierPenalty{1.0, 0.2}), pce::Status::ok)
       << "inactive barrier: d = 0.3 > dhat";
   if constexpr (std::is_same_v<S, float>) {  // a point 1e30 edge lengths away does not fit in float
@@ -89,9 +90,10 @@ TEST(PointEdgeFrame, DistanceThatUnderflowsIsDegenerate) {
 
 TEST(PointEdgeEnergy, Conformance) {
   const ExactStats st = run_kind_suite<Kind>(draw_point_edge, 41);
-  std::printf("point_edge: exact vs numerical compared on %d configurations (worst %.2e), numerical inaccurate on %d; "
-              "worst exact vs 50 digits %.2e\n",
-              st.compared, st.worst_vs_numerical, st.numerical_inaccurate, st.worst_vs_reference);
+  std::printf(
+      "point_edge: exact vs numerical compared on %d configurations (worst %.2e), numerical inaccurate on %d; "
+      "worst exact vs 50 digits %.2e\n",
+      st.compared, st.worst_vs_numerical, st.numerical_inaccurate, st.worst_vs_reference);
   EXPECT_GT(st.compared, 100);
 }
 
@@ -102,7 +104,8 @@ TEST(PointEdgeHardCases, PointApproachingTheLine) {
     const double d = std::pow(10.0, -k);
     for (double foot : {-0.5, 0.0, 0.4, 1.0, 3.0}) {
       SCOPED_TRACE(testing::Message() << "d " << d << " foot " << foot);
-      const pce::Vec9<double> x = pe(R * Eigen::Vector3d(foot, d, 0), R * Eigen::Vector3d(0, 0, 0), R * Eigen::Vector3d(1, 0, 0));
+      const pce::Vec9<double> x =
+          pe(R * Eigen::Vector3d(foot, d, 0), R * Eigen::Vector3d(0, 0, 0), R * Eigen::Vector3d(1, 0, 0));
       expect_stable_all_scalars<Kind>(x, pce::QuadraticPenalty{1.0, 2 * d});
     }
   }
@@ -112,14 +115,16 @@ TEST(PointEdgeHardCases, FarAlongTheLineScalesAndOffsets) {
   const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, -0.5, 0.8).normalized()).toRotationMatrix();
   for (double beta : {1e2, 1e4, 1e6, -1e6}) {
     SCOPED_TRACE(testing::Message() << "foot at " << beta << " edge lengths");
-    expect_stable_all_scalars<Kind>(pe(R * Eigen::Vector3d(beta, 0.1, 0.05), R * Eigen::Vector3d(0, 0, 0), R * Eigen::Vector3d(1, 0, 0)),
-                                    pce::QuadraticPenalty{1.0, 0.5});
+    expect_stable_all_scalars<Kind>(
+        pe(R * Eigen::Vector3d(beta, 0.1, 0.05), R * Eigen::Vector3d(0, 0, 0), R * Eigen::Vector3d(1, 0, 0)),
+        pce::QuadraticPenalty{1.0, 0.5});
   }
   for (int k = -8; k <= 8; k += 4) {
     const double s = std::pow(10.0, k);
     SCOPED_TRACE(testing::Message() << "scale " << s);
-    expect_stable_all_scalars<Kind>(pe(R * Eigen::Vector3d(0.3 * s, 0.1 * s, 0), Eigen::Vector3d::Zero(), R * Eigen::Vector3d(s, 0, 0)),
-                                    pce::QuadraticPenalty{1.0, 0.5 * s});
+    expect_stable_all_scalars<Kind>(
+        pe(R * Eigen::Vector3d(0.3 * s, 0.1 * s, 0), Eigen::Vector3d::Zero(), R * Eigen::Vector3d(s, 0, 0)),
+        pce::QuadraticPenalty{1.0, 0.5 * s});
   }
   const Eigen::Vector3d o(1e6, -8e5, 6e5);
   SCOPED_TRACE("offset 1e6, feature 1e-3");

@@ -63,9 +63,10 @@ TEST(PointPointEnergy, AnalyticIsExactForThisKind) {
 
 TEST(PointPointEnergy, Conformance) {
   const ExactStats st = run_kind_suite<Kind>(draw_point_point, 43);
-  std::printf("point_point: exact vs numerical compared on %d configurations (worst %.2e), numerical inaccurate on %d; "
-              "worst exact vs 50 digits %.2e\n",
-              st.compared, st.worst_vs_numerical, st.numerical_inaccurate, st.worst_vs_reference);
+  std::printf(
+      "point_point: exact vs numerical compared on %d configurations (worst %.2e), numerical inaccurate on %d; "
+      "worst exact vs 50 digits %.2e\n",
+      st.compared, st.worst_vs_numerical, st.numerical_inaccurate, st.worst_vs_reference);
   EXPECT_GT(st.compared, 100);
 }
 

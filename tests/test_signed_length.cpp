@@ -55,8 +55,7 @@ TEST(SignedLengthCoordinates, GradientAndHessianMatchFiniteDifferences) {
   std::mt19937_64 rng(53);
   for (PairKind kind : {PairKind::vertex_face, PairKind::edge_edge})
     for (int i = 0; i < 20; ++i) {
-      const pce::Vec12<long double> x =
-          cast12<long double>(random_configuration(kind, 0.5 * (i % 5 - 2), 1, 1, rng).x);
+      const pce::Vec12<long double> x = cast12<long double>(random_configuration(kind, 0.5 * (i % 5 - 2), 1, 1, rng).x);
       const auto frame_of = [&](const pce::Vec12<long double>& y) {
         pce::Frame<long double> f;
         EXPECT_EQ(with_pair(kind, [&](auto p) { return decltype(p)::frame(y, f); }), pce::Status::ok);

@@ -39,7 +39,8 @@ template <class S, int N> void expect_reconstructs(const pce::MatN<S, N>& A) {
   const pce::MatN<S, N> H = t.matrix();
   const long double eps = std::numeric_limits<S>::epsilon();
   EXPECT_LE(static_cast<long double>((H * T * H.transpose() - A).cwiseAbs().maxCoeff()), 32 * eps) << "N=" << N;
-  EXPECT_LE(static_cast<long double>((H.transpose() * H - pce::MatN<S, N>::Identity()).cwiseAbs().maxCoeff()), 32 * eps);
+  EXPECT_LE(static_cast<long double>((H.transpose() * H - pce::MatN<S, N>::Identity()).cwiseAbs().maxCoeff()),
+            32 * eps);
 }
 
 template <class S> class TridiagonalTest : public testing::Test {};

@@ -38,9 +38,11 @@ long double norm_form(PairKind kind, const pce::Vec12<long double>& x) {
   using V = Eigen::Matrix<long double, 3, 1>;
   V e0, e1, e2;
   if (kind == PairKind::vertex_face) {
-    e0 = x.segment<3>(6) - x.segment<3>(3), e1 = x.segment<3>(9) - x.segment<3>(3), e2 = x.segment<3>(0) - x.segment<3>(3);
+    e0 = x.segment<3>(6) - x.segment<3>(3), e1 = x.segment<3>(9) - x.segment<3>(3),
+    e2 = x.segment<3>(0) - x.segment<3>(3);
   } else {
-    e0 = x.segment<3>(3) - x.segment<3>(0), e1 = x.segment<3>(9) - x.segment<3>(6), e2 = x.segment<3>(6) - x.segment<3>(0);
+    e0 = x.segment<3>(3) - x.segment<3>(0), e1 = x.segment<3>(9) - x.segment<3>(6),
+    e2 = x.segment<3>(6) - x.segment<3>(0);
   }
   Eigen::Matrix<long double, 3, 2> A;
   A << e0, e1;

@@ -80,7 +80,8 @@ TEST(VertexFaceFloat, FarVertexOverATinyTriangleOverflowsExplicitly) {
   EXPECT_EQ(pce::vertex_face_frame(x, f), pce::Status::overflow);
   EXPECT_EQ(f.l, 42.0f);
   pce::PairResult<float> r;
-  EXPECT_EQ(pce::evaluate<pce::VertexFace>(x, pce::SignedLength{}, pce::QuadraticPenalty{1, 0.1}, pce::Projection::analytic, r),
+  EXPECT_EQ(pce::evaluate<pce::VertexFace>(x, pce::SignedLength{}, pce::QuadraticPenalty{1, 0.1},
+                                           pce::Projection::analytic, r),
             pce::Status::overflow);
   // The same geometry in double is fine.
   pce::Frame<double> fd;
@@ -99,8 +100,8 @@ TEST(VertexFaceFloat, FarVertexOverATinyTriangleCannotOverflowThePullback) {
   EXPECT_EQ(pce::vertex_face_frame(x, f), pce::Status::overflow);
   EXPECT_EQ(f.l, 42.0f);
   pce::PairResult<float> r;
-  EXPECT_EQ(pce::evaluate<pce::VertexFace>(x, pce::SignedLength{pce::Side::negative},
-                                           pce::LogBarrierPenalty{1, 2e16}, pce::Projection::numerical, r),
+  EXPECT_EQ(pce::evaluate<pce::VertexFace>(x, pce::SignedLength{pce::Side::negative}, pce::LogBarrierPenalty{1, 2e16},
+                                           pce::Projection::numerical, r),
             pce::Status::overflow);
   pce::Frame<double> fd;
   ASSERT_EQ(pce::vertex_face_frame(pce::Vec12<double>(x.cast<double>()), fd), pce::Status::ok);

@@ -46,9 +46,9 @@ int main() {
   //    ea0          ea1        eb0             eb1
   ee << -1, 0, 0, 1, 0, 0, 0, -1, 0.02, 0, 1, 0.02;
 
-  const pce::LogBarrierPenalty barrier{1e3, 0.1};      // k, d̂
-  const pce::QuadraticPenalty quadratic{1e4, 0.1};     // k, ε
-  const pce::CubicPenalty cubic{1e5, 0.1, 1e-4};       // k, ε, δ
+  const pce::LogBarrierPenalty barrier{1e3, 0.1};   // k, d̂
+  const pce::QuadraticPenalty quadratic{1e4, 0.1};  // k, ε
+  const pce::CubicPenalty cubic{1e5, 0.1, 1e-4};    // k, ε, δ
 
   show<pce::VertexFace>("vertex-face, signed, log barrier", vf, pce::SignedLength{}, barrier);
   show<pce::VertexFace>("vertex-face, signed (other side), quadratic", vf, pce::SignedLength{pce::Side::negative},

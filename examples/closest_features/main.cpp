@@ -28,8 +28,10 @@ template <class Pair> bool show(const char* what, const pce::Vec12<double>& x, d
   const pce::Status ps = pce::pair_energy<Pair>(x, pce::UnsignedLength{}, penalty, plane);
   std::printf("%-22s %-11s points (%2d %2d %2d)  distance %.4f", what, pce::to_string(e.feature), e.points[0],
               e.points[1], e.points[2], e.length);
-  if (ps == pce::Status::ok) std::printf("  plane mode %.4f", plane.length);
-  else std::printf("  plane mode: %s", pce::to_string(ps));
+  if (ps == pce::Status::ok)
+    std::printf("  plane mode %.4f", plane.length);
+  else
+    std::printf("  plane mode: %s", pce::to_string(ps));
   const double min_eig = Eigen::SelfAdjointEigenSolver<pce::Mat12<double>>(H).eigenvalues().minCoeff();
   std::printf("  fd err %.1e\n", fd_err);
   return std::abs(e.length - expected) < 1e-12 && fd_err < 1e-6 && min_eig >= -1e-12 * H.norm();

@@ -49,8 +49,7 @@ int main() {
               Eigen::SelfAdjointEigenSolver<pce::Mat12<double>>(Pa).eigenvalues().minCoeff(),
               Eigen::SelfAdjointEigenSolver<pce::Mat12<double>>(Pn).eigenvalues().minCoeff());
   std::printf("relative gap |analytic - numerical|_F / |numerical|_F = %.3g\n", (Pa - Pn).norm() / Pn.norm());
-  const double err =
-      (eig.values - num.eigenvalues()).cwiseAbs().maxCoeff() / num.eigenvalues().cwiseAbs().maxCoeff();
+  const double err = (eig.values - num.eigenvalues()).cwiseAbs().maxCoeff() / num.eigenvalues().cwiseAbs().maxCoeff();
   std::printf("%s: closed-form vs numerical frame eigenvalues, max rel. error %.1e\n", err < 1e-10 ? "ok" : "FAILED",
               err);
   return err < 1e-10 ? 0 : 1;

@@ -16,7 +16,7 @@
 //   abs           like analytic but flips negative eigenvalues instead of clamping them
 pce::Projection choose(double L, double dhat, bool caller_wants_exact) {
   if (caller_wants_exact || L < 0.1 * dhat) return pce::Projection::exact;  // near contact
-  if (L > 0.5 * dhat) return pce::Projection::gauss_newton;  // far: weak force, curvature hardly matters
+  if (L > 0.5 * dhat) return pce::Projection::gauss_newton;                 // far: weak force, curvature hardly matters
   return pce::Projection::analytic;
 }
 

@@ -9,9 +9,12 @@ namespace pce_probe {
 
 Response evaluate_request(const Request& request) {
   switch (request.scalar) {
-    case ScalarKind::float_: return evaluate_in<float>(request);
-    case ScalarKind::long_double: return evaluate_in<long double>(request);
-    case ScalarKind::double_: break;
+    case ScalarKind::float_:
+      return evaluate_in<float>(request);
+    case ScalarKind::long_double:
+      return evaluate_in<long double>(request);
+    case ScalarKind::double_:
+      break;
   }
   return evaluate_in<double>(request);
 }

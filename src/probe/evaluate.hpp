@@ -11,8 +11,8 @@
 namespace pce_probe {
 
 /// Evaluates the request. Returns an "ok" response with every output converted to
-/// double (mollified: plus m and X̂, and no length where there is no frame), or a response with the library's status name (`pce::to_string(Status)`) and a
-/// message explaining it. Never returns non-finite numbers.
+/// double (mollified: plus m and X̂, and no length where there is no frame), or a response with the library's status
+/// name (`pce::to_string(Status)`) and a message explaining it. Never returns non-finite numbers.
 Response evaluate_request(const Request& request);
 
 }  // namespace pce_probe

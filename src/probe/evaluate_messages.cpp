@@ -45,12 +45,15 @@ const char* degenerate_message(const Request& req) {
     return "degenerate: the distance between the closest features is exactly 0 on a point-edge or point-point "
            "feature (a point lies on the other primitive's edge or vertex, where the distance has no direction)";
   switch (req.pair) {
-    case PairKind::vertex_face: return "degenerate frame: zero-area triangle (t0, t1, t2 coincident or collinear)";
-    case PairKind::edge_edge: return "degenerate frame: parallel or zero-length edges";
+    case PairKind::vertex_face:
+      return "degenerate frame: zero-area triangle (t0, t1, t2 coincident or collinear)";
+    case PairKind::edge_edge:
+      return "degenerate frame: parallel or zero-length edges";
     case PairKind::point_edge:
       return "degenerate: zero-length edge (e0 = e1), or the point on the edge's line (distance exactly 0, "
              "which has no direction)";
-    case PairKind::point_point: return "degenerate: coincident points (distance exactly 0, which has no direction)";
+    case PairKind::point_point:
+      return "degenerate: coincident points (distance exactly 0, which has no direction)";
   }
   return "degenerate";
 }

@@ -89,8 +89,7 @@ template <class Scalar, int N> std::string coordinate_problem(const Request& req
     const double v = req.x[static_cast<std::size_t>(i)];
     std::string msg = "field \"x\"[" + std::to_string(i) + "] ";
     if (!std::isfinite(v)) return msg + "is too large to be represented as a double";
-    msg += "= " + format_number(v) + " is beyond the largest accepted magnitude " +
-           describe(static_cast<double>(lim));
+    msg += "= " + format_number(v) + " is beyond the largest accepted magnitude " + describe(static_cast<double>(lim));
     return msg + " for scalar \"" + to_string(req.scalar) + "\"";
   }
   return {};
@@ -141,7 +140,8 @@ std::string failure_message(pce::Status s, const Request& req, const pce::VecN<S
       if (m.empty()) m = coordinate_problem(req, xs);
       return m.empty() ? "invalid input" : m;
     }
-    case pce::Status::degenerate: return degenerate_message(req);
+    case pce::Status::degenerate:
+      return degenerate_message(req);
     case pce::Status::out_of_domain: {
       if constexpr (Pair::dofs == 12)
         if (req.closest_feature) return domain_message(pen, closest_feature_length_at<Pair>(xs));
@@ -149,7 +149,8 @@ std::string failure_message(pce::Status s, const Request& req, const pce::VecN<S
     }
     case pce::Status::overflow:
       return std::string("a result is not finite in scalar \"") + to_string(req.scalar) + "\"";
-    case pce::Status::ok: break;
+    case pce::Status::ok:
+      break;
   }
   return "unexpected status";
 }
@@ -159,8 +160,7 @@ Response evaluate_typed(const Request& req, const Length& len, const Penalty& pe
   const pce::VecN<Scalar, Pair::dofs> xs = to_scalar<Scalar, Pair::dofs>(req.x);
   pce::PairResult<Scalar, Pair::dofs, Pair::frame_dofs> result;
   const pce::Status s = pce::evaluate<Pair>(xs, len, pen, req.projection, result);
-  if (s != pce::Status::ok)
-    return error_response(pce::to_string(s), failure_message<Pair>(s, req, xs, len, pen));
+  if (s != pce::Status::ok) return error_response(pce::to_string(s), failure_message<Pair>(s, req, xs, len, pen));
   Evaluation e;
   if (!to_evaluation(result, e))
     return error_response(pce::to_string(pce::Status::overflow),
@@ -179,8 +179,8 @@ template <class Scalar> bool all_finite(const pce::PairResult<Scalar>& r) {
 /// instantiated once per scalar type): every output on all 12 coordinates from the
 /// `ClosestFeatureEnergy` overloads, the eigenvalues of the kind evaluated (9, 6 or 3) and
 /// its name as "feature".
-template <class Scalar> Response closest_feature_response(const pce::ClosestFeatureEnergy<Scalar>& energy,
-                                                          const Request& req) {
+template <class Scalar>
+Response closest_feature_response(const pce::ClosestFeatureEnergy<Scalar>& energy, const Request& req) {
   pce::PairResult<Scalar> result;
   result.length = energy.length;
   result.value = energy.psi.value;
@@ -203,7 +203,8 @@ template <class Scalar> Response closest_feature_response(const pce::ClosestFeat
 
 /// "closest_feature": true — classify by the closest features and evaluate that kind with
 /// the unsigned distance (`pce::closest_feature_energy`).
-template <class Pair, class Scalar, class Penalty> Response evaluate_closest_feature(const Request& req, const Penalty& pen) {
+template <class Pair, class Scalar, class Penalty>
+Response evaluate_closest_feature(const Request& req, const Penalty& pen) {
   const pce::Vec12<Scalar> xs = to_scalar<Scalar, 12>(req.x);
   pce::ClosestFeatureEnergy<Scalar> energy;
   const pce::Status s = pce::closest_feature_energy<Pair>(xs, pce::UnsignedLength{}, pen, energy);
@@ -222,13 +223,12 @@ Response evaluate_mollified(const Request& req, const Length& len, const Penalty
   if (!std::isfinite(threshold) || !(threshold > Scalar(0)))
     return error_response(pce::to_string(pce::Status::invalid_input),
                           "field \"mollifier.threshold\" = " + format_number(mollifier.threshold) +
-                              " is not representable as a positive finite number in scalar \"" +
-                              to_string(req.scalar) + "\"");
+                              " is not representable as a positive finite number in scalar \"" + to_string(req.scalar) +
+                              "\"");
   const pce::Vec12<Scalar> xs = to_scalar<Scalar, 12>(req.x);
   pce::MollifiedEnergy<Scalar> energy;
   const pce::Status s = pce::mollified_pair_energy<Pair>(xs, len, pen, mollifier, energy);
-  if (s != pce::Status::ok)
-    return error_response(pce::to_string(s), failure_message<Pair>(s, req, xs, len, pen));
+  if (s != pce::Status::ok) return error_response(pce::to_string(s), failure_message<Pair>(s, req, xs, len, pen));
   pce::PairResult<Scalar> result;
   result.length = energy.has_frame ? energy.base.length : Scalar(0);
   result.value = energy.value;
@@ -271,7 +271,8 @@ Response dispatch_pair(const Request& req, const Length& len, const Penalty& pen
   if (req.closest_feature && !std::is_same_v<Length, pce::UnsignedLength>)
     return error_response("internal_error", "closest_feature with a signed length reached evaluation");
   switch (req.pair) {
-    case PairKind::edge_edge: return evaluate_variant<pce::EdgeEdge, Scalar>(req, len, pen);
+    case PairKind::edge_edge:
+      return evaluate_variant<pce::EdgeEdge, Scalar>(req, len, pen);
     case PairKind::point_edge:
     case PairKind::point_point:
       if constexpr (std::is_same_v<Length, pce::UnsignedLength>) {
@@ -280,7 +281,8 @@ Response dispatch_pair(const Request& req, const Length& len, const Penalty& pen
       } else {
         return error_response("internal_error", "a signed length for a point pair reached evaluation");
       }
-    case PairKind::vertex_face: break;
+    case PairKind::vertex_face:
+      break;
   }
   return evaluate_variant<pce::VertexFace, Scalar>(req, len, pen);
 }

@@ -35,9 +35,7 @@ Response respond(const std::string& line) {
 
 }  // namespace
 
-bool is_blank(const std::string& line) {
-  return line.find_first_not_of(" \t\r\n") == std::string::npos;
-}
+bool is_blank(const std::string& line) { return line.find_first_not_of(" \t\r\n") == std::string::npos; }
 
 std::optional<std::string> answer_line(const std::string& line) {
   if (is_blank(line)) return std::nullopt;

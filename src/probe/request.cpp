@@ -55,8 +55,10 @@ std::string rewrite_numbers(const std::string& line) {
     const char c = line[i];
     if (in_string) {
       out += c;
-      if (c == '\\' && i + 1 < line.size()) out += line[++i];
-      else if (c == '"') in_string = false;
+      if (c == '\\' && i + 1 < line.size())
+        out += line[++i];
+      else if (c == '"')
+        in_string = false;
     } else if (c == '-' || (c >= '0' && c <= '9')) {
       std::size_t j = i;
       while (j < line.size() && is_number_char(line[j])) ++j;
@@ -242,8 +244,8 @@ std::optional<pce::Mollifier> parse_mollifier(const json& req, PairKind pair) {
   const auto it = req.find("mollifier");
   if (it == req.end()) return std::nullopt;
   if (is_point_kind(pair))
-    fail("field \"mollifier\" is only for \"pair\" \"vertex_face\" or \"edge_edge\" (got " +
-         quoted(to_string(pair)) + ")");
+    fail("field \"mollifier\" is only for \"pair\" \"vertex_face\" or \"edge_edge\" (got " + quoted(to_string(pair)) +
+         ")");
   const json& m = *it;
   if (!m.is_object())
     fail("field \"mollifier\" must be an object: {\"threshold\":X} or {\"rest\":[12 numbers],\"factor\":f}");
@@ -289,8 +291,9 @@ bool parse_closest_feature(const json& req, const Request& r) {
   if (std::holds_alternative<pce::SignedLength>(r.length))
     fail("field \"closest_feature\" requires \"length\":\"unsigned\" (closest-feature distances have no side)");
   if (r.mollifier)
-    fail("field \"closest_feature\" cannot be combined with \"mollifier\" (the mollifier applies to the plain "
-         "plane-distance energy only)");
+    fail(
+        "field \"closest_feature\" cannot be combined with \"mollifier\" (the mollifier applies to the plain "
+        "plane-distance energy only)");
   return true;
 }
 
@@ -298,20 +301,28 @@ bool parse_closest_feature(const json& req, const Request& r) {
 
 const char* to_string(PairKind p) {
   switch (p) {
-    case PairKind::vertex_face: return "vertex_face";
-    case PairKind::edge_edge: return "edge_edge";
-    case PairKind::point_edge: return "point_edge";
-    case PairKind::point_point: return "point_point";
+    case PairKind::vertex_face:
+      return "vertex_face";
+    case PairKind::edge_edge:
+      return "edge_edge";
+    case PairKind::point_edge:
+      return "point_edge";
+    case PairKind::point_point:
+      return "point_point";
   }
   return "unknown";
 }
 
 int coordinate_count(PairKind p) {
   switch (p) {
-    case PairKind::point_edge: return pce::PointEdge::dofs;
-    case PairKind::point_point: return pce::PointPoint::dofs;
-    case PairKind::vertex_face: return pce::VertexFace::dofs;
-    case PairKind::edge_edge: return pce::EdgeEdge::dofs;
+    case PairKind::point_edge:
+      return pce::PointEdge::dofs;
+    case PairKind::point_point:
+      return pce::PointPoint::dofs;
+    case PairKind::vertex_face:
+      return pce::VertexFace::dofs;
+    case PairKind::edge_edge:
+      return pce::EdgeEdge::dofs;
   }
   return 12;
 }
@@ -320,9 +331,12 @@ bool is_point_kind(PairKind p) { return p == PairKind::point_edge || p == PairKi
 
 const char* to_string(ScalarKind s) {
   switch (s) {
-    case ScalarKind::float_: return "float";
-    case ScalarKind::double_: return "double";
-    case ScalarKind::long_double: return "long_double";
+    case ScalarKind::float_:
+      return "float";
+    case ScalarKind::double_:
+      return "double";
+    case ScalarKind::long_double:
+      return "long_double";
   }
   return "unknown";
 }

@@ -30,8 +30,8 @@ struct Evaluation {
   std::vector<double> hessian;
   std::vector<double> projected_hessian;
   std::vector<double> eigenvalues;
-  std::string projection;  ///< strategy used, as spelled in requests
-  std::string scalar;      ///< scalar type used, as spelled in requests
+  std::string projection;                    ///< strategy used, as spelled in requests
+  std::string scalar;                        ///< scalar type used, as spelled in requests
   std::optional<MollifierOutput> mollifier;  ///< set for requests with a "mollifier" field
   std::optional<std::string> feature;        ///< set for "closest_feature" requests: the kind evaluated
 };

@@ -46,8 +46,10 @@ template <class S> struct ClosestCase {
 inline bool points_valid(bool vf, pce::Feature feature, const std::array<int, 3>& pt) {
   const auto in = [](int v, int lo, int hi) { return v >= lo && v <= hi; };
   switch (feature) {
-    case pce::Feature::point_plane: return vf;
-    case pce::Feature::line_line: return !vf;
+    case pce::Feature::point_plane:
+      return vf;
+    case pce::Feature::line_line:
+      return !vf;
     case pce::Feature::point_edge:
       if (vf) return pt[0] == 0 && in(pt[1], 1, 3) && in(pt[2], 1, 3) && pt[1] != pt[2];
       if (in(pt[0], 0, 1)) return (pt[1] == 2 && pt[2] == 3) || (pt[1] == 3 && pt[2] == 2);
@@ -98,18 +100,21 @@ template <class S> void check_closest(ClosestCase<S>& c, const Snapshot<pce::Clo
                    !c.valid ? "invalid penalty parameters" : "invalid coordinates", pce::to_string(cs));
   else
     PCE_FUZZ_CHECK(cs != Status::invalid_input, "closest_feature_energy: valid inputs but status invalid_input");
-  if (cs == Status::out_of_domain) PCE_FUZZ_CHECK(c.barrier, "closest_feature_energy: out_of_domain for a penalty defined everywhere");
+  if (cs == Status::out_of_domain)
+    PCE_FUZZ_CHECK(c.barrier, "closest_feature_energy: out_of_domain for a penalty defined everywhere");
   if (cs == Status::degenerate)
     PCE_FUZZ_CHECK(some_subpair_degenerate<S>(c.x, vf),
                    "closest_feature_energy: degenerate but no point-edge or point-point sub-pair is degenerate");
   if (cs != Status::ok) {
-    PCE_FUZZ_CHECK(esnap.unchanged(c.e), "closest_feature_energy: status %s but the output was written", pce::to_string(cs));
+    PCE_FUZZ_CHECK(esnap.unchanged(c.e), "closest_feature_energy: status %s but the output was written",
+                   pce::to_string(cs));
     return;
   }
 
   const pce::ClosestFeatureEnergy<S>& e = c.e;
   const int fi = static_cast<int>(e.feature);
-  PCE_FUZZ_CHECK(c.points_ok, "closest_feature_energy: feature %d with points (%d, %d, %d) impossible for a %s candidate", fi,
+  PCE_FUZZ_CHECK(c.points_ok,
+                 "closest_feature_energy: feature %d with points (%d, %d, %d) impossible for a %s candidate", fi,
                  e.points[0], e.points[1], e.points[2], vf ? "vertex-face" : "edge-edge");
   if (!c.points_ok) return;
   ++st.feature[vf ? 0 : 1][fi];
@@ -123,8 +128,9 @@ template <class S> void check_closest(ClosestCase<S>& c, const Snapshot<pce::Clo
   if (c.ds != Status::ok) return;
   const S dlen = plane ? c.plane.length : is_pe ? c.edge.length : c.point.length;
   const pce::PenaltyDerivatives<S> dpsi = plane ? c.plane.psi : is_pe ? c.edge.psi : c.point.psi;
-  PCE_FUZZ_CHECK(e.length == dlen && e.psi.value == dpsi.value && e.psi.first == dpsi.first && e.psi.second == dpsi.second,
-                 "closest_feature_energy: length or psi differs from %s evaluated directly", fname);
+  PCE_FUZZ_CHECK(
+      e.length == dlen && e.psi.value == dpsi.value && e.psi.first == dpsi.first && e.psi.second == dpsi.second,
+      "closest_feature_energy: length or psi differs from %s evaluated directly", fname);
   PCE_FUZZ_CHECK(finite(e.length) && finite(e.psi.value) && finite(e.psi.first) && finite(e.psi.second),
                  "closest_feature_energy: status ok but a non-finite length or psi");
   PCE_FUZZ_CHECK(e.length >= S(0), "closest_feature_energy: negative length %.17Lg", (long double)e.length);
@@ -170,8 +176,10 @@ template <class S> void check_closest(ClosestCase<S>& c, const Snapshot<pce::Clo
     // (Edges from the raw points, not from p[] relative to point 0: for long double a
     // difference of two such rounded differences is off by ε times the configuration's
     // size, which for a short edge far from point 0 is a wrong direction.)
-    const LdVec3 e0 = down(vf ? LdVec3(point_ld<S>(c.x, 2) - point_ld<S>(c.x, 1)) : LdVec3(point_ld<S>(c.x, 1) - point_ld<S>(c.x, 0)), k);
-    const LdVec3 e1 = down(vf ? LdVec3(point_ld<S>(c.x, 3) - point_ld<S>(c.x, 1)) : LdVec3(point_ld<S>(c.x, 3) - point_ld<S>(c.x, 2)), k);
+    const LdVec3 e0 = down(
+        vf ? LdVec3(point_ld<S>(c.x, 2) - point_ld<S>(c.x, 1)) : LdVec3(point_ld<S>(c.x, 1) - point_ld<S>(c.x, 0)), k);
+    const LdVec3 e1 = down(
+        vf ? LdVec3(point_ld<S>(c.x, 3) - point_ld<S>(c.x, 1)) : LdVec3(point_ld<S>(c.x, 3) - point_ld<S>(c.x, 2)), k);
     const long double cross = e0.cross(e1).norm();
     const long double cond = cross > 0 ? e0.norm() * e1.norm() / cross : std::numeric_limits<long double>::infinity();
     const long double eps = eps_ld<S>();
@@ -206,7 +214,8 @@ template <class S> void check_closest(ClosestCase<S>& c, const Snapshot<pce::Clo
       PCE_FUZZ_CHECK(ok_bounds,
                      "closest_feature_energy (%s): length %.17Lg not between |l| = %.17Lg and the vertex distances "
                      "(scaled by 2^%d: %.17Le beyond the bound %.17Le)",
-                     fname, (long double)e.length, fs == Status::ok ? std::fabs((long double)f.l) : -1.0L, -k, bad, bound);
+                     fname, (long double)e.length, fs == Status::ok ? std::fabs((long double)f.l) : -1.0L, -k, bad,
+                     bound);
     }
   }
 
@@ -233,7 +242,8 @@ template <class S> void check_closest(ClosestCase<S>& c, const Snapshot<pce::Clo
             !(P[s].template middleCols<3>(3 * j).array() == S(0)).all())
           zero = false;
     }
-    PCE_FUZZ_CHECK(zero, "closest_feature_energy (%s): nonzero gradient or Hessian entries on a point it does not use", fname);
+    PCE_FUZZ_CHECK(zero, "closest_feature_energy (%s): nonzero gradient or Hessian entries on a point it does not use",
+                   fname);
   }
   // The same outputs as the chosen kind's, embedded.
   const int pi = static_cast<int>(c.proj);
@@ -254,10 +264,13 @@ template <class S> void check_closest(ClosestCase<S>& c, const Snapshot<pce::Clo
            same_values(P[pi], scatter<6>(pce::projected_hessian(c.point, c.proj), e.points));
     same_eig = fe.count == 3 && same_values(fe.values.template head<3>(), pce::energy_eigensystem(c.point).values);
   }
-  PCE_FUZZ_CHECK(same || !finite(H), "closest_feature_energy (%s): gradient, Hessian or %s projection differs from the kind's own",
-                 fname, pce::to_string(c.proj));
-  PCE_FUZZ_CHECK(same_eig, "closest_feature_energy (%s): feature_eigenvalues differ from the kind's eigensystem", fname);
-  PCE_FUZZ_CHECK(same_values(P[0], H) || !finite(H), "closest_feature_energy: projection none differs from energy_hessian");
+  PCE_FUZZ_CHECK(same || !finite(H),
+                 "closest_feature_energy (%s): gradient, Hessian or %s projection differs from the kind's own", fname,
+                 pce::to_string(c.proj));
+  PCE_FUZZ_CHECK(same_eig, "closest_feature_energy (%s): feature_eigenvalues differ from the kind's eigensystem",
+                 fname);
+  PCE_FUZZ_CHECK(same_values(P[0], H) || !finite(H),
+                 "closest_feature_energy: projection none differs from energy_hessian");
   check_projection_set<S>(ps);
 }
 
@@ -273,7 +286,9 @@ template <class S, class Pair, class Penalty> void run_closest_penalty(ClosestCa
     if (c.points_ok) {
       switch (c.e.feature) {
         case pce::Feature::point_plane:
-        case pce::Feature::line_line: c.ds = pce::pair_energy<Pair>(c.x, pce::UnsignedLength{}, pen, c.plane); break;
+        case pce::Feature::line_line:
+          c.ds = pce::pair_energy<Pair>(c.x, pce::UnsignedLength{}, pen, c.plane);
+          break;
         case pce::Feature::point_edge:
           c.ds = pce::pair_energy<pce::PointEdge>(gather<9>(c.x, c.e.points), pce::UnsignedLength{}, pen, c.edge);
           break;
@@ -299,7 +314,8 @@ template <class S, class Pair> void run_closest_pair(Bytes& b, pce::Side side) {
   double Lhint = 1.0;
   {
     pce::ClosestFeatureEnergy<S> probe;
-    if (pce::closest_feature_energy<Pair>(c.x, pce::UnsignedLength{}, pce::QuadraticPenalty{0.0, 1.0}, probe) == Status::ok)
+    if (pce::closest_feature_energy<Pair>(c.x, pce::UnsignedLength{}, pce::QuadraticPenalty{0.0, 1.0}, probe) ==
+        Status::ok)
       Lhint = double(probe.length);
   }
   const DecodedPenalty d = decode_penalty(b, penalty, Lhint);

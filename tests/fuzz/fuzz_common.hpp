@@ -83,8 +83,8 @@ __attribute__((format(printf, 1, 2)))
 #endif
 void fail(const char* fmt, ...);
 
-#define PCE_FUZZ_CHECK(cond, ...)     \
-  do {                                \
+#define PCE_FUZZ_CHECK(cond, ...)               \
+  do {                                          \
     if (!(cond)) ::pce_fuzz::fail(__VA_ARGS__); \
   } while (0)
 
@@ -95,7 +95,9 @@ extern void* volatile g_escape;
 // ---------------------------------------------------------------------------------------
 // Scalars.
 
-template <class S> int scalar_index() { return std::is_same<S, float>::value ? 0 : std::is_same<S, double>::value ? 1 : 2; }
+template <class S> int scalar_index() {
+  return std::is_same<S, float>::value ? 0 : std::is_same<S, double>::value ? 1 : 2;
+}
 template <class S> const char* scalar_name() {
   return std::is_same<S, float>::value ? "float" : std::is_same<S, double>::value ? "double" : "long double";
 }
@@ -192,30 +194,53 @@ template <class S> S special(Bytes& b) {
   using std::nextafter;
   const S mc = pce::Constants<S>::max_coordinate();
   switch (b.u8() % 28) {
-    case 0: return S(0);
-    case 1: return -S(0);
-    case 2: return S(1);
-    case 3: return S(-1);
-    case 4: return S(0.5);
-    case 5: return S(b.range(-8, 8));
-    case 6: return L::quiet_NaN();
-    case 7: return -L::quiet_NaN();
-    case 8: return L::signaling_NaN();
-    case 9: return L::infinity();
-    case 10: return -L::infinity();
-    case 11: return (L::max)();
-    case 12: return L::lowest();
-    case 13: return (L::min)();
-    case 14: return L::denorm_min();
-    case 15: return -L::denorm_min();
-    case 16: return L::epsilon();
-    case 17: return mc;
-    case 18: return -mc;
-    case 19: return nextafter(mc, L::infinity());
-    case 20: return nextafter(mc, S(0));
-    case 21: return -nextafter(mc, L::infinity());
+    case 0:
+      return S(0);
+    case 1:
+      return -S(0);
+    case 2:
+      return S(1);
+    case 3:
+      return S(-1);
+    case 4:
+      return S(0.5);
+    case 5:
+      return S(b.range(-8, 8));
+    case 6:
+      return L::quiet_NaN();
+    case 7:
+      return -L::quiet_NaN();
+    case 8:
+      return L::signaling_NaN();
+    case 9:
+      return L::infinity();
+    case 10:
+      return -L::infinity();
+    case 11:
+      return (L::max)();
+    case 12:
+      return L::lowest();
+    case 13:
+      return (L::min)();
+    case 14:
+      return L::denorm_min();
+    case 15:
+      return -L::denorm_min();
+    case 16:
+      return L::epsilon();
+    case 17:
+      return mc;
+    case 18:
+      return -mc;
+    case 19:
+      return nextafter(mc, L::infinity());
+    case 20:
+      return nextafter(mc, S(0));
+    case 21:
+      return -nextafter(mc, L::infinity());
     case 22:
-    case 23: return raw_bits<S>(b);
+    case 23:
+      return raw_bits<S>(b);
     case 24: {  // any power of two from deep subnormal to the top, with a significand
       const int lo = L::min_exponent - L::digits, hi = L::max_exponent;
       const int e = lo + int(b.u16() % unsigned(hi - lo + 1));
@@ -225,8 +250,10 @@ template <class S> S special(Bytes& b) {
       const S m = S(b.sym());
       return m * pow10<S>(b.range(-30, 30));
     }
-    case 26: return S(1e6) + S(b.sym());
-    default: return S(b.sym());
+    case 26:
+      return S(1e6) + S(b.sym());
+    default:
+      return S(b.sym());
   }
 }
 
@@ -235,10 +262,14 @@ template <class S> S severity(Bytes& b) {
   const int m = b.u8() % 8;
   const S sign = (b.u8() & 1) ? S(-1) : S(1);
   switch (m) {
-    case 0: return S(0);
-    case 1: return sign * std::numeric_limits<S>::epsilon() * S(b.range(1, 4));
-    case 2: return sign * std::numeric_limits<S>::denorm_min();
-    default: return sign * pow10<S>(-b.range(0, 20));
+    case 0:
+      return S(0);
+    case 1:
+      return sign * std::numeric_limits<S>::epsilon() * S(b.range(1, 4));
+    case 2:
+      return sign * std::numeric_limits<S>::denorm_min();
+    default:
+      return sign * pow10<S>(-b.range(0, 20));
   }
 }
 
@@ -306,9 +337,15 @@ DecodedPenalty decode_penalty(Bytes& b, int type, double Lhint);
 /// Calls `f` with the decoded penalty object (one instantiation of `f` per penalty type).
 template <class F> void with_penalty(const DecodedPenalty& d, F&& f) {
   switch (d.type) {
-    case 0: f(d.quadratic); break;
-    case 1: f(d.cubic); break;
-    default: f(d.barrier); break;
+    case 0:
+      f(d.quadratic);
+      break;
+    case 1:
+      f(d.cubic);
+      break;
+    default:
+      f(d.barrier);
+      break;
   }
 }
 
@@ -327,9 +364,9 @@ template <class S, int N> LdMat padded(const pce::MatN<S, N>& M) {
 
 constexpr int kNumStrategies = 6;
 /// Indexed as `pce::Projection`: none, analytic, numerical, gauss_newton, abs, exact.
-constexpr pce::Projection kStrategies[kNumStrategies] = {pce::Projection::none,         pce::Projection::analytic,
-                                                         pce::Projection::numerical,    pce::Projection::gauss_newton,
-                                                         pce::Projection::abs,          pce::Projection::exact};
+constexpr pce::Projection kStrategies[kNumStrategies] = {pce::Projection::none,      pce::Projection::analytic,
+                                                         pce::Projection::numerical, pce::Projection::gauss_newton,
+                                                         pce::Projection::abs,       pce::Projection::exact};
 
 /// The exact Hessian (P[0]) and every projection of one `ok` energy, in long double.
 struct ProjectionSet {
@@ -344,10 +381,9 @@ struct ProjectionSet {
 
 /// max |b_i·b_j − δ_ij| of three vectors (computed in long double).
 template <class S> long double basis_defect(const pce::Vec3<S>& a, const pce::Vec3<S>& b, const pce::Vec3<S>& c) {
-  const Eigen::Matrix<long double, 3, 3> M =
-      (Eigen::Matrix<long double, 3, 3>() << a.template cast<long double>(), b.template cast<long double>(),
-       c.template cast<long double>())
-          .finished();
+  const Eigen::Matrix<long double, 3, 3> M = (Eigen::Matrix<long double, 3, 3>() << a.template cast<long double>(),
+                                              b.template cast<long double>(), c.template cast<long double>())
+                                                 .finished();
   return (M.transpose() * M - Eigen::Matrix<long double, 3, 3>::Identity()).cwiseAbs().maxCoeff();
 }
 
@@ -356,9 +392,8 @@ template <class S> long double basis_defect(const pce::Vec3<S>& a, const pce::Ve
 /// raised while the frame, ψ and the exact Hessian were computed (the caller cleared the
 /// flags before `pair_energy` and computed `H` since); inside `numerical` and `exact`, whose
 /// errors are relative to ‖H‖, an underflow counts only when max|H_ij| < min()/ε.
-template <class E, class S, int N>
-void compute_projections(const E& e, const pce::MatN<S, N>& H, bool underflow, pce::MatN<S, N> (&P)[kNumStrategies],
-                         ProjectionSet& ps) {
+template <class E, class S, int N> void compute_projections(const E& e, const pce::MatN<S, N>& H, bool underflow,
+                                                            pce::MatN<S, N> (&P)[kNumStrategies], ProjectionSet& ps) {
   const S hmax = H.cwiseAbs().maxCoeff();
   const bool tiny_h = !(hmax >= (std::numeric_limits<S>::min)() / std::numeric_limits<S>::epsilon());
   ps.underflow = underflow;
@@ -480,7 +515,8 @@ template <int N, class S> pce::Mat12<S> scatter(const pce::MatN<S, N>& H, const 
 }
 
 /// ψ ≥ 0, ψ′ ≤ 0, ψ″ ≥ 0 for the built-in penalties (k ≥ 0); all zero when inactive.
-template <class S> void check_psi(const pce::PenaltyDerivatives<S>& psi, const S& L, double activation, const char* who) {
+template <class S>
+void check_psi(const pce::PenaltyDerivatives<S>& psi, const S& L, double activation, const char* who) {
   PCE_FUZZ_CHECK(psi.value >= S(0) && psi.first <= S(0) && psi.second >= S(0),
                  "%s: penalty signs: psi = %.17Lg, psi' = %.17Lg, psi'' = %.17Lg", who, (long double)psi.value,
                  (long double)psi.first, (long double)psi.second);
@@ -490,12 +526,13 @@ template <class S> void check_psi(const pce::PenaltyDerivatives<S>& psi, const S
 }
 
 /// A `SignedLength` request is `invalid_input` and writes nothing (the point kinds have no side).
-template <class S, class E> void check_signed_rejected(pce::Status s, const Snapshot<E>& snap, const E& out, const char* who) {
+template <class S, class E>
+void check_signed_rejected(pce::Status s, const Snapshot<E>& snap, const E& out, const char* who) {
   ++pce_fuzz_stats().signed_rejected;
-  PCE_FUZZ_CHECK(s == pce::Status::invalid_input, "%s with a SignedLength: status %s, expected invalid_input", who, pce::to_string(s));
+  PCE_FUZZ_CHECK(s == pce::Status::invalid_input, "%s with a SignedLength: status %s, expected invalid_input", who,
+                 pce::to_string(s));
   PCE_FUZZ_CHECK(snap.unchanged(out), "%s with a SignedLength: the output was written", who);
 }
-
 
 /// The point kinds and closest-feature evaluation (fuzz_points.hpp): decodes the rest of
 /// the case and checks it. `kind` is a `PceFuzzKind` other than the two plane kinds.

@@ -49,8 +49,10 @@ void report_input() {
     std::fwrite(g_input.data(), 1, g_input.size(), f);
     std::fclose(f);
   }
-  std::fprintf(stderr, "pce-fuzz: failing input %llu of seed %llu (%zu bytes) saved as %s; replay: pce-fuzz --seed %llu --index %llu\n",
-               g_index, g_seed, g_input.size(), name, g_seed, g_index);
+  std::fprintf(
+      stderr,
+      "pce-fuzz: failing input %llu of seed %llu (%zu bytes) saved as %s; replay: pce-fuzz --seed %llu --index %llu\n",
+      g_index, g_seed, g_input.size(), name, g_seed, g_index);
 }
 
 #if defined(PCE_FUZZ_SANITIZED) && PCE_FUZZ_SANITIZED
@@ -83,35 +85,38 @@ void usage() {
 
 void summary(double seconds) {
   const PceFuzzStats& st = pce_fuzz_stats();
-  std::printf("fuzz: %llu inputs, %llu failures, status counts: ok=%llu invalid_input=%llu degenerate=%llu "
-              "out_of_domain=%llu overflow=%llu\n",
-              st.inputs, st.failures, st.status[0], st.status[1], st.status[2], st.status[3], st.status[4]);
-  static const char* kinds[pce_fuzz_kinds] = {"vertex_face", "edge_edge", "point_edge", "point_point",
-                                              "closest(vf)", "closest(ee)"};
+  std::printf(
+      "fuzz: %llu inputs, %llu failures, status counts: ok=%llu invalid_input=%llu degenerate=%llu "
+      "out_of_domain=%llu overflow=%llu\n",
+      st.inputs, st.failures, st.status[0], st.status[1], st.status[2], st.status[3], st.status[4]);
+  static const char* kinds[pce_fuzz_kinds] = {"vertex_face", "edge_edge",   "point_edge",
+                                              "point_point", "closest(vf)", "closest(ee)"};
   for (int k = 0; k < pce_fuzz_kinds; ++k) {
     const unsigned long long* c = st.kind_status[k];
-    std::printf("fuzz:   %-11s ok=%llu invalid_input=%llu degenerate=%llu out_of_domain=%llu overflow=%llu\n", kinds[k], c[0],
-                c[1], c[2], c[3], c[4]);
+    std::printf("fuzz:   %-11s ok=%llu invalid_input=%llu degenerate=%llu out_of_domain=%llu overflow=%llu\n", kinds[k],
+                c[0], c[1], c[2], c[3], c[4]);
   }
-  std::printf("fuzz: closest features (ok): vertex-face point_plane=%llu point_edge=%llu point_point=%llu; "
-              "edge-edge line_line=%llu point_edge=%llu point_point=%llu; %llu SignedLength requests rejected\n",
-              st.feature[0][0], st.feature[0][2], st.feature[0][3], st.feature[1][1], st.feature[1][2], st.feature[1][3],
-              st.signed_rejected);
-  std::printf("fuzz: %.1f s (%.0f inputs/s); penalty active in %llu ok pairs; %llu PSD checks; "
-              "%llu projections not finite beside a finite Hessian; %llu checker eigensolves not converged; "
-              "%llu PSD checks with an underflow, %llu misses excused by it; %llu exact-numerical comparisons "
-              "(%llu beyond 1024 eps within the frame basis' defect)\n",
-              seconds, seconds > 0 ? double(st.inputs) / seconds : 0.0, st.active, st.psd_checks,
-              st.projection_overflow, st.eig_no_convergence, st.psd_checks_underflow, st.underflow_excused,
-              st.exact_compared, st.exact_basis_defect);
+  std::printf(
+      "fuzz: closest features (ok): vertex-face point_plane=%llu point_edge=%llu point_point=%llu; "
+      "edge-edge line_line=%llu point_edge=%llu point_point=%llu; %llu SignedLength requests rejected\n",
+      st.feature[0][0], st.feature[0][2], st.feature[0][3], st.feature[1][1], st.feature[1][2], st.feature[1][3],
+      st.signed_rejected);
+  std::printf(
+      "fuzz: %.1f s (%.0f inputs/s); penalty active in %llu ok pairs; %llu PSD checks; "
+      "%llu projections not finite beside a finite Hessian; %llu checker eigensolves not converged; "
+      "%llu PSD checks with an underflow, %llu misses excused by it; %llu exact-numerical comparisons "
+      "(%llu beyond 1024 eps within the frame basis' defect)\n",
+      seconds, seconds > 0 ? double(st.inputs) / seconds : 0.0, st.active, st.psd_checks, st.projection_overflow,
+      st.eig_no_convergence, st.psd_checks_underflow, st.underflow_excused, st.exact_compared, st.exact_basis_defect);
   static const char* scal[3] = {"float", "double", "long double"};
   for (int s = 0; s < 3; ++s)
-    std::printf("fuzz: worst lambda_min/scale %-11s analytic %.2e numerical %.2e gauss_newton %.2e abs %.2e exact %.2e "
-                "abs-analytic %.2e analytic-gn %.2e exact-H %.2e; worst asymmetry %.2e; worst |exact-numerical| %.2e "
-                "(%.2e with an orthonormal basis; beyond 1024 eps: %.2f delta)\n",
-                scal[s], st.worst_psd[s][0], st.worst_psd[s][1], st.worst_psd[s][2], st.worst_psd[s][3], st.worst_psd[s][4],
-                st.worst_psd[s][5], st.worst_psd[s][6], st.worst_psd[s][7], st.worst_asym[s],
-                st.worst_exact_vs_numerical[s], st.worst_exact_vs_numerical_orthonormal[s], st.worst_exact_per_defect[s]);
+    std::printf(
+        "fuzz: worst lambda_min/scale %-11s analytic %.2e numerical %.2e gauss_newton %.2e abs %.2e exact %.2e "
+        "abs-analytic %.2e analytic-gn %.2e exact-H %.2e; worst asymmetry %.2e; worst |exact-numerical| %.2e "
+        "(%.2e with an orthonormal basis; beyond 1024 eps: %.2f delta)\n",
+        scal[s], st.worst_psd[s][0], st.worst_psd[s][1], st.worst_psd[s][2], st.worst_psd[s][3], st.worst_psd[s][4],
+        st.worst_psd[s][5], st.worst_psd[s][6], st.worst_psd[s][7], st.worst_asym[s], st.worst_exact_vs_numerical[s],
+        st.worst_exact_vs_numerical_orthonormal[s], st.worst_exact_per_defect[s]);
   std::fflush(stdout);
 }
 

@@ -97,22 +97,38 @@ double raw_double(Bytes& b) {
 
 double decode_stiffness(Bytes& b) {
   switch (b.u8() % 32) {
-    case 0: return 0.0;
-    case 1: return -0.0;
-    case 2: return 1e3;
-    case 3: return 1e-3;
-    case 4: return 1e8;
-    case 5: return 1e-8;
-    case 6: return std::pow(10.0, b.range(-30, 30));
-    case 7: return 1e300;
-    case 8: return std::numeric_limits<double>::max();
-    case 9: return std::numeric_limits<double>::denorm_min();
-    case 10: return raw_double(b);
-    case 11: return -1.0;                                       // invalid
-    case 12: return std::numeric_limits<double>::quiet_NaN();   // invalid
-    case 13: return std::numeric_limits<double>::infinity();    // invalid
-    case 14: return 4.0 * b.unit();
-    default: return 1.0;
+    case 0:
+      return 0.0;
+    case 1:
+      return -0.0;
+    case 2:
+      return 1e3;
+    case 3:
+      return 1e-3;
+    case 4:
+      return 1e8;
+    case 5:
+      return 1e-8;
+    case 6:
+      return std::pow(10.0, b.range(-30, 30));
+    case 7:
+      return 1e300;
+    case 8:
+      return std::numeric_limits<double>::max();
+    case 9:
+      return std::numeric_limits<double>::denorm_min();
+    case 10:
+      return raw_double(b);
+    case 11:
+      return -1.0;  // invalid
+    case 12:
+      return std::numeric_limits<double>::quiet_NaN();  // invalid
+    case 13:
+      return std::numeric_limits<double>::infinity();  // invalid
+    case 14:
+      return 4.0 * b.unit();
+    default:
+      return 1.0;
   }
 }
 
@@ -121,71 +137,120 @@ double decode_stiffness(Bytes& b) {
 double decode_eps(Bytes& b, double L) {
   const double m = std::fabs(L) > 0 ? std::fabs(L) : 1.0;
   switch (b.u8() % 32) {
-    case 0: return 0.0;
-    case 1: return L;  // exactly at the activation length: inactive
-    case 2: return std::nextafter(L, std::numeric_limits<double>::infinity());
-    case 3: return L + m * std::pow(10.0, -b.range(0, 16));
-    case 4: return L - m * std::pow(10.0, -b.range(0, 16));
-    case 5: return 2 * m;
-    case 6: return L + m * std::pow(10.0, b.range(0, 8));
-    case 7: return -m;
-    case 8: return 1.0;
-    case 9: return -1.0;
-    case 10: return 1e300;
-    case 11: return -1e300;
-    case 12: return std::numeric_limits<double>::max();
+    case 0:
+      return 0.0;
+    case 1:
+      return L;  // exactly at the activation length: inactive
+    case 2:
+      return std::nextafter(L, std::numeric_limits<double>::infinity());
+    case 3:
+      return L + m * std::pow(10.0, -b.range(0, 16));
+    case 4:
+      return L - m * std::pow(10.0, -b.range(0, 16));
+    case 5:
+      return 2 * m;
+    case 6:
+      return L + m * std::pow(10.0, b.range(0, 8));
+    case 7:
+      return -m;
+    case 8:
+      return 1.0;
+    case 9:
+      return -1.0;
+    case 10:
+      return 1e300;
+    case 11:
+      return -1e300;
+    case 12:
+      return std::numeric_limits<double>::max();
     case 13: {
       const double sign = (b.u8() & 1) ? -1 : 1;
       return sign * std::pow(10.0, b.range(-30, 30));
     }
-    case 14: return raw_double(b);
-    case 15: return std::numeric_limits<double>::quiet_NaN();   // invalid
-    case 16: return std::numeric_limits<double>::infinity();    // invalid
-    case 17: return -std::numeric_limits<double>::infinity();   // invalid
-    default: return L + m * (0.1 + 2 * b.unit());
+    case 14:
+      return raw_double(b);
+    case 15:
+      return std::numeric_limits<double>::quiet_NaN();  // invalid
+    case 16:
+      return std::numeric_limits<double>::infinity();  // invalid
+    case 17:
+      return -std::numeric_limits<double>::infinity();  // invalid
+    default:
+      return L + m * (0.1 + 2 * b.unit());
   }
 }
 
 double decode_delta(Bytes& b, double d) {
   const double m2 = d * d > 0 && std::isfinite(d * d) ? d * d : 1.0;
   switch (b.u8() % 24) {
-    case 0: return 0.0;
-    case 1: return -0.0;
-    case 2: return m2 * std::pow(10.0, -b.range(0, 32));
-    case 3: return m2 * std::pow(10.0, b.range(0, 8));
-    case 4: return 1e-300;
-    case 5: return std::numeric_limits<double>::denorm_min();
-    case 6: return 1e300;
-    case 7: return std::numeric_limits<double>::max();
-    case 8: return raw_double(b);
-    case 9: return -1e-3;                                       // invalid
-    case 10: return std::numeric_limits<double>::quiet_NaN();   // invalid
-    case 11: return std::numeric_limits<double>::infinity();    // invalid
-    default: return m2 * 4 * b.unit();
+    case 0:
+      return 0.0;
+    case 1:
+      return -0.0;
+    case 2:
+      return m2 * std::pow(10.0, -b.range(0, 32));
+    case 3:
+      return m2 * std::pow(10.0, b.range(0, 8));
+    case 4:
+      return 1e-300;
+    case 5:
+      return std::numeric_limits<double>::denorm_min();
+    case 6:
+      return 1e300;
+    case 7:
+      return std::numeric_limits<double>::max();
+    case 8:
+      return raw_double(b);
+    case 9:
+      return -1e-3;  // invalid
+    case 10:
+      return std::numeric_limits<double>::quiet_NaN();  // invalid
+    case 11:
+      return std::numeric_limits<double>::infinity();  // invalid
+    default:
+      return m2 * 4 * b.unit();
   }
 }
 
 double decode_dhat(Bytes& b, double L) {
   const double m = std::fabs(L) > 0 ? std::fabs(L) : 1.0;
   switch (b.u8() % 32) {
-    case 0: return 2 * m;
-    case 1: return m;  // L = d̂: inactive
-    case 2: return std::nextafter(m, std::numeric_limits<double>::infinity());
-    case 3: return m * (1 + std::pow(10.0, -b.range(1, 16)));  // L just below d̂
-    case 4: return m * std::pow(10.0, b.range(1, 16));         // L ≪ d̂: near the pole
-    case 5: return m * 0.5;                                    // inactive
-    case 6: return 1.0;
-    case 7: return 1e-3;
-    case 8: return 1e300;
-    case 9: return std::numeric_limits<double>::denorm_min();
-    case 10: return std::numeric_limits<double>::max();
-    case 11: return raw_double(b);
-    case 12: return 0.0;                                        // invalid
-    case 13: return -0.0;                                       // invalid
-    case 14: return -1.0;                                       // invalid
-    case 15: return std::numeric_limits<double>::quiet_NaN();   // invalid
-    case 16: return std::numeric_limits<double>::infinity();    // invalid
-    default: return m * (1 + 4 * b.unit());
+    case 0:
+      return 2 * m;
+    case 1:
+      return m;  // L = d̂: inactive
+    case 2:
+      return std::nextafter(m, std::numeric_limits<double>::infinity());
+    case 3:
+      return m * (1 + std::pow(10.0, -b.range(1, 16)));  // L just below d̂
+    case 4:
+      return m * std::pow(10.0, b.range(1, 16));  // L ≪ d̂: near the pole
+    case 5:
+      return m * 0.5;  // inactive
+    case 6:
+      return 1.0;
+    case 7:
+      return 1e-3;
+    case 8:
+      return 1e300;
+    case 9:
+      return std::numeric_limits<double>::denorm_min();
+    case 10:
+      return std::numeric_limits<double>::max();
+    case 11:
+      return raw_double(b);
+    case 12:
+      return 0.0;  // invalid
+    case 13:
+      return -0.0;  // invalid
+    case 14:
+      return -1.0;  // invalid
+    case 15:
+      return std::numeric_limits<double>::quiet_NaN();  // invalid
+    case 16:
+      return std::numeric_limits<double>::infinity();  // invalid
+    default:
+      return m * (1 + 4 * b.unit());
   }
 }
 
@@ -230,9 +295,15 @@ int pce_fuzz_one(const uint8_t* data, size_t size) {
   g_case = CaseInfo{};
   Bytes b(data, size);
   switch (b.u8() % 3) {
-    case 0: run_scalar<float>(b); break;
-    case 1: run_scalar<double>(b); break;
-    default: run_scalar<long double>(b); break;
+    case 0:
+      run_scalar<float>(b);
+      break;
+    case 1:
+      run_scalar<double>(b);
+      break;
+    default:
+      run_scalar<long double>(b);
+      break;
   }
   return 0;
 }

@@ -18,19 +18,19 @@
 int pce_fuzz_one(const uint8_t* data, size_t size);
 
 struct PceFuzzConfig {
-  bool abort_on_failure = true;  ///< abort at the first violated invariant (what the fuzzers expect)
-  int max_reports = 20;          ///< with abort_on_failure = false: reproducers printed at most
+  bool abort_on_failure = true;    ///< abort at the first violated invariant (what the fuzzers expect)
+  int max_reports = 20;            ///< with abort_on_failure = false: reproducers printed at most
   void (*on_failure)() = nullptr;  ///< called after a reproducer is printed (the driver saves the input)
 };
 
 /// Kinds the body fuzzes (`PceFuzzStats::kind_status`), in decoding order.
 enum PceFuzzKind {
-  pce_fuzz_vertex_face,   ///< pce::VertexFace through pce::evaluate and the lower-level functions
-  pce_fuzz_edge_edge,     ///< pce::EdgeEdge, the same
-  pce_fuzz_point_edge,    ///< pce::PointEdge (9 coordinates)
-  pce_fuzz_point_point,   ///< pce::PointPoint (6 coordinates)
-  pce_fuzz_closest_vf,    ///< pce::closest_feature_energy<pce::VertexFace>
-  pce_fuzz_closest_ee,    ///< pce::closest_feature_energy<pce::EdgeEdge>
+  pce_fuzz_vertex_face,  ///< pce::VertexFace through pce::evaluate and the lower-level functions
+  pce_fuzz_edge_edge,    ///< pce::EdgeEdge, the same
+  pce_fuzz_point_edge,   ///< pce::PointEdge (9 coordinates)
+  pce_fuzz_point_point,  ///< pce::PointPoint (6 coordinates)
+  pce_fuzz_closest_vf,   ///< pce::closest_feature_energy<pce::VertexFace>
+  pce_fuzz_closest_ee,   ///< pce::closest_feature_energy<pce::EdgeEdge>
   pce_fuzz_kinds
 };
 
@@ -56,16 +56,16 @@ struct PceFuzzStats {
   /// pair kinds, of `pce::closest_feature_energy` for the closest-feature candidates.
   unsigned long long status[5] = {0, 0, 0, 0, 0};
   unsigned long long kind_status[pce_fuzz_kinds][5] = {};  ///< the same per kind
-  unsigned long long feature[2][4] = {};  ///< closest feature (vf, ee) × `pce::Feature` of the ok evaluations
-  unsigned long long signed_rejected = 0;          ///< SignedLength requests checked to give invalid_input
-  unsigned long long active = 0;                   ///< ok with ψ″ or ψ′ nonzero (penalty active)
-  unsigned long long psd_checks = 0;               ///< projected Hessians checked for PSD-ness
-  unsigned long long projection_overflow = 0;      ///< lower-level projection not finite (evaluate: overflow)
-  unsigned long long eig_no_convergence = 0;       ///< the checker's long double eigensolver gave up
-  unsigned long long psd_checks_underflow = 0;     ///< of which an intermediate underflowed
-  unsigned long long underflow_excused = 0;        ///< PSD/symmetry/agreement misses where an intermediate underflowed
-  unsigned long long exact_compared = 0;           ///< exact vs numerical comparisons made (both finite)
-  unsigned long long exact_basis_defect = 0;       ///< of which the frame's basis was not orthonormal to 1024 ε
+  unsigned long long feature[2][4] = {};        ///< closest feature (vf, ee) × `pce::Feature` of the ok evaluations
+  unsigned long long signed_rejected = 0;       ///< SignedLength requests checked to give invalid_input
+  unsigned long long active = 0;                ///< ok with ψ″ or ψ′ nonzero (penalty active)
+  unsigned long long psd_checks = 0;            ///< projected Hessians checked for PSD-ness
+  unsigned long long projection_overflow = 0;   ///< lower-level projection not finite (evaluate: overflow)
+  unsigned long long eig_no_convergence = 0;    ///< the checker's long double eigensolver gave up
+  unsigned long long psd_checks_underflow = 0;  ///< of which an intermediate underflowed
+  unsigned long long underflow_excused = 0;     ///< PSD/symmetry/agreement misses where an intermediate underflowed
+  unsigned long long exact_compared = 0;        ///< exact vs numerical comparisons made (both finite)
+  unsigned long long exact_basis_defect = 0;    ///< of which the frame's basis was not orthonormal to 1024 ε
   /// Worst λ_min(P)/scale seen (checks without underflow), per scalar (float, double, long double) and
   /// `PceFuzzCheck`; 0 when never negative.
   double worst_psd[3][pce_fuzz_checks] = {};

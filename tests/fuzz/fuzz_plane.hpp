@@ -110,8 +110,10 @@ template <class S> std::array<pce::Vec3<S>, 4> decode_points(Bytes& b, Layout la
     std::snprintf(buf, sizeof buf, "%s%d(%d,%d,%d)", o ? " " : "", op, i, j, k);
     g_case.ops += buf;
     switch (op) {
-      case 0: p[i] = p[j]; break;  // exact duplicate
-      case 1: {                    // on the line through p[j], p[k], then off it by 10^-m
+      case 0:
+        p[i] = p[j];
+        break;   // exact duplicate
+      case 1: {  // on the line through p[j], p[k], then off it by 10^-m
         const S t = (b.u8() % 2) ? S(b.range(-2, 3)) / S(2) : S(b.sym() * 3);
         p[i] = p[j] + t * (p[k] - p[j]);
         if (b.u8() % 2) p[i] += offset<S>(b);
@@ -123,7 +125,9 @@ template <class S> std::array<pce::Vec3<S>, 4> decode_points(Bytes& b, Layout la
         p[i] = p[j] + u * (p[k] - p[j]) + S(b.sym() * 2) * (p[m] - p[j]);
         break;
       }
-      case 3: p[i] += offset<S>(b); break;  // perturb by 10^-m
+      case 3:
+        p[i] += offset<S>(b);
+        break;   // perturb by 10^-m
       case 4: {  // nearly parallel: p[i] − p[i^1] ∥ p[j] − p[k], up to 10^-m
         const int i2 = (i ^ 1) % npts;
         const S u = S(b.sym() * 2);
@@ -141,8 +145,12 @@ template <class S> std::array<pce::Vec3<S>, 4> decode_points(Bytes& b, Layout la
         for (auto& q : p) q += off;
         break;
       }
-      case 7: p[i][c] = special<S>(b); break;
-      case 8: std::swap(p[i], p[j]); break;
+      case 7:
+        p[i][c] = special<S>(b);
+        break;
+      case 8:
+        std::swap(p[i], p[j]);
+        break;
       case 9: {  // rotate: no coordinate stays exact
         const S angle = S(b.sym() * 3.2);
         const Eigen::AngleAxis<S> R(angle, axis<S>(b));
@@ -164,8 +172,6 @@ template <class S> std::array<pce::Vec3<S>, 4> decode_points(Bytes& b, Layout la
   return p;
 }
 
-
-
 // ---------------------------------------------------------------------------------------
 // Checks on a set of projections.
 
@@ -175,8 +181,9 @@ long double max_abs(const LdMat& M) { return M.cwiseAbs().maxCoeff(); }
 long double max2(long double a, long double b) { return a > b ? a : b; }
 
 const char* check_name(int c) {
-  static const char* names[pce_fuzz_checks] = {"analytic", "numerical",      "gauss_newton",           "abs",
-                                               "exact",    "abs - analytic", "analytic - gauss_newton", "exact - hessian"};
+  static const char* names[pce_fuzz_checks] = {
+      "analytic",       "numerical", "gauss_newton", "abs", "exact", "abs - analytic", "analytic - gauss_newton",
+      "exact - hessian"};
   return names[c];
 }
 
@@ -247,7 +254,8 @@ template <class S> void check_projection_set(const ProjectionSet& ps) {
   if (fin[5]) check_psd<S>(P[5], fin[0] ? max2(sc[5], sc[0]) : sc[5], pce_fuzz_check_exact, uf[5]);
   // The Loewner orderings the definitions give: abs ⪰ analytic ⪰ gauss_newton, and
   // exact − H = Q max(−S, 0) Qᵀ ⪰ 0 (for H = Q S Qᵀ, whether or not Q is orthonormal).
-  if (fin[4] && fin[1]) check_psd<S>(P[4] - P[1], max2(sc[4], sc[1]), pce_fuzz_check_abs_minus_analytic, uf[4] || uf[1]);
+  if (fin[4] && fin[1])
+    check_psd<S>(P[4] - P[1], max2(sc[4], sc[1]), pce_fuzz_check_abs_minus_analytic, uf[4] || uf[1]);
   if (fin[1] && fin[3]) check_psd<S>(P[1] - P[3], max2(sc[1], sc[3]), pce_fuzz_check_analytic_minus_gn, uf[1] || uf[3]);
   if (fin[5] && fin[0]) check_psd<S>(P[5] - P[0], max2(sc[5], sc[0]), pce_fuzz_check_exact_minus_hessian, uf[5]);
   // exact and numerical are the same matrix up to rounding and up to the frame basis'
@@ -272,18 +280,19 @@ template <class S> void check_projection_set(const ProjectionSet& ps) {
           if (double(ratio) > st.worst_exact_vs_numerical[si]) st.worst_exact_vs_numerical[si] = double(ratio);
           if (16 * ps.basis_defect <= tol && double(ratio) > st.worst_exact_vs_numerical_orthonormal[si])
             st.worst_exact_vs_numerical_orthonormal[si] = double(ratio);
-          if (ratio > tol && ps.basis_defect > 0 && double((ratio - tol) / ps.basis_defect) > st.worst_exact_per_defect[si])
+          if (ratio > tol && ps.basis_defect > 0 &&
+              double((ratio - tol) / ps.basis_defect) > st.worst_exact_per_defect[si])
             st.worst_exact_per_defect[si] = double((ratio - tol) / ps.basis_defect);
         }
-        PCE_FUZZ_CHECK(ratio <= bound,
-                       "exact differs from numerical: |P_exact - P_numerical|_F / scale = %.3Le > 1024 eps + 16 delta = %.3Le "
-                       "(basis defect delta = %.3Le)",
-                       ratio, bound, ps.basis_defect);
+        PCE_FUZZ_CHECK(
+            ratio <= bound,
+            "exact differs from numerical: |P_exact - P_numerical|_F / scale = %.3Le > 1024 eps + 16 delta = %.3Le "
+            "(basis defect delta = %.3Le)",
+            ratio, bound, ps.basis_defect);
       }
     }
   }
 }
-
 
 // ---------------------------------------------------------------------------------------
 // The plane kinds.
@@ -322,7 +331,8 @@ template <class S> void check_lower_level(const pce::PairEnergy<S>& e, LowerLeve
   out.core_finite = finite(g) && finite(H) && finite(eig.values) && finite(e.length);
 
   // evaluate() tests only the eigenvalues for overflow: finite values must imply finite vectors.
-  PCE_FUZZ_CHECK(!finite(eig.values) || finite(eig.vectors), "eigensystem: finite eigenvalues but a non-finite eigenvector");
+  PCE_FUZZ_CHECK(!finite(eig.values) || finite(eig.vectors),
+                 "eigensystem: finite eigenvalues but a non-finite eigenvector");
   PCE_FUZZ_CHECK(same_values(out.P[0], H) || !finite(H), "projection none differs from energy_hessian");
   if (finite(eig.values)) {
     int zeros = 0;
@@ -340,9 +350,9 @@ template <class S> void check_lower_level(const pce::PairEnergy<S>& e, LowerLeve
   check_projection_set<S>(ps);
 }
 
-template <class S, class Pair, class Length, class Penalty>
-void check_case(const pce::Vec12<S>& x, const Length& len, const Penalty& pen, bool barrier, double eps_or_dhat,
-                pce::Projection proj) {
+template <class S, class Pair, class Length, class Penalty> void check_case(const pce::Vec12<S>& x, const Length& len,
+                                                                            const Penalty& pen, bool barrier,
+                                                                            double eps_or_dhat, pce::Projection proj) {
   using pce::Status;
   PceFuzzStats& st = pce_fuzz_stats();
 
@@ -365,8 +375,8 @@ void check_case(const pce::Vec12<S>& x, const Length& len, const Penalty& pen, b
     PCE_FUZZ_CHECK(fs == Status::invalid_input, "frame: coordinate %s but status %s",
                    nonfinite ? "NaN/Inf" : "beyond max_coordinate", pce::to_string(fs));
   else
-    PCE_FUZZ_CHECK(fs == Status::ok || fs == Status::degenerate || fs == Status::overflow, "frame: valid coordinates but status %s",
-                   pce::to_string(fs));
+    PCE_FUZZ_CHECK(fs == Status::ok || fs == Status::degenerate || fs == Status::overflow,
+                   "frame: valid coordinates but status %s", pce::to_string(fs));
   if (fs != Status::ok) {
     PCE_FUZZ_CHECK(fsnap.unchanged(f), "frame: status %s but the output was written", pce::to_string(fs));
   } else {
@@ -407,7 +417,8 @@ void check_case(const pce::Vec12<S>& x, const Length& len, const Penalty& pen, b
   } else {
     PCE_FUZZ_CHECK(finite(e.length) && finite(e.psi.value) && finite(e.psi.first) && finite(e.psi.second),
                    "pair_energy: status ok but L = %.17Lg, psi = %.17Lg, psi' = %.17Lg, psi'' = %.17Lg",
-                   (long double)e.length, (long double)e.psi.value, (long double)e.psi.first, (long double)e.psi.second);
+                   (long double)e.length, (long double)e.psi.value, (long double)e.psi.first,
+                   (long double)e.psi.second);
     PCE_FUZZ_CHECK(e.length == L && (e.sigma == S(1) || e.sigma == S(-1)), "pair_energy: length or sigma inconsistent");
     PCE_FUZZ_CHECK(e.frame.l == f.l && same_values(e.frame.P, f.P) && same_values(e.frame.n, f.n),
                    "pair_energy: frame differs from Pair::frame");
@@ -438,14 +449,17 @@ void check_case(const pce::Vec12<S>& x, const Length& len, const Penalty& pen, b
   const Snapshot<pce::PairResult<S>> rsnap(r);
   const Status es = pce::evaluate<Pair>(x, len, pen, proj, r);
   ++st.status[static_cast<int>(es)];
-  ++st.kind_status[std::is_same<Pair, pce::EdgeEdge>::value ? pce_fuzz_edge_edge : pce_fuzz_vertex_face][static_cast<int>(es)];
-  if (nonfinite) PCE_FUZZ_CHECK(es == Status::invalid_input, "evaluate: NaN/Inf coordinate but status %s", pce::to_string(es));
+  ++st.kind_status[std::is_same<Pair, pce::EdgeEdge>::value ? pce_fuzz_edge_edge : pce_fuzz_vertex_face]
+                  [static_cast<int>(es)];
+  if (nonfinite)
+    PCE_FUZZ_CHECK(es == Status::invalid_input, "evaluate: NaN/Inf coordinate but status %s", pce::to_string(es));
   if (ps != Status::ok) {
     PCE_FUZZ_CHECK(es == ps, "evaluate: status %s, pair_energy status %s", pce::to_string(es), pce::to_string(ps));
   } else {
     const bool all = core_finite && finite(P[static_cast<int>(proj)]);
     PCE_FUZZ_CHECK(es == (all ? Status::ok : Status::overflow),
-                   "evaluate: status %s but the lower-level outputs are %sfinite", pce::to_string(es), all ? "" : "not ");
+                   "evaluate: status %s but the lower-level outputs are %sfinite", pce::to_string(es),
+                   all ? "" : "not ");
   }
   if (es != Status::ok) {
     PCE_FUZZ_CHECK(rsnap.unchanged(r), "evaluate: status %s but the output was written", pce::to_string(es));
@@ -498,8 +512,9 @@ template <class S> void run_scalar(Bytes& b) {
   g_case.scalar = scalar_name<S>();
   // Half of the inputs are plane kinds (their frames have the most hard cases), an eighth
   // each point_edge, point_point and the two closest-feature candidates.
-  static constexpr int kinds[8] = {pce_fuzz_vertex_face, pce_fuzz_vertex_face, pce_fuzz_edge_edge, pce_fuzz_edge_edge,
-                                   pce_fuzz_point_edge,  pce_fuzz_point_point, pce_fuzz_closest_vf, pce_fuzz_closest_ee};
+  static constexpr int kinds[8] = {pce_fuzz_vertex_face, pce_fuzz_vertex_face, pce_fuzz_edge_edge,
+                                   pce_fuzz_edge_edge,   pce_fuzz_point_edge,  pce_fuzz_point_point,
+                                   pce_fuzz_closest_vf,  pce_fuzz_closest_ee};
   const int kind = kinds[b.u8() % 8];
   if (kind != pce_fuzz_vertex_face && kind != pce_fuzz_edge_edge) {
     run_new_kind<S>(b, kind);

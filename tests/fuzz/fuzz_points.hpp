@@ -96,7 +96,8 @@ template <class S, class Pair> void check_point_frame(PointCase<S, Pair>& c) {
     PCE_FUZZ_CHECK(fs == Status::ok || fs == Status::degenerate, "frame: valid coordinates but status %s",
                    pce::to_string(fs));
   }
-  if (fs != Status::ok) PCE_FUZZ_CHECK(fsnap.unchanged(c.f), "frame: status %s but the output was written", pce::to_string(fs));
+  if (fs != Status::ok)
+    PCE_FUZZ_CHECK(fsnap.unchanged(c.f), "frame: status %s but the output was written", pce::to_string(fs));
   if (c.invalid_coords) return;
 
   if constexpr (pe) {
@@ -113,8 +114,9 @@ template <class S, class Pair> void check_point_frame(PointCase<S, Pair>& c) {
     // degenerate: e × r vanishes in the rescaled coordinates, so the points are collinear to
     // within the rounding of one cross product.
     if (fs == Status::degenerate && !underflow)
-      PCE_FUZZ_CHECK(er <= 64 * eps * en * rn, "point_edge frame: degenerate but |e x r| = %.6Le > 64 eps |e||r| = %.6Le (scaled)",
-                     er, 64 * eps * en * rn);
+      PCE_FUZZ_CHECK(er <= 64 * eps * en * rn,
+                     "point_edge frame: degenerate but |e x r| = %.6Le > 64 eps |e||r| = %.6Le (scaled)", er,
+                     64 * eps * en * rn);
     // overflow: only for a point beyond the scalar's range relative to the edge, where |e × r|
     // in coordinates rescaled by the edge overflows (|r|/|e| beyond about sqrt(max)).
     if (fs == Status::overflow) {
@@ -124,11 +126,11 @@ template <class S, class Pair> void check_point_frame(PointCase<S, Pair>& c) {
     }
     if (fs == Status::ok) {
       const Frame& f = c.f;
-      PCE_FUZZ_CHECK(finite(f.P) && finite(f.t) && finite(f.u) && finite(f.n) && finite(f.d) && finite(f.a) &&
-                         finite(f.beta),
-                     "point_edge frame: status ok but a non-finite member");
-      PCE_FUZZ_CHECK(f.d > S(0) && f.a > S(0), "point_edge frame: status ok but d = %.17Lg, a = %.17Lg", (long double)f.d,
-                       (long double)f.a);
+      PCE_FUZZ_CHECK(
+          finite(f.P) && finite(f.t) && finite(f.u) && finite(f.n) && finite(f.d) && finite(f.a) && finite(f.beta),
+          "point_edge frame: status ok but a non-finite member");
+      PCE_FUZZ_CHECK(f.d > S(0) && f.a > S(0), "point_edge frame: status ok but d = %.17Lg, a = %.17Lg",
+                     (long double)f.d, (long double)f.a);
       PCE_FUZZ_CHECK(f.P(0, 0) == S(0) && f.P(0, 1) == S(-1) && f.P(0, 2) == S(1) && f.P(1, 0) == S(1) &&
                          f.P(1, 1) == S(S(-1) + f.beta) && f.P(1, 2) == -f.beta,
                      "point_edge frame: P is not (0, -1, 1; 1, -1 + beta, -beta)");
@@ -145,18 +147,21 @@ template <class S, class Pair> void check_point_frame(PointCase<S, Pair>& c) {
       if (!basis_ok && underflow)
         ++pce_fuzz_stats().underflow_excused;
       else
-        PCE_FUZZ_CHECK(basis_ok, "point_edge frame: (t, u, n) not a right-handed orthonormal basis: defect %.3Le > 64 eps (1/sin = %.3Le)",
-                       defect, cond);
+        PCE_FUZZ_CHECK(
+            basis_ok,
+            "point_edge frame: (t, u, n) not a right-handed orthonormal basis: defect %.3Le > 64 eps (1/sin = %.3Le)",
+            defect, cond);
       if (!underflow) {
         // d = |e × r|/|e| to within the rounding of the differences and of one cross
         // product (absolute ε|r|); û points from the line to p; a = |e|; β = r·e/|e|².
         const long double d = down(static_cast<long double>(f.d), k), a = down(static_cast<long double>(f.a), k);
         const long double dref = er / en;
-        PCE_FUZZ_CHECK(std::fabs(d - dref) <= 64 * eps * rn, "point_edge frame: d = %.17Lg but |e x r|/|e| = %.17Lg (scaled)", d,
-                       dref);
-        PCE_FUZZ_CHECK(std::fabs(u.dot(r) - d) <= 64 * eps * rn, "point_edge frame: u . r = %.17Lg differs from d = %.17Lg (scaled)",
-                       u.dot(r), d);
-        PCE_FUZZ_CHECK(std::fabs(a - en) <= 16 * eps * en, "point_edge frame: a = %.17Lg but |e| = %.17Lg (scaled)", a, en);
+        PCE_FUZZ_CHECK(std::fabs(d - dref) <= 64 * eps * rn,
+                       "point_edge frame: d = %.17Lg but |e x r|/|e| = %.17Lg (scaled)", d, dref);
+        PCE_FUZZ_CHECK(std::fabs(u.dot(r) - d) <= 64 * eps * rn,
+                       "point_edge frame: u . r = %.17Lg differs from d = %.17Lg (scaled)", u.dot(r), d);
+        PCE_FUZZ_CHECK(std::fabs(a - en) <= 16 * eps * en, "point_edge frame: a = %.17Lg but |e| = %.17Lg (scaled)", a,
+                       en);
         const long double bref = r.dot(e) / en / en;
         PCE_FUZZ_CHECK(std::fabs(static_cast<long double>(f.beta) - bref) <= 64 * eps * (rn / en + 1),
                        "point_edge frame: beta = %.17Lg but r.e/|e|^2 = %.17Lg", (long double)f.beta, bref);
@@ -185,7 +190,8 @@ template <class S, class Pair> void check_point_frame(PointCase<S, Pair>& c) {
         PCE_FUZZ_CHECK(basis_ok, "point_point frame: (u, v, w) not a right-handed orthonormal basis (%.3Le)", defect);
       if (!underflow) {
         const long double d = down(static_cast<long double>(f.d), k);
-        PCE_FUZZ_CHECK(std::fabs(d - en) <= 16 * eps * en, "point_point frame: d = %.17Lg but |p - q| = %.17Lg (scaled)", d, en);
+        PCE_FUZZ_CHECK(std::fabs(d - en) <= 16 * eps * en,
+                       "point_point frame: d = %.17Lg but |p - q| = %.17Lg (scaled)", d, en);
         PCE_FUZZ_CHECK((u - e / en).cwiseAbs().maxCoeff() <= 16 * eps, "point_point frame: u is not (p - q)/|p - q|");
       }
     }
@@ -193,9 +199,9 @@ template <class S, class Pair> void check_point_frame(PointCase<S, Pair>& c) {
 }
 
 /// `pair_energy` (unsigned): statuses, no write, and on ok the lower-level outputs.
-template <class S, class Pair>
-void check_point_energy(PointCase<S, Pair>& c, const Snapshot<typename PointCase<S, Pair>::Energy>& esnap,
-                        PointLower<S, Pair>& low) {
+template <class S, class Pair> void check_point_energy(PointCase<S, Pair>& c,
+                                                       const Snapshot<typename PointCase<S, Pair>::Energy>& esnap,
+                                                       PointLower<S, Pair>& low) {
   PceFuzzStats& st = pce_fuzz_stats();
   constexpr bool pe = std::is_same<Pair, pce::PointEdge>::value;
   constexpr int F = Pair::frame_dofs;
@@ -204,7 +210,8 @@ void check_point_energy(PointCase<S, Pair>& c, const Snapshot<typename PointCase
     PCE_FUZZ_CHECK(ps == Status::invalid_input, "pair_energy: %s but status %s",
                    !c.valid ? "invalid penalty parameters" : "invalid coordinates", pce::to_string(ps));
   } else if (c.fs != Status::ok) {
-    PCE_FUZZ_CHECK(ps == c.fs, "pair_energy: frame status %s but pair_energy status %s", pce::to_string(c.fs), pce::to_string(ps));
+    PCE_FUZZ_CHECK(ps == c.fs, "pair_energy: frame status %s but pair_energy status %s", pce::to_string(c.fs),
+                   pce::to_string(ps));
   } else if (!c.psi_checked) {
     PCE_FUZZ_CHECK(ps == Status::out_of_domain, "pair_energy: log barrier at L = %.17Lg <= 0 but status %s",
                    (long double)c.f.d, pce::to_string(ps));
@@ -212,15 +219,16 @@ void check_point_energy(PointCase<S, Pair>& c, const Snapshot<typename PointCase
     PCE_FUZZ_CHECK(ps == (c.psi_finite ? Status::ok : Status::overflow), "pair_energy: status %s, psi %s finite",
                    pce::to_string(ps), c.psi_finite ? "is" : "is not");
   }
-  if (ps == Status::out_of_domain) PCE_FUZZ_CHECK(c.barrier, "pair_energy: out_of_domain for a penalty defined everywhere");
+  if (ps == Status::out_of_domain)
+    PCE_FUZZ_CHECK(c.barrier, "pair_energy: out_of_domain for a penalty defined everywhere");
   if (ps != Status::ok) {
     PCE_FUZZ_CHECK(esnap.unchanged(c.e), "pair_energy: status %s but the output was written", pce::to_string(ps));
     return;
   }
   const auto& e = c.e;
   PCE_FUZZ_CHECK(finite(e.length) && finite(e.psi.value) && finite(e.psi.first) && finite(e.psi.second),
-                 "pair_energy: status ok but L = %.17Lg, psi = %.17Lg, psi' = %.17Lg, psi'' = %.17Lg", (long double)e.length,
-                 (long double)e.psi.value, (long double)e.psi.first, (long double)e.psi.second);
+                 "pair_energy: status ok but L = %.17Lg, psi = %.17Lg, psi' = %.17Lg, psi'' = %.17Lg",
+                 (long double)e.length, (long double)e.psi.value, (long double)e.psi.first, (long double)e.psi.second);
   PCE_FUZZ_CHECK(e.length >= S(0), "unsigned length negative: %.17Lg", (long double)e.length);
   PCE_FUZZ_CHECK(e.length == c.f.d && e.frame.d == c.f.d && same_values(e.frame.u, c.f.u),
                  "pair_energy: length or frame differs from Pair::frame");
@@ -244,7 +252,8 @@ void check_point_energy(PointCase<S, Pair>& c, const Snapshot<typename PointCase
   low.core_finite = finite(low.g) && finite(low.H) && finite(low.eig.values) && finite(e.length);
 
   const auto& eig = low.eig;
-  PCE_FUZZ_CHECK(!finite(eig.values) || finite(eig.vectors), "eigensystem: finite eigenvalues but a non-finite eigenvector");
+  PCE_FUZZ_CHECK(!finite(eig.values) || finite(eig.vectors),
+                 "eigensystem: finite eigenvalues but a non-finite eigenvector");
   PCE_FUZZ_CHECK(same_values(low.P[0], low.H) || !finite(low.H), "projection none differs from energy_hessian");
   if (finite(eig.values)) {
     for (int i = 0; i + 1 < F; ++i)
@@ -274,20 +283,23 @@ void check_point_energy(PointCase<S, Pair>& c, const Snapshot<typename PointCase
       const long double target = static_cast<long double>(e.psi.first) / static_cast<long double>(e.frame.a);
       const long double want = -target * target, got = rest[0] * rest[1];
       if (!underflow && want != 0 && std::isfinite(want) && std::isfinite(got))
-        PCE_FUZZ_CHECK(std::fabs(got - want) <= psd_tolerance<S>() * std::fabs(want),
-                       "point_edge eigensystem: psi' lambda_big * psi' lambda_small = %.17Lg, expected -(psi'/a)^2 = %.17Lg", got,
-                       want);
+        PCE_FUZZ_CHECK(
+            std::fabs(got - want) <= psd_tolerance<S>() * std::fabs(want),
+            "point_edge eigensystem: psi' lambda_big * psi' lambda_small = %.17Lg, expected -(psi'/a)^2 = %.17Lg", got,
+            want);
     } else {
       // {ψ″, ψ′/d, ψ′/d}
-      PCE_FUZZ_CHECK(take(psi2) && take(curv) && take(curv),
-                     "point_point eigensystem: {%.17Lg, %.17Lg, %.17Lg} is not {psi'', psi'/d, psi'/d} = {%.17Lg, %.17Lg}",
-                     (long double)eig.values[0], (long double)eig.values[1], (long double)eig.values[2], (long double)psi2,
-                     (long double)curv);
+      PCE_FUZZ_CHECK(
+          take(psi2) && take(curv) && take(curv),
+          "point_point eigensystem: {%.17Lg, %.17Lg, %.17Lg} is not {psi'', psi'/d, psi'/d} = {%.17Lg, %.17Lg}",
+          (long double)eig.values[0], (long double)eig.values[1], (long double)eig.values[2], (long double)psi2,
+          (long double)curv);
     }
   }
   if constexpr (!pe) {
     // J = (1, −1) ⊗ I3 has orthogonal rows: the frame-space clamp is the nearest PSD matrix.
-    PCE_FUZZ_CHECK(same_values(low.P[static_cast<int>(pce::Projection::analytic)], low.P[static_cast<int>(pce::Projection::exact)]),
+    PCE_FUZZ_CHECK(same_values(low.P[static_cast<int>(pce::Projection::analytic)],
+                               low.P[static_cast<int>(pce::Projection::exact)]),
                    "point_point: analytic and exact differ");
   }
   check_projection_set<S>(ps_set);
@@ -295,9 +307,9 @@ void check_point_energy(PointCase<S, Pair>& c, const Snapshot<typename PointCase
 
 /// `evaluate`: its status follows pair_energy's and the finiteness of the lower-level
 /// outputs; no write on failure; on ok it equals them.
-template <class S, class Pair>
-void check_point_evaluate(const PointCase<S, Pair>& c, const Snapshot<typename PointCase<S, Pair>::Result>& rsnap,
-                          const PointLower<S, Pair>& low) {
+template <class S, class Pair> void check_point_evaluate(const PointCase<S, Pair>& c,
+                                                         const Snapshot<typename PointCase<S, Pair>::Result>& rsnap,
+                                                         const PointLower<S, Pair>& low) {
   PceFuzzStats& st = pce_fuzz_stats();
   const Status es = c.es;
   ++st.status[static_cast<int>(es)];
@@ -307,16 +319,17 @@ void check_point_evaluate(const PointCase<S, Pair>& c, const Snapshot<typename P
     PCE_FUZZ_CHECK(es == c.ps, "evaluate: status %s, pair_energy status %s", pce::to_string(es), pce::to_string(c.ps));
   } else {
     const bool all = low.core_finite && finite(low.P[pi]);
-    PCE_FUZZ_CHECK(es == (all ? Status::ok : Status::overflow), "evaluate: status %s but the lower-level outputs are %sfinite",
-                   pce::to_string(es), all ? "" : "not ");
+    PCE_FUZZ_CHECK(es == (all ? Status::ok : Status::overflow),
+                   "evaluate: status %s but the lower-level outputs are %sfinite", pce::to_string(es),
+                   all ? "" : "not ");
   }
   const auto& r = c.r;
   if (es != Status::ok) {
     PCE_FUZZ_CHECK(rsnap.unchanged(r), "evaluate: status %s but the output was written", pce::to_string(es));
     return;
   }
-  PCE_FUZZ_CHECK(finite(r.length) && finite(r.value) && finite(r.gradient) && finite(r.hessian) && finite(r.projected_hessian) &&
-                     finite(r.eigen.values) && finite(r.eigen.vectors),
+  PCE_FUZZ_CHECK(finite(r.length) && finite(r.value) && finite(r.gradient) && finite(r.hessian) &&
+                     finite(r.projected_hessian) && finite(r.eigen.values) && finite(r.eigen.vectors),
                  "evaluate: status ok but a non-finite output");
   PCE_FUZZ_CHECK(r.length >= S(0), "evaluate: unsigned length negative");
   PCE_FUZZ_CHECK(r.length == c.e.length && r.value == c.e.psi.value && same_values(r.gradient, low.g) &&

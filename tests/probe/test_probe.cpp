@@ -99,16 +99,16 @@ std::string coordinates(const X& x) {
 /// One request line; `extra` is appended inside the object (e.g. `,"scalar":"float"`).
 std::string request(const std::string& pair, const std::string& length, const std::string& penalty, const X& x,
                     const std::string& extra = "") {
-  return R"({"pair":")" + pair + R"(","length":")" + length + R"(","penalty":)" + penalty +
-         R"(,"x":)" + coordinates(x) + extra + "}\n";
+  return R"({"pair":")" + pair + R"(","length":")" + length + R"(","penalty":)" + penalty + R"(,"x":)" +
+         coordinates(x) + extra + "}\n";
 }
 
 const std::string quadratic = R"({"type":"quadratic","stiffness":3.5,"eps":0.25})";
 const std::string log_barrier = R"({"type":"log_barrier","stiffness":2,"dhat":0.1})";
 
 /// A vertex 0.1234… above a generic triangle (coordinates with many significant digits).
-const X vertex_face_x = {0.3141592653589793,  0.2718281828459045, 0.12345678901234567, 0.01, -0.02, 0.003,
-                         1.1, 0.1, -0.05, 0.2, 0.9, 0.07};
+const X vertex_face_x = {
+    0.3141592653589793, 0.2718281828459045, 0.12345678901234567, 0.01, -0.02, 0.003, 1.1, 0.1, -0.05, 0.2, 0.9, 0.07};
 /// Two skew edges 0.05 apart.
 const X edge_edge_x = {0, 0, 0, 1, 0.1, 0, 0.4, -0.5, 0.05, 0.6, 0.5, 0.05};
 /// Two parallel edges.
@@ -179,7 +179,8 @@ TEST(Probe, VertexFaceGradientMatchesLibraryBitForBit) {
   ASSERT_EQ(pce::pair_energy<pce::VertexFace>(to_vec<double>(vertex_face_x), pce::SignedLength{}, pen, e),
             pce::Status::ok);
   const pce::Vec12<double> g = pce::energy_gradient(e);
-  expect_same_bits(numbers_of(line, "gradient"), [&g](int i) { return g[i]; }, 12);
+  expect_same_bits(
+      numbers_of(line, "gradient"), [&g](int i) { return g[i]; }, 12);
 
   pce::PairResult<double> r;
   ASSERT_EQ(pce::evaluate<pce::VertexFace>(to_vec<double>(vertex_face_x), pce::SignedLength{}, pen,
@@ -189,7 +190,8 @@ TEST(Probe, VertexFaceGradientMatchesLibraryBitForBit) {
   EXPECT_EQ(bits(number_of(line, "value")), bits(r.value));
   expect_same_bits(numbers_of(line, "hessian"), row_major(r.hessian), 144);
   expect_same_bits(numbers_of(line, "projected_hessian"), row_major(r.projected_hessian), 144);
-  expect_same_bits(numbers_of(line, "eigenvalues"), [&r](int i) { return r.eigen.values[i]; }, 9);
+  expect_same_bits(
+      numbers_of(line, "eigenvalues"), [&r](int i) { return r.eigen.values[i]; }, 9);
 }
 
 TEST(Probe, FloatEdgeEdgeMatchesLibraryBitForBit) {
@@ -206,7 +208,8 @@ TEST(Probe, FloatEdgeEdgeMatchesLibraryBitForBit) {
   ASSERT_EQ(pce::evaluate<pce::EdgeEdge>(to_vec<float>(edge_edge_x), pce::UnsignedLength{}, pen,
                                          pce::Projection::numerical, r),
             pce::Status::ok);
-  expect_same_bits(numbers_of(line, "gradient"), [&r](int i) { return r.gradient[i]; }, 12);
+  expect_same_bits(
+      numbers_of(line, "gradient"), [&r](int i) { return r.gradient[i]; }, 12);
   expect_same_bits(numbers_of(line, "projected_hessian"), row_major(r.projected_hessian), 144);
 }
 
@@ -217,9 +220,9 @@ TEST(Probe, EveryProjectionAndScalarIsAcceptedInOrder) {
   int id = 0;
   for (const char* p : projections)
     for (const char* s : scalars)
-      input += request("vertex_face", "signed", quadratic, vertex_face_x,
-                       std::string(R"(,"projection":")") + p + R"(","scalar":")" + s + R"(","id":)" +
-                           std::to_string(id++));
+      input +=
+          request("vertex_face", "signed", quadratic, vertex_face_x,
+                  std::string(R"(,"projection":")") + p + R"(","scalar":")" + s + R"(","id":)" + std::to_string(id++));
   const ProbeRun run = run_probe(input);
   ASSERT_EQ(run.exit_code, 0);
   ASSERT_EQ(run.lines.size(), 15u);
@@ -359,9 +362,7 @@ const X sliver_x = {0.5, 0.005, 0.1, 0, 0, 0, 1, 0, 0, 0.5, 0.01, 0};
 /// A vertex above a zero-area (collinear) triangle.
 const X flat_x = {0.2, 0.3, 1, 0, 0, 0, 1, 0, 0, 2, 0, 0};
 
-std::string mollifier_threshold(double threshold) {
-  return R"(,"mollifier":{"threshold":)" + number(threshold) + "}";
-}
+std::string mollifier_threshold(double threshold) { return R"(,"mollifier":{"threshold":)" + number(threshold) + "}"; }
 
 /// The mollified response line with its extra members removed.
 std::string without_mollifier_fields(const std::string& line) {
@@ -421,8 +422,8 @@ TEST(ProbeMollifier, InTheBandTheEnergyIsReducedAndMatchesTheLibraryBitForBit) {
   ASSERT_EQ(run.exit_code, 0);
   ASSERT_EQ(run.lines.size(), 4u);
 
-  const auto check = [&](const std::string& plain, const std::string& line, auto pair, const X& x,
-                         const auto& length, double threshold) {
+  const auto check = [&](const std::string& plain, const std::string& line, auto pair, const X& x, const auto& length,
+                         double threshold) {
     using Pair = decltype(pair);
     const json p = parsed(plain), m = parsed(line);
     ASSERT_EQ(p["status"], "ok") << plain;
@@ -445,13 +446,15 @@ TEST(ProbeMollifier, InTheBandTheEnergyIsReducedAndMatchesTheLibraryBitForBit) {
     EXPECT_EQ(bits(number_of(line, "length")), bits(number_of(plain, "length")));
     EXPECT_EQ(bits(number_of(line, "value")), bits(e.value));
     const pce::Vec12<double> g = pce::energy_gradient(e);
-    expect_same_bits(numbers_of(line, "gradient"), [&g](int i) { return g[i]; }, 12);
+    expect_same_bits(
+        numbers_of(line, "gradient"), [&g](int i) { return g[i]; }, 12);
     const pce::Mat12<double> h = pce::energy_hessian(e);
     expect_same_bits(numbers_of(line, "hessian"), row_major(h), 144);
     const pce::Mat12<double> ph = pce::projected_hessian(e, pce::Projection::analytic);
     expect_same_bits(numbers_of(line, "projected_hessian"), row_major(ph), 144);
     const pce::FrameEigensystem<double> es = pce::energy_eigensystem(e);
-    expect_same_bits(numbers_of(line, "eigenvalues"), [&es](int i) { return es.values[i]; }, 9);
+    expect_same_bits(
+        numbers_of(line, "eigenvalues"), [&es](int i) { return es.values[i]; }, 9);
   };
   // Rest form with the default factor 1e-3: X̂ = 1e-3 |e0|²|e1|².
   check(run.lines[0], run.lines[1], pce::EdgeEdge{}, nearly_parallel_x, pce::UnsignedLength{},
@@ -595,8 +598,8 @@ std::string coordinates(const Coordinates& x) {
 /// One request line with any number of coordinates.
 std::string request(const std::string& pair, const std::string& length, const std::string& penalty,
                     const Coordinates& x, const std::string& extra = "") {
-  return R"({"pair":")" + pair + R"(","length":")" + length + R"(","penalty":)" + penalty +
-         R"(,"x":)" + coordinates(x) + extra + "}\n";
+  return R"({"pair":")" + pair + R"(","length":")" + length + R"(","penalty":)" + penalty + R"(,"x":)" +
+         coordinates(x) + extra + "}\n";
 }
 
 template <class Scalar, int N> pce::VecN<Scalar, N> to_vec(const Coordinates& x) {
@@ -630,8 +633,8 @@ const X beyond_corner_x = {-0.3, -0.4, 1.2, 0, 0, 0, 1, 0, 0, 0, 1, 0};
 
 /// The ok response of `line` checked against `pce::evaluate<Pair>` bit for bit, with the
 /// sizes of the pair kind (Dofs gradient entries, Dofs² Hessian entries, FrameDofs eigenvalues).
-template <class Pair> void expect_matches_evaluate(const std::string& line, const Coordinates& x,
-                                                   pce::Projection projection) {
+template <class Pair>
+void expect_matches_evaluate(const std::string& line, const Coordinates& x, pce::Projection projection) {
   constexpr int n = Pair::dofs;
   const json r = parsed(line);
   ASSERT_EQ(r["status"], "ok") << line;
@@ -645,10 +648,12 @@ template <class Pair> void expect_matches_evaluate(const std::string& line, cons
             pce::Status::ok);
   EXPECT_EQ(bits(number_of(line, "length")), bits(lib.length));
   EXPECT_EQ(bits(number_of(line, "value")), bits(lib.value));
-  expect_same_bits(numbers_of(line, "gradient"), [&lib](int i) { return lib.gradient[i]; }, n);
+  expect_same_bits(
+      numbers_of(line, "gradient"), [&lib](int i) { return lib.gradient[i]; }, n);
   expect_same_bits(numbers_of(line, "hessian"), row_major(lib.hessian, n), n * n);
   expect_same_bits(numbers_of(line, "projected_hessian"), row_major(lib.projected_hessian, n), n * n);
-  expect_same_bits(numbers_of(line, "eigenvalues"), [&lib](int i) { return lib.eigen.values[i]; }, Pair::frame_dofs);
+  expect_same_bits(
+      numbers_of(line, "eigenvalues"), [&lib](int i) { return lib.eigen.values[i]; }, Pair::frame_dofs);
 }
 
 TEST(ProbePointKinds, PointEdgeHasTheLineDistanceAndNineCoordinates) {
@@ -753,10 +758,10 @@ TEST(ProbePointKinds, EveryProjectionAndScalarWorksAndExactIsTheNearestPsdMatrix
 }
 
 TEST(ProbePointKinds, ZeroDistanceIsDegenerate) {
-  const ProbeRun run = run_probe(
-      request("point_point", "unsigned", wide_quadratic, Coordinates{1, 2, 3, 1, 2, 3}) +
-      request("point_edge", "unsigned", wide_quadratic, Coordinates{0.5, 0, 0, -1, 0, 0, 2, 0, 0}) +
-      request("point_edge", "unsigned", wide_quadratic, Coordinates{0.5, 1, 0, 1, 1, 1, 1, 1, 1}));
+  const ProbeRun run =
+      run_probe(request("point_point", "unsigned", wide_quadratic, Coordinates{1, 2, 3, 1, 2, 3}) +
+                request("point_edge", "unsigned", wide_quadratic, Coordinates{0.5, 0, 0, -1, 0, 0, 2, 0, 0}) +
+                request("point_edge", "unsigned", wide_quadratic, Coordinates{0.5, 1, 0, 1, 1, 1, 1, 1, 1}));
   ASSERT_EQ(run.lines.size(), 3u);
   for (const std::string& line : run.lines) {
     const json r = parsed(line);
@@ -810,13 +815,15 @@ void expect_matches_closest_feature(const std::string& line, const pce::ClosestF
   EXPECT_EQ(bits(number_of(line, "length")), bits(e.length));
   EXPECT_EQ(bits(number_of(line, "value")), bits(e.psi.value));
   const pce::Vec12<double> g = pce::energy_gradient(e);
-  expect_same_bits(numbers_of(line, "gradient"), [&g](int i) { return g[i]; }, 12);
+  expect_same_bits(
+      numbers_of(line, "gradient"), [&g](int i) { return g[i]; }, 12);
   const pce::Mat12<double> h = pce::energy_hessian(e);
   expect_same_bits(numbers_of(line, "hessian"), row_major(h), 144);
   const pce::Mat12<double> ph = pce::projected_hessian(e, projection);
   expect_same_bits(numbers_of(line, "projected_hessian"), row_major(ph), 144);
   const auto ev = pce::feature_eigenvalues(e);
-  expect_same_bits(numbers_of(line, "eigenvalues"), [&ev](int i) { return ev.values[i]; }, ev.count);
+  expect_same_bits(
+      numbers_of(line, "eigenvalues"), [&ev](int i) { return ev.values[i]; }, ev.count);
 }
 
 TEST(ProbeClosestFeature, VertexBeyondACornerIsPointPointOnAllTwelveCoordinates) {
@@ -910,17 +917,17 @@ TEST(ProbeClosestFeature, PlaneFeaturesEqualThePlainUnsignedResponse) {
 
 TEST(ProbeClosestFeature, EveryProjectionAndScalarWorks) {
   const char* projections[] = {"analytic", "numerical", "exact", "gauss_newton", "abs", "none"};
-  const pce::Projection strategies[] = {pce::Projection::analytic,     pce::Projection::numerical,
-                                        pce::Projection::exact,        pce::Projection::gauss_newton,
-                                        pce::Projection::abs,          pce::Projection::none};
+  const pce::Projection strategies[] = {pce::Projection::analytic, pce::Projection::numerical,
+                                        pce::Projection::exact,    pce::Projection::gauss_newton,
+                                        pce::Projection::abs,      pce::Projection::none};
   const char* scalars[] = {"double", "float", "long_double"};
   // Vertex beside the edge t1-t2 of the unit right triangle, 0.5 from it.
   const X beside_edge_x = {0.75, 0.75, std::sqrt(0.125), 0, 0, 0, 1, 0, 0, 0, 1, 0};
   std::string input;
   for (const char* p : projections)
     for (const char* s : scalars) {
-      const std::string extra = std::string(R"(,"closest_feature":true,"projection":")") + p +
-                                R"(","scalar":")" + s + "\"";
+      const std::string extra =
+          std::string(R"(,"closest_feature":true,"projection":")") + p + R"(","scalar":")" + s + "\"";
       input += request("vertex_face", "unsigned", wide_quadratic, beside_edge_x, extra);
       input += request("vertex_face", "unsigned", log_barrier, beyond_corner_x, extra);
       input += request("edge_edge", "unsigned", wide_quadratic, parallel_x, extra);
@@ -1011,10 +1018,10 @@ TEST(ProbeClosestFeature, BadRequestsAreInvalidRequestNamingTheField) {
 }
 
 TEST(ProbeExactProjection, VertexFaceExactAgreesWithNumerical) {
-  const ProbeRun run = run_probe(
-      request("vertex_face", "signed", quadratic, vertex_face_x, R"(,"projection":"exact")") +
-      request("vertex_face", "signed", quadratic, vertex_face_x, R"(,"projection":"numerical")") +
-      request("vertex_face", "signed", quadratic, vertex_face_x, R"(,"projection":"analytic")"));
+  const ProbeRun run =
+      run_probe(request("vertex_face", "signed", quadratic, vertex_face_x, R"(,"projection":"exact")") +
+                request("vertex_face", "signed", quadratic, vertex_face_x, R"(,"projection":"numerical")") +
+                request("vertex_face", "signed", quadratic, vertex_face_x, R"(,"projection":"analytic")"));
   ASSERT_EQ(run.exit_code, 0);
   ASSERT_EQ(run.lines.size(), 3u);
   const json r = parsed(run.lines[0]);

@@ -149,7 +149,8 @@ TEST_P(TreeBroadPhase, RebuildAfterTheTopologyChanges) {
   // Different sizes: 12×12, then 9×14, then back.
   for (int k = 0; k < 3; ++k) {
     const pce::sim::Mesh m = k == 1 ? crumpled(9, 20 + k) : crumpled(12, 20 + k);
-    expect_same(*bp, m.positions, m.triangles, pce::sim::unique_edges(m.triangles), 0.02, "size change " + std::to_string(k));
+    expect_same(*bp, m.positions, m.triangles, pce::sim::unique_edges(m.triangles), 0.02,
+                "size change " + std::to_string(k));
   }
   // Same counts, different indices: the triangles and edges of one cloth reversed in
   // order and the vertex numbering mirrored.
@@ -200,7 +201,8 @@ std::set<double> self_contact_distances(const std::filesystem::path& file) {
   const nlohmann::json j = nlohmann::json::parse(in);
   std::set<double> d;
   for (const auto& e : j.value("effects", nlohmann::json::array()))
-    if (e.value("type", "").rfind("self_", 0) == 0 && e.contains("penalty")) d.insert(e["penalty"].value("distance", 0.0));
+    if (e.value("type", "").rfind("self_", 0) == 0 && e.contains("penalty"))
+      d.insert(e["penalty"].value("distance", 0.0));
   return d;
 }
 
@@ -292,10 +294,12 @@ TEST_P(TreeBroadPhase, DISABLED_Timing) {
   Eigen::Matrix3Xd x = m.positions;
   std::mt19937_64 rng(6);
   std::uniform_real_distribution<double> u(-1e-3, 1e-3);
-  const double refit_vf = milliseconds([&] {
-    x = x.unaryExpr([&](double c) { return c + u(rng); });
-    bp->vertex_face(x, m.triangles, d, vf);
-  }, 5);
+  const double refit_vf = milliseconds(
+      [&] {
+        x = x.unaryExpr([&](double c) { return c + u(rng); });
+        bp->vertex_face(x, m.triangles, d, vf);
+      },
+      5);
   const double refit_ee = milliseconds([&] { bp->edge_edge(x, edges, d, ee); }, 5);
   Pairs bvf, bee;
   const double brute_vf_ms = milliseconds([&] { bvf = brute_vf(x, m.triangles, d); }, 1);
@@ -304,10 +308,10 @@ TEST_P(TreeBroadPhase, DISABLED_Timing) {
   EXPECT_TRUE(ee == bee);
   std::printf("crumpled 100x100 cloth: %td vertices, %td triangles, %td edges, distance %g\n", m.vertex_count(),
               m.triangles.cols(), edges.cols(), d);
-  std::printf("vertex-face: %zu pairs; %s first (build) %.1f ms, refit %.1f ms, brute force %.1f ms\n", bvf.size(), kind,
-              first_vf, refit_vf, brute_vf_ms);
-  std::printf("edge-edge:   %zu pairs; %s first (build) %.1f ms, refit %.1f ms, brute force %.1f ms\n", bee.size(), kind,
-              first_ee, refit_ee, brute_ee_ms);
+  std::printf("vertex-face: %zu pairs; %s first (build) %.1f ms, refit %.1f ms, brute force %.1f ms\n", bvf.size(),
+              kind, first_vf, refit_vf, brute_vf_ms);
+  std::printf("edge-edge:   %zu pairs; %s first (build) %.1f ms, refit %.1f ms, brute force %.1f ms\n", bee.size(),
+              kind, first_ee, refit_ee, brute_ee_ms);
 }
 
 INSTANTIATE_TEST_SUITE_P(Kinds, TreeBroadPhase, ::testing::Values(BroadPhaseKind::fcl, BroadPhaseKind::bullet),

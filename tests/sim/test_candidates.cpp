@@ -24,7 +24,8 @@ pce::sim::Mesh crumpled_cloth(unsigned seed) {
   pce::sim::Mesh m = pce::sim::grid(1.0, 1.0, 10, 10);
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
-  for (Eigen::Index v = 0; v < m.vertex_count(); ++v) m.positions.col(v) += Eigen::Vector3d(0.04 * u(rng), 0.04 * u(rng), 0.08 * u(rng));
+  for (Eigen::Index v = 0; v < m.vertex_count(); ++v)
+    m.positions.col(v) += Eigen::Vector3d(0.04 * u(rng), 0.04 * u(rng), 0.08 * u(rng));
   return m;
 }
 
@@ -45,7 +46,8 @@ TEST(BruteForceCandidates, EveryPairWithinTheDistanceAndNothingAdjacent) {
     const pce::sim::Candidates c = pce::sim::brute_force_candidates(m.positions, m.triangles, edges, d);
     EXPECT_TRUE(std::is_sorted(c.vertex_face.begin(), c.vertex_face.end()));
     EXPECT_TRUE(std::is_sorted(c.edge_edge.begin(), c.edge_edge.end()));
-    const std::set<std::array<int, 2>> vf(c.vertex_face.begin(), c.vertex_face.end()), ee(c.edge_edge.begin(), c.edge_edge.end());
+    const std::set<std::array<int, 2>> vf(c.vertex_face.begin(), c.vertex_face.end()),
+        ee(c.edge_edge.begin(), c.edge_edge.end());
     std::size_t vf_pairs = 0, ee_pairs = 0, vf_near = 0, ee_near = 0;
     for (int v = 0; v < m.vertex_count(); ++v)
       for (int t = 0; t < m.triangles.cols(); ++t) {
@@ -73,7 +75,8 @@ TEST(BruteForceCandidates, EveryPairWithinTheDistanceAndNothingAdjacent) {
         }
         ++ee_pairs;
         pce::Vec12<double> x;
-        x << m.positions.col(edges(0, a)), m.positions.col(edges(1, a)), m.positions.col(edges(0, b)), m.positions.col(edges(1, b));
+        x << m.positions.col(edges(0, a)), m.positions.col(edges(1, a)), m.positions.col(edges(0, b)),
+            m.positions.col(edges(1, b));
         if (distance(x, false) <= d) {
           ++ee_near;
           EXPECT_EQ(ee.count({a, b}), 1u) << "edges " << a << ", " << b << " within " << d << " missed";

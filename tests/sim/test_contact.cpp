@@ -33,7 +33,8 @@ std::unique_ptr<Scene> two_sheets(const json& contact, double gap) {
   return load_scene_text(j.dump(), "contact.json", PCE_TEST_TMP);
 }
 
-json contact(const char* type, const char* length, const char* hessian, bool closest, const char* penalty = "quadratic") {
+json contact(const char* type, const char* length, const char* hessian, bool closest,
+             const char* penalty = "quadratic") {
   json c = {{"type", type}, {"length", length}, {"hessian", hessian}, {"closest_features", closest}};
   c["penalty"] = {{"type", penalty}, {"stiffness", 50.0}, {"distance", 0.02}};
   return c;
@@ -164,8 +165,9 @@ TEST(Contact, PairsAreCountedOnlyForDeclaredKinds) {
 
 TEST(Contact, DeclaresExactlyThePairsActiveAtTheIterate) {
   const std::tuple<const char*, const char*, bool> kinds[] = {
-      {"self_vertex_face", "unsigned", false}, {"self_vertex_face", "signed", false}, {"self_vertex_face", "unsigned", true},
-      {"self_edge_edge", "unsigned", false},   {"self_edge_edge", "signed", false},   {"self_edge_edge", "unsigned", true}};
+      {"self_vertex_face", "unsigned", false}, {"self_vertex_face", "signed", false},
+      {"self_vertex_face", "unsigned", true},  {"self_edge_edge", "unsigned", false},
+      {"self_edge_edge", "signed", false},     {"self_edge_edge", "unsigned", true}};
   for (const auto& [type, length, closest] : kinds) {
     SCOPED_TRACE(std::string(type) + " " + length + (closest ? " closest" : " plane"));
     auto s = two_sheets(contact(type, length, "analytic", closest), 0.008);
@@ -199,9 +201,8 @@ TEST(Contact, DeclaresExactlyThePairsActiveAtTheIterate) {
 /// brute-force candidate at the query positions, minus same-mesh pairs closer than the
 /// query radius at rest, each limiting t to 0.9 D/(a + b) (D its closest-feature distance,
 /// a and b the largest motion on each primitive relative to the pair's mean motion).
-template <class Kind>
-double reference_step(const Scene& s, const std::vector<std::array<int, 2>>& pairs, const Eigen::Matrix3Xd& x,
-                      const Eigen::Matrix3Xd& dx, double radius) {
+template <class Kind> double reference_step(const Scene& s, const std::vector<std::array<int, 2>>& pairs,
+                                            const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, double radius) {
   const Model& m = s.simulation.model;
   const auto verts = [&](const std::array<int, 2>& c) -> std::array<int, 4> {
     if constexpr (std::is_same_v<Kind, pce::VertexFace>)
@@ -214,7 +215,8 @@ double reference_step(const Scene& s, const std::vector<std::array<int, 2>>& pai
     pce::Vec12<double> xp;
     for (int j = 0; j < 4; ++j) xp.segment<3>(3 * j) = at.col(v[static_cast<std::size_t>(j)]);
     pce::ClosestFeatureEnergy<double> ce;
-    const bool ok = pce::closest_feature_energy<Kind>(xp, pce::UnsignedLength{}, pce::QuadraticPenalty{1.0, 0.0}, ce) == pce::Status::ok;
+    const bool ok = pce::closest_feature_energy<Kind>(xp, pce::UnsignedLength{}, pce::QuadraticPenalty{1.0, 0.0}, ce) ==
+                    pce::Status::ok;
     return ok ? ce.length : -1.0;
   };
   // the candidate set stays valid (the query was made at x, so the drift is t dx): for the
@@ -279,7 +281,9 @@ TEST(Contact, StepNeverCarriesAVertexThroughAFaceThatWasNotACandidate) {
     // is taken whole (a sheet falling away from the others is not held back)
     auto far = two_sheets(contact(type, "unsigned", "analytic", true), 0.5);
     begin(*far);
-    EXPECT_EQ(far->simulation.effects[0]->max_step(far->simulation.x, lift_b(far->simulation.x, -0.2) - far->simulation.x), 1.0);
+    EXPECT_EQ(
+        far->simulation.effects[0]->max_step(far->simulation.x, lift_b(far->simulation.x, -0.2) - far->simulation.x),
+        1.0);
   }
 }
 
@@ -288,7 +292,7 @@ TEST(Contact, StepBoundEqualsTheBoundOverEveryCandidate) {
     for (int seed = 0; seed < 20; ++seed) {
       SCOPED_TRACE(std::string(type) + " seed " + std::to_string(seed));
       auto s = two_sheets(contact(type, "unsigned", "analytic", true), 0.008);  // ccd on by default
-      begin(*s);  // queried at the scene's positions
+      begin(*s);                                                                // queried at the scene's positions
       Effect& e = *s->simulation.effects[0];
       const Eigen::Matrix3Xd x = s->simulation.x;
       std::srand(static_cast<unsigned>(seed) + 1u);

@@ -38,7 +38,8 @@ Model cloth(int nx = 3, int ny = 3, double bump = 0.0, unsigned seed = 1) {
   model.triangles = m.triangles;
   model.edges = unique_edges(m.triangles);
   model.mass = Eigen::VectorXd::Ones(model.rest.cols());
-  model.meshes.push_back({"cloth", 0, static_cast<int>(m.vertex_count()), 0, static_cast<int>(m.triangles.cols()), 0, 0});
+  model.meshes.push_back(
+      {"cloth", 0, static_cast<int>(m.vertex_count()), 0, static_cast<int>(m.triangles.cols()), 0, 0});
   return model;
 }
 
@@ -202,7 +203,8 @@ TEST(Stretching, ZeroAtRestAndUnderRigidMotion) {
 TEST(Stretching, GradientMatchesFiniteDifferences) {
   const Model m = cloth(3, 3, 0.05);
   auto e = build(make_stretching, R"({"type":"stretching","model":"arap","stiffness":7})", m);
-  for (unsigned seed = 1; seed <= 4; ++seed) expect_gradient_matches(*e, perturbed(rigid(m.rest, 0.8 + 0.2 * seed), 0.1, seed));
+  for (unsigned seed = 1; seed <= 4; ++seed)
+    expect_gradient_matches(*e, perturbed(rigid(m.rest, 0.8 + 0.2 * seed), 0.1, seed));
 }
 
 TEST(Stretching, HessianIsExactWhenStretched) {
@@ -255,7 +257,7 @@ TEST(Stretching, DegenerateTrianglesStayFinite) {
   const Model m = cloth(2, 2);
   auto e = build(make_stretching, R"({"type":"stretching","stiffness":7})", m);
   Matrix3Xd line = m.rest;
-  line.row(1).setZero();  // every triangle flattened onto a line: σ₂ = 0
+  line.row(1).setZero();                                // every triangle flattened onto a line: σ₂ = 0
   Matrix3Xd point = Matrix3Xd::Zero(3, m.rest.cols());  // F = 0
   for (const Matrix3Xd& x : {line, point}) {
     EXPECT_TRUE(std::isfinite(energy(*e, x)));
@@ -368,7 +370,8 @@ TEST(StrandStretching, GradientHessianAndProjection) {
 
 TEST(StrandStretching, BadParameters) {
   const Model m = hair();
-  EXPECT_EQ(error_at(make_strand_stretching, R"({"type":"strand_stretching","stiffness":-3})", m), "effects[0].stiffness");
+  EXPECT_EQ(error_at(make_strand_stretching, R"({"type":"strand_stretching","stiffness":-3})", m),
+            "effects[0].stiffness");
   EXPECT_EQ(error_at(make_strand_stretching, R"({"type":"strand_stretching","k":3})", m), "effects[0].k");
 }
 
@@ -457,7 +460,8 @@ TEST(Pins, EnergyGradientHessianAndRelease) {
   e->begin_step(step);
   e->report(c);
   EXPECT_EQ(c["pinned_vertices"], 2);
-  EXPECT_NEAR(energy(*e, x), 50 * ((x.col(0) - m.rest.col(0)).squaredNorm() + (x.col(3) - m.rest.col(3)).squaredNorm()), 1e-12);
+  EXPECT_NEAR(energy(*e, x), 50 * ((x.col(0) - m.rest.col(0)).squaredNorm() + (x.col(3) - m.rest.col(3)).squaredNorm()),
+              1e-12);
   expect_hessian_matches(*e, x);
 }
 
@@ -476,8 +480,8 @@ TEST(Pins, MovingGroupFollowsItsMotionAtTheEndOfTheStep) {
     step.time = t;
     e->begin_step(step);
     Matrix3Xd g = Matrix3Xd::Zero(3, m.rest.cols());
-    e->evaluate(m.rest, &g, nullptr);  // at the rest shape, ∇ᵢE = k (x̄ᵢ − x̂ᵢ)
-    return Matrix3Xd(m.rest - g / 100.0);   // x̂ for pinned vertices
+    e->evaluate(m.rest, &g, nullptr);      // at the rest shape, ∇ᵢE = k (x̄ᵢ − x̂ᵢ)
+    return Matrix3Xd(m.rest - g / 100.0);  // x̂ for pinned vertices
   };
   Matrix3Xd x_hat = target_gradient(0.5);  // before start: the rest positions
   EXPECT_LT((x_hat - m.rest).norm(), 1e-15);
@@ -492,7 +496,8 @@ TEST(Pins, MovingGroupFollowsItsMotionAtTheEndOfTheStep) {
   expect_hessian_matches(*e, x);
   // an explicit centre
   auto c = build(make_pins, R"({"type":"pins","stiffness":100,"groups":[{"vertices":[0],
-                     "motion":{"angular_velocity":[0,0,3.141592653589793],"center":[0,0,0]}}]})", m);
+                     "motion":{"angular_velocity":[0,0,3.141592653589793],"center":[0,0,0]}}]})",
+                 m);
   step.time = 1.0;  // half a turn about z through the origin: (-0.5,-0.5) → (0.5,0.5)
   c->begin_step(step);
   Matrix3Xd g = Matrix3Xd::Zero(3, m.rest.cols());
@@ -519,15 +524,20 @@ TEST(Pins, MeshLocalIndicesAndDefaultStiffness) {
 
 TEST(Pins, BadParameters) {
   const Model m = cloth(1, 1);
-  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0,4]}]})", m), "effects[0].groups[0].vertices[1]");
-  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0]},{"box":{"min":[5,5,5],"max":[6,6,6]}}]})", m),
-            "effects[0].groups[1].box");
-  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","stiffness":-1,"groups":[{"vertices":[0]}]})", m), "effects[0].stiffness");
+  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0,4]}]})", m),
+            "effects[0].groups[0].vertices[1]");
+  EXPECT_EQ(
+      error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0]},{"box":{"min":[5,5,5],"max":[6,6,6]}}]})", m),
+      "effects[0].groups[1].box");
+  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","stiffness":-1,"groups":[{"vertices":[0]}]})", m),
+            "effects[0].stiffness");
   EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0],"release_frame":0}]})", m),
             "effects[0].groups[0].release_frame");
-  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0],"mesh":"nope"}]})", m), "effects[0].groups[0].mesh");
-  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0],"box":{"min":[0,0,0],"max":[1,1,1]}}]})", m),
-            "effects[0].groups[0].box");
+  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0],"mesh":"nope"}]})", m),
+            "effects[0].groups[0].mesh");
+  EXPECT_EQ(
+      error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0],"box":{"min":[0,0,0],"max":[1,1,1]}}]})", m),
+      "effects[0].groups[0].box");
   EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertex":[0]}]})", m), "effects[0].groups[0].vertex");
   EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"box":{"min":[1,0,0],"max":[0,1,1]}}]})", m),
             "effects[0].groups[0].box.max");
@@ -627,8 +637,10 @@ TEST(Effects, DISABLED_Timing) {
     const double t_gradient = seconds([&] { sink += e->evaluate(x, &g, nullptr); }, repeats);
     const double t_energy = seconds([&] { sink += e->evaluate(x, nullptr, nullptr); }, repeats);
     const double per = 1e9 / (repeats * elements);
-    std::printf("%s: %.0f elements, ns/element: energy+gradient+Hessian (assembled) %.1f, energy+gradient %.1f, energy %.1f (%g)\n",
-                which, elements, t_full * per, t_gradient * per, t_energy * per, sink);
+    std::printf(
+        "%s: %.0f elements, ns/element: energy+gradient+Hessian (assembled) %.1f, energy+gradient %.1f, energy %.1f "
+        "(%g)\n",
+        which, elements, t_full * per, t_gradient * per, t_energy * per, sink);
   }
 }
 

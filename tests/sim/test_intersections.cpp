@@ -41,7 +41,9 @@ long brute_force(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& t) {
   return count;
 }
 
-Eigen::Vector3i rotated(const Eigen::Vector3i& t, int r) { return Eigen::Vector3i(t[r % 3], t[(r + 1) % 3], t[(r + 2) % 3]); }
+Eigen::Vector3i rotated(const Eigen::Vector3i& t, int r) {
+  return Eigen::Vector3i(t[r % 3], t[(r + 1) % 3], t[(r + 2) % 3]);
+}
 
 /// The verdict on the pair (a, b) of vertices `x`, checked to be the same in both orders,
 /// for every rotation and both orientations of each triangle, and for the counting function.
@@ -69,13 +71,14 @@ Eigen::Matrix3Xd with_second(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
 }
 
 TEST(TrianglePair, Disjoint) {
-  EXPECT_FALSE(pair_verdict(with_second({0, 0, 1}, {1, 0, 1}, {0, 1, 1}), first, second));  // parallel
+  EXPECT_FALSE(pair_verdict(with_second({0, 0, 1}, {1, 0, 1}, {0, 1, 1}), first, second));           // parallel
   EXPECT_FALSE(pair_verdict(with_second({0.6, 0.6, -1}, {0.6, 0.6, 1}, {2, 2, 0}), first, second));  // beyond the edge
 }
 
 TEST(TrianglePair, Crossing) {
   EXPECT_TRUE(pair_verdict(with_second({0.2, 0.2, -1}, {0.3, 0.2, 1}, {0.2, 0.3, 1}), first, second));
-  EXPECT_TRUE(pair_verdict(with_second({-1, 0.2, -1}, {2, 0.2, -1}, {0.5, 0.2, 1}), first, second));  // edge through edge
+  EXPECT_TRUE(
+      pair_verdict(with_second({-1, 0.2, -1}, {2, 0.2, -1}, {0.5, 0.2, 1}), first, second));  // edge through edge
 }
 
 TEST(TrianglePair, TouchingCounts) {
@@ -101,17 +104,17 @@ Eigen::Matrix3Xd shared_edge(const Eigen::Vector3d& d) { return points({{0, 0, 0
 const Eigen::Vector3i edge_a(0, 1, 2), edge_b(1, 0, 3);
 
 TEST(SharedEdge, FlatAndFoldedDoNotCount) {
-  EXPECT_FALSE(pair_verdict(shared_edge({0.5, -1, 0}), edge_a, edge_b));   // flat continuation
-  EXPECT_FALSE(pair_verdict(shared_edge({0.5, 0, 1}), edge_a, edge_b));    // folded 90°
-  EXPECT_FALSE(pair_verdict(shared_edge({0.5, 1, 1e-9}), edge_a, edge_b)); // folded almost flat
+  EXPECT_FALSE(pair_verdict(shared_edge({0.5, -1, 0}), edge_a, edge_b));    // flat continuation
+  EXPECT_FALSE(pair_verdict(shared_edge({0.5, 0, 1}), edge_a, edge_b));     // folded 90°
+  EXPECT_FALSE(pair_verdict(shared_edge({0.5, 1, 1e-9}), edge_a, edge_b));  // folded almost flat
   EXPECT_FALSE(pair_verdict(shared_edge({0.5, 1, -1e-9}), edge_a, edge_b));
-  EXPECT_FALSE(pair_verdict(shared_edge({3, 0, 0}), edge_a, edge_b));      // d on the line: degenerate
+  EXPECT_FALSE(pair_verdict(shared_edge({3, 0, 0}), edge_a, edge_b));  // d on the line: degenerate
 }
 
 TEST(SharedEdge, FoldedThroughCounts) {
-  EXPECT_TRUE(pair_verdict(shared_edge({0.5, 1, 0}), edge_a, edge_b));     // folded flat onto T1
-  EXPECT_TRUE(pair_verdict(shared_edge({0.2, 0.1, 0}), edge_a, edge_b));   // inside T1
-  EXPECT_TRUE(pair_verdict(shared_edge({5, 0.1, 0}), edge_a, edge_b));     // sliver overlapping near the edge
+  EXPECT_TRUE(pair_verdict(shared_edge({0.5, 1, 0}), edge_a, edge_b));    // folded flat onto T1
+  EXPECT_TRUE(pair_verdict(shared_edge({0.2, 0.1, 0}), edge_a, edge_b));  // inside T1
+  EXPECT_TRUE(pair_verdict(shared_edge({5, 0.1, 0}), edge_a, edge_b));    // sliver overlapping near the edge
 }
 
 // Shared vertex 0 at the origin; T1 = (0,1,2) in z = 0; T2 = (0,3,4).

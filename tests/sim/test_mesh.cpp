@@ -37,9 +37,10 @@ std::pair<std::string, std::string> obj_error(const std::string& name, const std
 }
 
 TEST(ReadObj, TrianglesQuadsAndEveryIndexForm) {
-  const fs::path p = write_file("forms.obj",
-                                "# a comment\nmtllib x.mtl\no thing\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0 1.0\nvt 0 0\nvn 0 0 1\n"
-                                "f 1/1/1 2/1/1 3/1/1\ns off\nf 1//1 3//1 4//1\nf -4 -3 -2 -1   # a quad, relative indices\r\n");
+  const fs::path p =
+      write_file("forms.obj",
+                 "# a comment\nmtllib x.mtl\no thing\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0 1.0\nvt 0 0\nvn 0 0 1\n"
+                 "f 1/1/1 2/1/1 3/1/1\ns off\nf 1//1 3//1 4//1\nf -4 -3 -2 -1   # a quad, relative indices\r\n");
   const pce::sim::Mesh m = pce::sim::read_obj(p);
   ASSERT_EQ(m.vertex_count(), 4);
   ASSERT_EQ(m.triangles.cols(), 4);  // 1 + 1 + a fan of 2
@@ -52,7 +53,8 @@ TEST(ReadObj, TrianglesQuadsAndEveryIndexForm) {
 }
 
 TEST(ReadObj, PolylinesBecomeSegments) {
-  const pce::sim::Mesh m = pce::sim::read_obj(write_file("strand.obj", "v 0 0 0\nv 0 0 -1\nv 0 0 -2\nv 1 0 0\nv 1 0 -1\nl 1 2 3\nl 4 5\n"));
+  const pce::sim::Mesh m =
+      pce::sim::read_obj(write_file("strand.obj", "v 0 0 0\nv 0 0 -1\nv 0 0 -2\nv 1 0 0\nv 1 0 -1\nl 1 2 3\nl 4 5\n"));
   ASSERT_EQ(m.segments.cols(), 3);
   EXPECT_EQ(m.segments.col(1), Eigen::Vector2i(1, 2));
   EXPECT_EQ(m.segments.col(2), Eigen::Vector2i(3, 4));
@@ -118,7 +120,8 @@ TEST(ReadObj, RepeatedVertexAndEmptyMesh) {
 }
 
 TEST(WriteObj, UnwritablePathIsAnInputError) {
-  EXPECT_THROW(pce::sim::write_obj(fs::path(PCE_TEST_TMP) / "no_such_dir" / "x.obj", pce::sim::grid(1, 1, 1, 1)), InputError);
+  EXPECT_THROW(pce::sim::write_obj(fs::path(PCE_TEST_TMP) / "no_such_dir" / "x.obj", pce::sim::grid(1, 1, 1, 1)),
+               InputError);
 }
 
 TEST(Generators, GridCountsAreaAndOrientation) {
@@ -151,7 +154,9 @@ TEST(Generators, StrandsCountsLengthsAndSpacing) {
   const pce::sim::Mesh c = pce::sim::strands(3, 40, 1.0, 0.5, 0.05);  // curly: radius 0.05 about each axis
   for (Eigen::Index v = 0; v < c.vertex_count(); ++v) {
     const int k = static_cast<int>(v / 41);
-    const Eigen::Vector2d axis = c.positions.col(k * 41).head<2>() - 0.05 * Eigen::Vector2d(std::cos(2.399963229728653 * k), std::sin(2.399963229728653 * k));
+    const Eigen::Vector2d axis =
+        c.positions.col(k * 41).head<2>() -
+        0.05 * Eigen::Vector2d(std::cos(2.399963229728653 * k), std::sin(2.399963229728653 * k));
     EXPECT_NEAR((c.positions.col(v).head<2>() - axis).norm(), 0.05, 1e-12);
   }
 }

@@ -22,7 +22,8 @@
 #include <random>
 
 namespace pce::sim {
-std::unique_ptr<Effect> make_obstacle_contact(const Params& params, const BuildContext& ctx);  // effects/obstacle_contact.cpp
+std::unique_ptr<Effect> make_obstacle_contact(const Params& params,
+                                              const BuildContext& ctx);  // effects/obstacle_contact.cpp
 }  // namespace pce::sim
 
 namespace {
@@ -69,9 +70,7 @@ Eigen::Vector3d random_point(std::mt19937_64& rng, const Eigen::Isometry3d& pose
   return pose * Eigen::Vector3d(u(rng), u(rng), u(rng));
 }
 
-std::vector<Obstacle> shapes() {
-  return {sphere(0.3), box(Eigen::Vector3d(0.2, 0.35, 0.1)), capsule(0.15, 0.4)};
-}
+std::vector<Obstacle> shapes() { return {sphere(0.3), box(Eigen::Vector3d(0.2, 0.35, 0.1)), capsule(0.15, 0.4)}; }
 
 TEST(ObstacleDistance, ClosedFormsAgreeWithFclGjkOutside) {
   std::mt19937_64 rng(1);
@@ -116,7 +115,9 @@ TEST(ObstacleDistance, NormalsAreUnitPointFromTheSurfaceAndAreTheGradient) {
       for (int k = 0; k < 3; ++k) {
         Eigen::Vector3d e = Eigen::Vector3d::Zero();
         e[k] = h;
-        fd[k] = (pce::sim::surface_distance(o, pose, p + e).distance - pce::sim::surface_distance(o, pose, p - e).distance) / (2 * h);
+        fd[k] = (pce::sim::surface_distance(o, pose, p + e).distance -
+                 pce::sim::surface_distance(o, pose, p - e).distance) /
+                (2 * h);
       }
       EXPECT_LE((fd - s.normal).norm(), 1e-6) << "shape " << static_cast<int>(o.kind) << " d " << s.distance;
     }
@@ -153,7 +154,8 @@ TEST(ObstacleDistance, MeshDistanceIsTheUnsignedBoxDistance) {
   for (int trial = 0; trial < 300; ++trial) {
     const Eigen::Isometry3d pose = random_pose(rng);
     const Eigen::Vector3d p = random_point(rng, pose, 0.9);
-    const pce::sim::SurfaceDistance sb = pce::sim::surface_distance(b, pose, p), sm = pce::sim::surface_distance(m, pose, p);
+    const pce::sim::SurfaceDistance sb = pce::sim::surface_distance(b, pose, p),
+                                    sm = pce::sim::surface_distance(m, pose, p);
     EXPECT_NEAR(sm.distance, std::abs(sb.distance), 1e-12);
     if (sb.distance > 1e-9) {
       EXPECT_LE((sm.normal - sb.normal).norm(), 1e-9);
@@ -162,7 +164,8 @@ TEST(ObstacleDistance, MeshDistanceIsTheUnsignedBoxDistance) {
     }
   }
   // On a face (distance 0): the triangle's normal.
-  const pce::sim::SurfaceDistance on = pce::sim::surface_distance(m, Eigen::Isometry3d::Identity(), Eigen::Vector3d(0.1, 0.05, 0.5));
+  const pce::sim::SurfaceDistance on =
+      pce::sim::surface_distance(m, Eigen::Isometry3d::Identity(), Eigen::Vector3d(0.1, 0.05, 0.5));
   EXPECT_EQ(on.distance, 0.0);
   EXPECT_TRUE(on.normal.isApprox(Eigen::Vector3d::UnitZ()));
 }
@@ -181,13 +184,14 @@ TEST(ObstacleSurfaceMesh, OnTheSurfaceAndFacingOutward) {
                             b = m.positions.col(m.triangles(1, t)) - pose.translation(),
                             c = m.positions.col(m.triangles(2, t)) - pose.translation();
       const Eigen::Vector3d n = (b - a).cross(c - a);
-      EXPECT_GT(n.dot((a + b + c) / 3), 0) << "shape " << static_cast<int>(o.kind) << " triangle " << t << " faces inward";
+      EXPECT_GT(n.dot((a + b + c) / 3), 0)
+          << "shape " << static_cast<int>(o.kind) << " triangle " << t << " faces inward";
       volume += a.dot(b.cross(c)) / 6;
     }
     const double pi = std::acos(-1.0);
     const double exact = o.kind == ShapeKind::sphere ? 4 * pi * std::pow(o.radius, 3) / 3
                          : o.kind == ShapeKind::box  ? 8 * o.half_extents.prod()
-                                                     : pi * o.radius * o.radius * (2 * o.half_length + 4 * o.radius / 3);
+                                                    : pi * o.radius * o.radius * (2 * o.half_length + 4 * o.radius / 3);
     EXPECT_GT(volume, 0.8 * exact);  // inscribed polyhedra: a little less than the shape
     EXPECT_LE(volume, exact * (1 + 1e-12));
   }

@@ -50,8 +50,8 @@ TEST_P(ShippedScene, ShortVariantRunsWithFiniteStats) {
   const fs::path out = fs::path(PCE_TEST_TMP) / ("run_" + name + (single ? "_single" : "_newton"));
   fs::remove_all(out);
   std::string err;
-  const std::string args = (kScenes / (name + ".json")).string() + " --frames 3 --out " + out.string() +
-                           (single ? " --single-solve" : "");
+  const std::string args =
+      (kScenes / (name + ".json")).string() + " --frames 3 --out " + out.string() + (single ? " --single-solve" : "");
   ASSERT_EQ(run(args, &err), 0) << err;
   const json stats = read_json(out / "stats.json");
   ASSERT_EQ(stats.size(), 3u);

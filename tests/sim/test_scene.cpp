@@ -36,9 +36,7 @@ std::string error_path(const json& j, std::string* message = nullptr) {
   return "";
 }
 
-void write(const std::filesystem::path& p, const std::string& text) {
-  std::ofstream(p) << text;
-}
+void write(const std::filesystem::path& p, const std::string& text) { std::ofstream(p) << text; }
 
 }  // namespace
 

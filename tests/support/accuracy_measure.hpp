@@ -43,10 +43,14 @@ namespace pce_test {
 enum class AnyPair { vertex_face, edge_edge, point_edge, point_point };
 inline const char* name(AnyPair p) {
   switch (p) {
-    case AnyPair::vertex_face: return "vertex_face";
-    case AnyPair::edge_edge: return "edge_edge";
-    case AnyPair::point_edge: return "point_edge";
-    case AnyPair::point_point: return "point_point";
+    case AnyPair::vertex_face:
+      return "vertex_face";
+    case AnyPair::edge_edge:
+      return "edge_edge";
+    case AnyPair::point_edge:
+      return "point_edge";
+    case AnyPair::point_point:
+      return "point_point";
   }
   return "?";
 }
@@ -64,8 +68,8 @@ struct Sample {
   LengthKind length = LengthKind::unsigned_;
   PenaltySpec penalty{};
   pce::Vec12<double> x = pce::Vec12<double>::Zero();
-  std::string family;    ///< "random", "near_contact" or a hard family
-  std::string severity;  ///< hard cases only
+  std::string family;       ///< "random", "near_contact" or a hard family
+  std::string severity;     ///< hard cases only
   bool degenerate = false;  ///< hard case without a frame (`degenerate` expected)
 };
 
@@ -101,7 +105,7 @@ struct Reference {
   long double length = 0;  ///< L
   pce::Mat12<long double> hessian = pce::Mat12<long double>::Zero();     ///< H*, top-left n×n
   pce::Mat12<long double> projection = pce::Mat12<long double>::Zero();  ///< P* = project_psd(H*)
-  long double hessian_norm = 0, projection_norm = 0;  ///< Frobenius, computed in 50 digits
+  long double hessian_norm = 0, projection_norm = 0;                     ///< Frobenius, computed in 50 digits
 };
 
 /// The reference of `s` at input `x` (exactly representable in long double), in 50 digits.
@@ -250,8 +254,8 @@ struct StrategyOutcome {
 struct SampleOutcome {
   pce::Status status = pce::Status::invalid_input;            ///< of S
   pce::Status reference_status = pce::Status::invalid_input;  ///< of 50 digits at the same input
-  bool sign_ambiguous = false;  ///< the nearer of two one-sided references was used
-  bool zero_reference = false;  ///< ‖P*‖ = 0
+  bool sign_ambiguous = false;                                ///< the nearer of two one-sided references was used
+  bool zero_reference = false;                                ///< ‖P*‖ = 0
   std::array<StrategyOutcome, kStrategies.size()> strategies{};
 };
 

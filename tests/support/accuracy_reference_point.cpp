@@ -15,7 +15,8 @@ Reference reference_point(const Sample& s, const pce::Vec12<long double>& x) {
       if (r.status == pce::Status::ok) fill_reference(e, r);
     } else {
       pce::PointPointEnergy<HighPrecision> e;
-      r.status = pce::pair_energy<pce::PointPoint>(pce::Vec6<HighPrecision>(y.head<6>()), pce::UnsignedLength{}, pen, e);
+      r.status =
+          pce::pair_energy<pce::PointPoint>(pce::Vec6<HighPrecision>(y.head<6>()), pce::UnsignedLength{}, pen, e);
       if (r.status == pce::Status::ok) fill_reference(e, r);
     }
     r.l = r.length;

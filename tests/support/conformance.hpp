@@ -25,18 +25,25 @@ enum class PenaltyKind { quadratic, cubic, log_barrier, custom };
 inline const char* name(PairKind p) { return p == PairKind::vertex_face ? "vertex_face" : "edge_edge"; }
 inline const char* name(LengthKind l) {
   switch (l) {
-    case LengthKind::signed_positive: return "signed_pos";
-    case LengthKind::signed_negative: return "signed_neg";
-    case LengthKind::unsigned_: return "unsigned";
+    case LengthKind::signed_positive:
+      return "signed_pos";
+    case LengthKind::signed_negative:
+      return "signed_neg";
+    case LengthKind::unsigned_:
+      return "unsigned";
   }
   return "?";
 }
 inline const char* name(PenaltyKind p) {
   switch (p) {
-    case PenaltyKind::quadratic: return "quadratic";
-    case PenaltyKind::cubic: return "cubic";
-    case PenaltyKind::log_barrier: return "log_barrier";
-    case PenaltyKind::custom: return "custom";
+    case PenaltyKind::quadratic:
+      return "quadratic";
+    case PenaltyKind::cubic:
+      return "cubic";
+    case PenaltyKind::log_barrier:
+      return "log_barrier";
+    case PenaltyKind::custom:
+      return "custom";
   }
   return "?";
 }
@@ -62,19 +69,26 @@ struct PenaltySpec {
 
 template <class F> decltype(auto) with_penalty(const PenaltySpec& p, F&& f) {
   switch (p.kind) {
-    case PenaltyKind::quadratic: return f(pce::QuadraticPenalty{p.stiffness, p.eps});
-    case PenaltyKind::cubic: return f(pce::CubicPenalty{p.stiffness, p.eps, p.delta});
-    case PenaltyKind::log_barrier: return f(pce::LogBarrierPenalty{p.stiffness, p.dhat});
-    case PenaltyKind::custom: break;
+    case PenaltyKind::quadratic:
+      return f(pce::QuadraticPenalty{p.stiffness, p.eps});
+    case PenaltyKind::cubic:
+      return f(pce::CubicPenalty{p.stiffness, p.eps, p.delta});
+    case PenaltyKind::log_barrier:
+      return f(pce::LogBarrierPenalty{p.stiffness, p.dhat});
+    case PenaltyKind::custom:
+      break;
   }
   return f(WavyPenalty{p.stiffness, p.width});
 }
 
 template <class F> decltype(auto) with_length(LengthKind l, F&& f) {
   switch (l) {
-    case LengthKind::signed_positive: return f(pce::SignedLength{pce::Side::positive});
-    case LengthKind::signed_negative: return f(pce::SignedLength{pce::Side::negative});
-    case LengthKind::unsigned_: break;
+    case LengthKind::signed_positive:
+      return f(pce::SignedLength{pce::Side::positive});
+    case LengthKind::signed_negative:
+      return f(pce::SignedLength{pce::Side::negative});
+    case LengthKind::unsigned_:
+      break;
   }
   return f(pce::UnsignedLength{});
 }

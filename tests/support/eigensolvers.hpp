@@ -9,8 +9,8 @@
 ///
 /// Eigen's `SelfAdjointEigenSolver` costs about 6 s of compile time per scalar type and
 /// matrix size, and the suite needs it for four scalars (float, double, long double and
-/// the 50-digit reference) and three sizes (12, 9 and 6: the plane and the point kinds): directly, and through `pce::project_psd`, which
-/// `pce::projected_hessian` instantiates for every scalar it is called with. The explicit
+/// the 50-digit reference) and three sizes (12, 9 and 6: the plane and the point kinds): directly, and through
+/// `pce::project_psd`, which `pce::projected_hessian` instantiates for every scalar it is called with. The explicit
 /// instantiation declarations below keep each test from compiling those bodies again.
 #pragma once
 
@@ -38,12 +38,12 @@ template <class S, int N> SymmetricEigen<S, N> symmetric_eigen(const Eigen::Matr
   return {es.eigenvalues(), es.eigenvectors()};
 }
 
-#define PCE_TEST_EIGENSOLVERS(EXTERN, S)                                                        \
-  EXTERN template double min_eigenvalue<S, 12>(const Eigen::Matrix<S, 12, 12>&);                \
-  EXTERN template double min_eigenvalue<S, 9>(const Eigen::Matrix<S, 9, 9>&);                   \
-  EXTERN template SymmetricEigen<S, 9> symmetric_eigen<S, 9>(const Eigen::Matrix<S, 9, 9>&);    \
+#define PCE_TEST_EIGENSOLVERS(EXTERN, S)                                                         \
+  EXTERN template double min_eigenvalue<S, 12>(const Eigen::Matrix<S, 12, 12>&);                 \
+  EXTERN template double min_eigenvalue<S, 9>(const Eigen::Matrix<S, 9, 9>&);                    \
+  EXTERN template SymmetricEigen<S, 9> symmetric_eigen<S, 9>(const Eigen::Matrix<S, 9, 9>&);     \
   EXTERN template SymmetricEigen<S, 12> symmetric_eigen<S, 12>(const Eigen::Matrix<S, 12, 12>&); \
-  EXTERN template double min_eigenvalue<S, 6>(const Eigen::Matrix<S, 6, 6>&);                   \
+  EXTERN template double min_eigenvalue<S, 6>(const Eigen::Matrix<S, 6, 6>&);                    \
   EXTERN template SymmetricEigen<S, 6> symmetric_eigen<S, 6>(const Eigen::Matrix<S, 6, 6>&);
 PCE_TEST_EIGENSOLVERS(extern, float)
 PCE_TEST_EIGENSOLVERS(extern, double)
@@ -52,9 +52,9 @@ PCE_TEST_EIGENSOLVERS(extern, long double)
 }  // namespace pce_test
 
 namespace pce {
-#define PCE_TEST_PROJECT_PSD(EXTERN, S)                                  \
-  EXTERN template Mat12<S> project_psd<S, 12>(const Mat12<S>&);          \
-  EXTERN template Mat9<S> project_psd<S, 9>(const Mat9<S>&);             \
+#define PCE_TEST_PROJECT_PSD(EXTERN, S)                         \
+  EXTERN template Mat12<S> project_psd<S, 12>(const Mat12<S>&); \
+  EXTERN template Mat9<S> project_psd<S, 9>(const Mat9<S>&);    \
   EXTERN template Mat6<S> project_psd<S, 6>(const Mat6<S>&);
 PCE_TEST_PROJECT_PSD(extern, float)
 PCE_TEST_PROJECT_PSD(extern, double)

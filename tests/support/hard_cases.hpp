@@ -40,8 +40,7 @@ inline Eigen::Matrix3d hard_case_rotation() {
 /// Rotates (unless `exact`: degenerate constructions must stay exactly degenerate), scales
 /// and offsets a local construction.
 inline pce::Vec12<double> place(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-                                 const Eigen::Vector3d& d, double scale = 1.0, double offset = 0.0,
-                                 bool exact = false) {
+                                const Eigen::Vector3d& d, double scale = 1.0, double offset = 0.0, bool exact = false) {
   const Eigen::Matrix3d R = exact ? Eigen::Matrix3d::Identity() : hard_case_rotation();
   const Eigen::Vector3d o = offset * Eigen::Vector3d(0.6, -0.48, 0.64);
   pce::Vec12<double> x;
@@ -80,8 +79,8 @@ inline std::vector<HardCase> hard_cases() {
     add("vf_edge_line", h, PairKind::vertex_face, place(V(2.5, 0, h), t0, t1, t2), quadratic_for(h, 1));
     add("vf_far", h, PairKind::vertex_face, place(V(1e3, 2e3, h), t0, t1, t2), quadratic_for(h, 1));
     // Crossing edges (L = 0 exactly at severity 0) and edges sharing an endpoint.
-    add("ee_crossing", h, PairKind::edge_edge,
-        place(V(-1, 0, 0), V(1, 0, 0), V(-0.3, -0.866, h), V(0.7, 0.866, h)), quadratic_for(h, 1));
+    add("ee_crossing", h, PairKind::edge_edge, place(V(-1, 0, 0), V(1, 0, 0), V(-0.3, -0.866, h), V(0.7, 0.866, h)),
+        quadratic_for(h, 1));
     add("ee_shared_endpoint", h, PairKind::edge_edge, place(V(0, 0, 0), V(1, 0, 0), V(0, 0, h), V(0.3, 0.8, h)),
         quadratic_for(h, 1));
   }
@@ -89,22 +88,24 @@ inline std::vector<HardCase> hard_cases() {
   for (int k = 2; k <= 12; ++k) {
     const double th = std::pow(10.0, -k);
     add("ee_near_parallel", th, PairKind::edge_edge,
-        place(V(-1, 0, 0), V(1, 0, 0), V(-std::cos(th), 0.3 - std::sin(th), 0.1), V(std::cos(th), 0.3 + std::sin(th), 0.1)),
+        place(V(-1, 0, 0), V(1, 0, 0), V(-std::cos(th), 0.3 - std::sin(th), 0.1),
+              V(std::cos(th), 0.3 + std::sin(th), 0.1)),
         quadratic_for(0.1, 1));
   }
-  add("ee_near_parallel", 0.0, PairKind::edge_edge, place(V(-1, 0, 0), V(1, 0, 0), V(-1, 0.3, 0.1), V(1, 0.3, 0.1), 1, 0, true),
-      quadratic_for(0.1, 1), true);
+  add("ee_near_parallel", 0.0, PairKind::edge_edge,
+      place(V(-1, 0, 0), V(1, 0, 0), V(-1, 0.3, 0.1), V(1, 0.3, 0.1), 1, 0, true), quadratic_for(0.1, 1), true);
   // Sliver triangles of aspect a, and collinear ones.
   for (int k = 2; k <= 12; ++k) {
     const double a = std::pow(10.0, -k);
     add("vf_sliver", a, PairKind::vertex_face, place(V(0.3, 0.05, 0.1), t0, t1, V(0.4, a, 0)), quadratic_for(0.1, 1));
   }
-  add("vf_sliver", 0.0, PairKind::vertex_face, place(V(0.3, 0.05, 0.1), t0, t1, V(0.4, 0, 0), 1, 0, true), quadratic_for(0.1, 1),
-      true);
+  add("vf_sliver", 0.0, PairKind::vertex_face, place(V(0.3, 0.05, 0.1), t0, t1, V(0.4, 0, 0), 1, 0, true),
+      quadratic_for(0.1, 1), true);
   // Zero-length edges and coincident points: no frame.
   add("zero_length", 0.0, PairKind::edge_edge, place(V(0, 0, 0), V(0, 0, 0), V(0, -1, 0.1), V(0, 1, 0.1), 1, 0, true),
       quadratic_for(0.1, 1), true);
-  add("zero_length", 0.0, PairKind::vertex_face, place(V(0.3, 0.3, 0.1), t0, t0, t2, 1, 0, true), quadratic_for(0.1, 1), true);
+  add("zero_length", 0.0, PairKind::vertex_face, place(V(0.3, 0.3, 0.1), t0, t0, t2, 1, 0, true), quadratic_for(0.1, 1),
+      true);
   add("coincident", 0.0, PairKind::vertex_face, place(V(0, 0, 0), t0, t0, t0, 1, 0, true), quadratic_for(0.1, 1), true);
   // Extreme scales (feature size s, vertex at 0.1 s), and a large offset with small features.
   for (int k = -8; k <= 8; k += 2) {

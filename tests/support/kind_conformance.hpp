@@ -82,7 +82,9 @@ template <class S, int R, int C> Eigen::Matrix<S, 3 * R, 3 * C> kron_identity(co
     for (int j = 0; j < C; ++j) J.template block<3, 3>(3 * k, 3 * j).diagonal().setConstant(P(k, j));
   return J;
 }
-template <class S> Eigen::Matrix<S, 6, 9> frame_jacobian(const pce::PointEdgeEnergy<S>& e) { return kron_identity(e.frame.P); }
+template <class S> Eigen::Matrix<S, 6, 9> frame_jacobian(const pce::PointEdgeEnergy<S>& e) {
+  return kron_identity(e.frame.P);
+}
 template <class S> Eigen::Matrix<S, 3, 6> frame_jacobian(const pce::PointPointEnergy<S>&) {
   Eigen::Matrix<S, 1, 2> P(S(1), S(-1));
   return kron_identity(P);
@@ -245,16 +247,19 @@ void check_kind_case(const VecN<double, Kind::dofs>& xd, double scale, const Pen
       return (J.transpose() * (es.vectors * lam.asDiagonal() * es.vectors.transpose()) * J).eval();
     };
     const double Hd = std::max(max_abs(H), 1e-300);
-    EXPECT_LT(rel_error(pce::projected_hessian(e, pce::Projection::analytic), filtered([](S v) { return v > S(0) ? v : S(0); }), Hd),
+    EXPECT_LT(rel_error(pce::projected_hessian(e, pce::Projection::analytic),
+                        filtered([](S v) { return v > S(0) ? v : S(0); }), Hd),
               KindTol<S>::reference())
         << "analytic = Jᵀ clamp(Hc) J";
-    EXPECT_LT(rel_error(pce::projected_hessian(e, pce::Projection::abs), filtered([](S v) { return v < S(0) ? S(-v) : v; }), Hd),
+    EXPECT_LT(rel_error(pce::projected_hessian(e, pce::Projection::abs),
+                        filtered([](S v) { return v < S(0) ? S(-v) : v; }), Hd),
               KindTol<S>::reference())
         << "abs = Jᵀ |Hc| J";
     const VecN<S, N> gL = length_gradient(e);
     const S c2 = e.psi.second > S(0) ? e.psi.second : S(0);
-    EXPECT_LT(rel_error(pce::projected_hessian(e, pce::Projection::gauss_newton), (c2 * gL * gL.transpose()).eval(), Hd),
-              KindTol<S>::algebra())
+    EXPECT_LT(
+        rel_error(pce::projected_hessian(e, pce::Projection::gauss_newton), (c2 * gL * gL.transpose()).eval(), Hd),
+        KindTol<S>::algebra())
         << "GN = ψ″⁺ ∇L∇Lᵀ";
     EXPECT_LT(rel_error(g, (e.psi.first * gL).eval()), KindTol<S>::algebra()) << "∇E = ψ′∇L";
   }
@@ -294,11 +299,16 @@ template <class Kind, class Draw> ExactStats run_kind_suite(Draw&& draw, unsigne
   for (double scale : {1e-2, 1.0, 1e2})
     for (double off : {0.0, 20.0})
       for (int k = 0; k < 6; ++k)
-        for (PenaltyKind pk : {PenaltyKind::quadratic, PenaltyKind::cubic, PenaltyKind::log_barrier, PenaltyKind::custom}) {
+        for (PenaltyKind pk :
+             {PenaltyKind::quadratic, PenaltyKind::cubic, PenaltyKind::log_barrier, PenaltyKind::custom}) {
           double L = 0;
           const VecN<double, Kind::dofs> x = draw(rng, scale, off * scale, L);
-          PenaltySpec p{pk, 0.5 + 5 * U(rng), L + scale * (0.2 + U(rng)), U(rng) < 0.25 ? 0.0 : scale * scale * U(rng),
-                        L * (1.3 + 2 * U(rng)), scale * (0.5 + U(rng))};
+          PenaltySpec p{pk,
+                        0.5 + 5 * U(rng),
+                        L + scale * (0.2 + U(rng)),
+                        U(rng) < 0.25 ? 0.0 : scale * scale * U(rng),
+                        L * (1.3 + 2 * U(rng)),
+                        scale * (0.5 + U(rng))};
           with_penalty(p, [&](const auto& pen) {
             check_kind_case<Kind, float>(x, scale, pen, st);
             check_kind_case<Kind, double>(x, scale, pen, st);
@@ -361,7 +371,8 @@ inline double rel_value(const HP& a, const HP& b) {
   return static_cast<double>(b == 0 ? HP(abs(a)) : HP(abs((a - b) / b)));
 }
 
-template <class Kind, class S, class Pen> KindMeasurement measure_kind(const VecN<double, Kind::dofs>& xd, const Pen& pen) {
+template <class Kind, class S, class Pen>
+KindMeasurement measure_kind(const VecN<double, Kind::dofs>& xd, const Pen& pen) {
   constexpr int N = Kind::dofs;
   KindMeasurement m;
   m.unit_roundoff = static_cast<double>(std::numeric_limits<S>::epsilon()) / 2;
@@ -442,7 +453,8 @@ inline void expect_stable(const KindMeasurement& m) {
   EXPECT_TRUE(m.finite);
   EXPECT_GE(m.worst_psd, -std::max(1e-12, 32 * m.unit_roundoff)) << "a strategy is not PSD";
   EXPECT_TRUE(within(m.err_value, m.bound_value)) << "value " << m.err_value << " bound " << m.bound_value;
-  EXPECT_TRUE(within(m.err_gradient, m.bound_gradient)) << "gradient " << m.err_gradient << " bound " << m.bound_gradient;
+  EXPECT_TRUE(within(m.err_gradient, m.bound_gradient))
+      << "gradient " << m.err_gradient << " bound " << m.bound_gradient;
   EXPECT_TRUE(within(m.err_hessian, m.bound_hessian)) << "Hessian " << m.err_hessian << " bound " << m.bound_hessian;
   EXPECT_TRUE(within(m.err_exact, m.bound_exact)) << "exact projection " << m.err_exact << " bound " << m.bound_exact;
 }

@@ -16,9 +16,7 @@ template <int N> struct KnownSpectrum {
   Eigen::Matrix<long double, N, 1> lambda;  ///< eigenvalues, as given
   Eigen::Matrix<long double, N, N> matrix() const { return U * lambda.asDiagonal() * U.transpose(); }
   /// the nearest PSD matrix, U max(Λ, 0) Uᵀ
-  Eigen::Matrix<long double, N, N> psd_part() const {
-    return U * lambda.cwiseMax(0.0L).asDiagonal() * U.transpose();
-  }
+  Eigen::Matrix<long double, N, N> psd_part() const { return U * lambda.cwiseMax(0.0L).asDiagonal() * U.transpose(); }
 };
 
 template <int N> KnownSpectrum<N> known_spectrum(std::mt19937_64& rng, const Eigen::Matrix<long double, N, 1>& lambda) {

@@ -86,16 +86,16 @@ template <class S> pce::PenaltyDerivatives<S> penalty(const pce::LogBarrierPenal
 
 /// Everything the direct forms derive from the three edges.
 template <class S> struct Geometry {
-  pce::Mat34<S> D;                      ///< e = D x (rows e0, e1, e2)
-  pce::Mat34<S> P;                      ///< frame coefficients from the direct α, β, γ
+  pce::Mat34<S> D;  ///< e = D x (rows e0, e1, e2)
+  pce::Mat34<S> P;  ///< frame coefficients from the direct α, β, γ
   pce::Vec3<S> e0, e1, e2;
-  S G00, G01, G11, b0, b1, det;         ///< normal equations G θ = b and the Gram determinant
+  S G00, G01, G11, b0, b1, det;  ///< normal equations G θ = b and the Gram determinant
   S alpha, beta, gamma;
-  pce::Vec3<S> m, n;                    ///< m = e0 × e1, n̂ = m/|m|
-  S mn;                                 ///< |m|
-  S l;                                  ///< e2·n̂ (row 2)
-  pce::Vec3<S> c1, c2;                  ///< e1⊥ = e1 − αe0, e2⊥ = e2 − βe0 − γe1
-  bool alpha_ok, theta_ok, normal_ok;   ///< no division by zero in α, in β and γ, in n̂
+  pce::Vec3<S> m, n;                   ///< m = e0 × e1, n̂ = m/|m|
+  S mn;                                ///< |m|
+  S l;                                 ///< e2·n̂ (row 2)
+  pce::Vec3<S> c1, c2;                 ///< e1⊥ = e1 − αe0, e2⊥ = e2 − βe0 − γe1
+  bool alpha_ok, theta_ok, normal_ok;  ///< no division by zero in α, in β and γ, in n̂
 };
 
 template <class S> Geometry<S> geometry(PairKind kind, const pce::Vec12<S>& x) {
@@ -103,11 +103,11 @@ template <class S> Geometry<S> geometry(PairKind kind, const pce::Vec12<S>& x) {
   const pce::Vec3<S> v0 = x.template segment<3>(0), v1 = x.template segment<3>(3), v2 = x.template segment<3>(6),
                      v3 = x.template segment<3>(9);
   if (kind == PairKind::vertex_face) {  // x = (p, t0, t1, t2)
-    g.D << S(0), S(-1), S(1), S(0),  //
-        S(0), S(-1), S(0), S(1),     //
+    g.D << S(0), S(-1), S(1), S(0),     //
+        S(0), S(-1), S(0), S(1),        //
         S(1), S(-1), S(0), S(0);
     g.e0 = v2 - v1, g.e1 = v3 - v1, g.e2 = v0 - v1;
-  } else {  // x = (ea0, ea1, eb0, eb1)
+  } else {                           // x = (ea0, ea1, eb0, eb1)
     g.D << S(-1), S(1), S(0), S(0),  //
         S(0), S(0), S(-1), S(1),     //
         S(-1), S(0), S(1), S(0);
@@ -116,17 +116,17 @@ template <class S> Geometry<S> geometry(PairKind kind, const pce::Vec12<S>& x) {
   using std::sqrt;
   g.G00 = g.e0.dot(g.e0), g.G01 = g.e0.dot(g.e1), g.G11 = g.e1.dot(g.e1);
   g.b0 = g.e0.dot(g.e2), g.b1 = g.e1.dot(g.e2);
-  g.det = g.G00 * g.G11 - g.G01 * g.G01;                         // row 1
+  g.det = g.G00 * g.G11 - g.G01 * g.G01;  // row 1
   g.alpha_ok = g.G00 != S(0);
   g.theta_ok = g.det != S(0);
   g.alpha = g.G01 / g.G00;
-  g.beta = (g.b0 * g.G11 - g.b1 * g.G01) / g.det;                // Cramer's rule
+  g.beta = (g.b0 * g.G11 - g.b1 * g.G01) / g.det;  // Cramer's rule
   g.gamma = (g.G00 * g.b1 - g.G01 * g.b0) / g.det;
   g.m = g.e0.cross(g.e1);
   g.mn = sqrt(g.m.dot(g.m));
   g.normal_ok = g.mn != S(0);
   g.n = g.m / g.mn;
-  g.l = g.e2.dot(g.n);                                            // row 2
+  g.l = g.e2.dot(g.n);  // row 2
   g.c1 = g.e1 - g.alpha * g.e0;
   g.c2 = g.e2 - g.beta * g.e0 - g.gamma * g.e1;
   g.P.row(0) = g.D.row(0);

@@ -44,7 +44,7 @@ struct Measurement {
   double err_value = 0, err_gradient = 0, err_hessian = 0;        // vs 50 digits
   double bound_value = 0, bound_gradient = 0, bound_hessian = 0;  // input-rounding bound
   double length = 0, bound_length = 0;  ///< exact L at the input, and the bound on |ΔL| (absolute)
-  double worst_psd = 0;  ///< min over strategies of λ_min(P)/max|λ(P)|
+  double worst_psd = 0;                 ///< min over strategies of λ_min(P)/max|λ(P)|
   double unit_roundoff = 0;
   bool sign_ambiguous = false;  ///< unsigned length with |l| within rounding of 0
 };
@@ -154,8 +154,8 @@ inline bool passes(const HardCase& hc, const Measurement& m) {
     if (m.status == pce::Status::degenerate) return m.bound_gradient >= 1 || m.bound_hessian >= 1;
     return false;
   }
-  return m.finite && m.worst_psd >= psd_threshold(m.unit_roundoff) && m.finite && m.worst_psd >= psd_threshold(m.unit_roundoff) &&
-         within(m.err_value, m.bound_value, m.unit_roundoff) &&
+  return m.finite && m.worst_psd >= psd_threshold(m.unit_roundoff) && m.finite &&
+         m.worst_psd >= psd_threshold(m.unit_roundoff) && within(m.err_value, m.bound_value, m.unit_roundoff) &&
          within(m.err_gradient, m.bound_gradient, m.unit_roundoff) &&
          within(m.err_hessian, m.bound_hessian, m.unit_roundoff);
 }

@@ -41,8 +41,9 @@ template <class Scalar, int N> void jacobi_eigen(MatN<Scalar, N>& A, MatN<Scalar
         rotated = true;
         const Scalar theta = (A(q, q) - A(p, p)) / (Scalar(2) * apq);
         const Scalar at = abs(theta);
-        const Scalar t = (at > Scalar(1) / eps ? Scalar(1) / (Scalar(2) * at) : Scalar(1) / (at + sqrt(at * at + Scalar(1)))) *
-                         (theta < Scalar(0) ? Scalar(-1) : Scalar(1));
+        const Scalar t =
+            (at > Scalar(1) / eps ? Scalar(1) / (Scalar(2) * at) : Scalar(1) / (at + sqrt(at * at + Scalar(1)))) *
+            (theta < Scalar(0) ? Scalar(-1) : Scalar(1));
         const Scalar c = Scalar(1) / sqrt(t * t + Scalar(1)), s = t * c;
         A(p, p) -= t * apq;
         A(q, q) += t * apq;
@@ -114,7 +115,8 @@ template <class Scalar, int N> void symmetric_qr_eigen(MatN<Scalar, N> A, VecN<S
       continue;
     }
     int start = end - 1;
-    while (start > 0 && abs(e[start - 1]) > floor && abs(e[start - 1]) > eps * (abs(d[start - 1]) + abs(d[start]))) --start;
+    while (start > 0 && abs(e[start - 1]) > floor && abs(e[start - 1]) > eps * (abs(d[start - 1]) + abs(d[start])))
+      --start;
     ++iterations;
     // Wilkinson shift: the eigenvalue of the trailing 2×2 nearer to d[end].
     const Scalar delta = (d[end - 1] - d[end]) / Scalar(2), b = e[end - 1];

@@ -25,7 +25,8 @@ template <class Scalar> struct PowerOfTwoScale {
     using std::frexp;
     using std::ldexp;
     frexp(big, &ex);
-    moderate = ex > std::numeric_limits<Scalar>::min_exponent + 64 && ex < std::numeric_limits<Scalar>::max_exponent - 64;
+    moderate =
+        ex > std::numeric_limits<Scalar>::min_exponent + 64 && ex < std::numeric_limits<Scalar>::max_exponent - 64;
     factor = moderate ? Scalar(ldexp(Scalar(1), -ex)) : Scalar(1);
   }
   /// v · 2^-ex, for any fixed-size Eigen vector or matrix

@@ -48,11 +48,16 @@ enum class Status {
 /// Machine-readable name of a status, as `pce-probe` prints it.
 inline const char* to_string(Status s) {
   switch (s) {
-    case Status::ok: return "ok";
-    case Status::invalid_input: return "invalid_input";
-    case Status::degenerate: return "degenerate";
-    case Status::out_of_domain: return "out_of_domain";
-    case Status::overflow: return "overflow";
+    case Status::ok:
+      return "ok";
+    case Status::invalid_input:
+      return "invalid_input";
+    case Status::degenerate:
+      return "degenerate";
+    case Status::out_of_domain:
+      return "out_of_domain";
+    case Status::overflow:
+      return "overflow";
   }
   return "unknown";
 }
@@ -94,9 +99,7 @@ template <class Derived> inline bool all_finite(const Eigen::MatrixBase<Derived>
 }
 
 /// +1 for v >= 0 (including +0 and -0), -1 otherwise: the side convention at l = 0.
-template <class Scalar> inline Scalar sign_nonneg(const Scalar& v) {
-  return v < Scalar(0) ? Scalar(-1) : Scalar(1);
-}
+template <class Scalar> inline Scalar sign_nonneg(const Scalar& v) { return v < Scalar(0) ? Scalar(-1) : Scalar(1); }
 
 }  // namespace detail
 }  // namespace pce

@@ -42,10 +42,14 @@ enum class Feature {
 /// Name of a feature, as `pce-probe` prints it.
 inline const char* to_string(Feature f) {
   switch (f) {
-    case Feature::point_plane: return "point_plane";
-    case Feature::line_line: return "line_line";
-    case Feature::point_edge: return "point_edge";
-    case Feature::point_point: return "point_point";
+    case Feature::point_plane:
+      return "point_plane";
+    case Feature::line_line:
+      return "line_line";
+    case Feature::point_edge:
+      return "point_edge";
+    case Feature::point_point:
+      return "point_point";
   }
   return "unknown";
 }
@@ -70,9 +74,8 @@ namespace detail {
 
 /// Closest feature of point `p` to segment (a, b), all relative and rescaled: sets the
 /// feature and its points and returns the squared distance.
-template <class Scalar>
-Scalar point_segment(const Vec3<Scalar>& p, const Vec3<Scalar>& a, const Vec3<Scalar>& b, int ip, int ia, int ib,
-                     Feature& feature, std::array<int, 3>& points) {
+template <class Scalar> Scalar point_segment(const Vec3<Scalar>& p, const Vec3<Scalar>& a, const Vec3<Scalar>& b,
+                                             int ip, int ia, int ib, Feature& feature, std::array<int, 3>& points) {
   const Vec3<Scalar> e = b - a, r = p - a;
   const Scalar ee = e.squaredNorm();
   const Scalar re = r.dot(e);
@@ -109,7 +112,8 @@ template <class Pair, class Scalar> bool foot_consistent(const Vec12<Scalar>& x,
   else  // (eb0 − γ e1) − (ea0 + β e0)
     gap = (p2 - p0) - f.gamma * (p3 - p2) - f.beta * (p1 - p0);
   Scalar size = Scalar(0);
-  for (int j = 1; j < 4; ++j) size = (std::max)(size, Scalar((x.template segment<3>(3 * j) - p0).cwiseAbs().maxCoeff()));
+  for (int j = 1; j < 4; ++j)
+    size = (std::max)(size, Scalar((x.template segment<3>(3 * j) - p0).cwiseAbs().maxCoeff()));
   return abs(Scalar(gap.norm()) - abs(f.l)) <= sqrt(Constants<Scalar>::epsilon()) * size;
 }
 
@@ -120,9 +124,8 @@ template <class Pair, class Scalar> bool foot_consistent(const Vec12<Scalar>& x,
 /// foot inside, |l| is the smallest of them exactly, so the rule changes nothing where the
 /// frame is accurate, and where it is not (a triangle or an edge pair at an angle below the
 /// scalar's rounding, whose normal is noise) a wrong |l| cannot win over the segments.
-template <class Pair, class Scalar>
-void classify(const Vec12<Scalar>& x, bool plane_inside, const Scalar& plane_l, Feature& feature,
-              std::array<int, 3>& points) {
+template <class Pair, class Scalar> void classify(const Vec12<Scalar>& x, bool plane_inside, const Scalar& plane_l,
+                                                  Feature& feature, std::array<int, 3>& points) {
   constexpr bool vf = std::is_same_v<Pair, VertexFace>;
   // Points relative to point 0, exactly rescaled so squared distances cannot overflow.
   Vec3<Scalar> y[4];
@@ -181,8 +184,7 @@ template <int N, class Scalar> Vec12<Scalar> scatter(const VecN<Scalar, 3 * N>& 
 template <int N, class Scalar> Mat12<Scalar> scatter(const MatN<Scalar, 3 * N>& H, const std::array<int, 3>& idx) {
   Mat12<Scalar> out = Mat12<Scalar>::Zero();
   for (int i = 0; i < N; ++i)
-    for (int j = 0; j < N; ++j)
-      out.template block<3, 3>(3 * idx[i], 3 * idx[j]) = H.template block<3, 3>(3 * i, 3 * j);
+    for (int j = 0; j < N; ++j) out.template block<3, 3>(3 * idx[i], 3 * idx[j]) = H.template block<3, 3>(3 * i, 3 * j);
   return out;
 }
 
@@ -240,27 +242,36 @@ Status closest_feature_energy(const Vec12<Scalar>& x, const Length&, const Penal
 /// ∇E on all 12 coordinates (zeros on points the evaluated kind does not use).
 template <class Scalar> Vec12<Scalar> energy_gradient(const ClosestFeatureEnergy<Scalar>& e) {
   switch (e.feature) {
-    case Feature::point_edge: return detail::scatter<3>(energy_gradient(e.edge), e.points);
-    case Feature::point_point: return detail::scatter<2>(energy_gradient(e.point), e.points);
-    default: return energy_gradient(e.plane);
+    case Feature::point_edge:
+      return detail::scatter<3>(energy_gradient(e.edge), e.points);
+    case Feature::point_point:
+      return detail::scatter<2>(energy_gradient(e.point), e.points);
+    default:
+      return energy_gradient(e.plane);
   }
 }
 
 /// Exact ∇²E on all 12 coordinates.
 template <class Scalar> Mat12<Scalar> energy_hessian(const ClosestFeatureEnergy<Scalar>& e) {
   switch (e.feature) {
-    case Feature::point_edge: return detail::scatter<3>(energy_hessian(e.edge), e.points);
-    case Feature::point_point: return detail::scatter<2>(energy_hessian(e.point), e.points);
-    default: return energy_hessian(e.plane);
+    case Feature::point_edge:
+      return detail::scatter<3>(energy_hessian(e.edge), e.points);
+    case Feature::point_point:
+      return detail::scatter<2>(energy_hessian(e.point), e.points);
+    default:
+      return energy_hessian(e.plane);
   }
 }
 
 /// PSD Hessian by the chosen strategy, on all 12 coordinates.
 template <class Scalar> Mat12<Scalar> projected_hessian(const ClosestFeatureEnergy<Scalar>& e, Projection strategy) {
   switch (e.feature) {
-    case Feature::point_edge: return detail::scatter<3>(projected_hessian(e.edge, strategy), e.points);
-    case Feature::point_point: return detail::scatter<2>(projected_hessian(e.point, strategy), e.points);
-    default: return projected_hessian(e.plane, strategy);
+    case Feature::point_edge:
+      return detail::scatter<3>(projected_hessian(e.edge, strategy), e.points);
+    case Feature::point_point:
+      return detail::scatter<2>(projected_hessian(e.point, strategy), e.points);
+    default:
+      return projected_hessian(e.plane, strategy);
   }
 }
 

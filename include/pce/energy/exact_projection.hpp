@@ -46,7 +46,9 @@ template <class Scalar, int n> Eigen::Matrix<Scalar, n - 1, n> helmert_basis() {
 template <class Scalar, int N> struct SymmetricSum {
   MatN<Scalar, N> half = MatN<Scalar, N>::Zero();
   /// adds `μ v vᵀ`
-  void rank_one(const Scalar& mu, const VecN<Scalar, N>& v) { half.noalias() += (Scalar(mu / Scalar(2)) * v) * v.transpose(); }
+  void rank_one(const Scalar& mu, const VecN<Scalar, N>& v) {
+    half.noalias() += (Scalar(mu / Scalar(2)) * v) * v.transpose();
+  }
   /// adds `a bᵀ + b aᵀ`
   void rank_two(const VecN<Scalar, N>& a, const VecN<Scalar, N>& b) { half.noalias() += a * b.transpose(); }
   MatN<Scalar, N> matrix() const { return half + half.transpose(); }
@@ -100,8 +102,9 @@ template <class Scalar> struct PlaneReducedProblem {
 /// eigenvalues (§9.3) and the result is `∇²E − Σ λ_k (Q q_k)(Q q_k)ᵀ` from
 /// `plane_negative_eigenpairs`; otherwise, or if that cannot prove its answer,
 /// `Q proj(S) Qᵀ` by the QR algorithm.
-template <class Scalar, class HessianTerms>
-Mat12<Scalar> exact_projection(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2, const HessianTerms& hessian_terms) {
+template <class Scalar, class HessianTerms> Mat12<Scalar> exact_projection(const Frame<Scalar>& f, const Scalar& c1,
+                                                                           const Scalar& c2,
+                                                                           const HessianTerms& hessian_terms) {
   static const Eigen::Matrix<Scalar, 3, 4> h = helmert_basis<Scalar, 4>();
   const PlaneReducedProblem<Scalar> pr(f, c1, c2);
   const Eigen::Matrix<Scalar, 1, 4> p2 = f.P.row(2) / pr.p2_norm;

@@ -29,7 +29,6 @@
 #include <pce/core/jacobi.hpp>
 #include <pce/energy/pair_energy.hpp>
 
-
 #include <array>
 #include <cmath>
 #include <type_traits>
@@ -60,14 +59,14 @@ template <class Pair, class Scalar> Scalar mollifier_threshold(const Vec12<Scala
 
 /// Everything one mollified pair needs, evaluated once.
 template <class Scalar> struct MollifiedEnergy {
-  bool has_frame = false;  ///< false only where X = 0 (then every derivative is zero)
+  bool has_frame = false;   ///< false only where X = 0 (then every derivative is zero)
   PairEnergy<Scalar> base;  ///< the plain energy's frame, length and ψ (valid when has_frame)
   Scalar X = 0;             ///< |e0 × e1|²
   Scalar mollifier = 0;     ///< m(X) ∈ [0, 1]; 1 means identical to the plain energy
   ///@{
-  Scalar dm = 0, d2m = 0;   ///< m′(X), m″(X)
+  Scalar dm = 0, d2m = 0;  ///< m′(X), m″(X)
   ///@}
-  Scalar value = 0;         ///< m ψ
+  Scalar value = 0;  ///< m ψ
 };
 
 /// Evaluates the mollified energy of pair `x`. Statuses as `pair_energy`, except that a
@@ -108,14 +107,13 @@ Status mollified_pair_energy(const Vec12<Scalar>& x, const Length& length, const
 namespace detail {
 
 /// Coefficients of H_F (docs/math.md §8): A = ψm″, B = ψm′, C = σψ′m′, D = mσψ′, E = mψ″.
-template <class Scalar> struct MollifiedCoefficients {
-  Scalar A, B, C, D, E, s;
-};
+template <class Scalar> struct MollifiedCoefficients { Scalar A, B, C, D, E, s; };
 
 template <class Scalar> MollifiedCoefficients<Scalar> mollified_coefficients(const MollifiedEnergy<Scalar>& e) {
   const PairEnergy<Scalar>& b = e.base;
-  return {b.psi.value * e.d2m, b.psi.value * e.dm, b.sigma * b.psi.first * e.dm,
-          e.mollifier * b.sigma * b.psi.first, e.mollifier * b.psi.second, b.frame.a0 * b.frame.a1};
+  return {b.psi.value * e.d2m,          b.psi.value * e.dm,
+          b.sigma * b.psi.first * e.dm, e.mollifier * b.sigma * b.psi.first,
+          e.mollifier * b.psi.second,   b.frame.a0 * b.frame.a1};
 }
 
 /// X ≥ X̂: the mollified energy is the plain one, evaluated by the plain (faster) code.
@@ -156,8 +154,8 @@ template <class Scalar> Mat9<Scalar> energy_frame_hessian(const MollifiedEnergy<
   const Frame<Scalar>& f = e.base.frame;
   const auto c = detail::mollified_coefficients(e);
   using detail::slot;
-  const Vec9<Scalar> x0 = slot(0, f.t0), y0 = slot(0, f.t1), x1 = slot(1, f.t0), y1 = slot(1, f.t1),
-                     z0 = slot(0, f.n), z1 = slot(1, f.n), g = slot(2, f.n);
+  const Vec9<Scalar> x0 = slot(0, f.t0), y0 = slot(0, f.t1), x1 = slot(1, f.t0), y1 = slot(1, f.t1), z0 = slot(0, f.n),
+                     z1 = slot(1, f.n), g = slot(2, f.n);
   const Vec9<Scalar> ds = f.a1 * x0 + f.a0 * y1;  // ∇s
   const Vec9<Scalar> dX = Scalar(2) * c.s * ds;   // ∇X
   // ∇²s = (x0 y1ᵀ + y1 x0ᵀ) − (y0 x1ᵀ + x1 y0ᵀ) + (a1/a0) z0z0ᵀ + (a0/a1) z1z1ᵀ
@@ -260,8 +258,10 @@ template <class Scalar> Mat12<Scalar> projected_hessian(const MollifiedEnergy<Sc
   if (!e.has_frame) return Mat12<Scalar>::Zero();
   if (detail::unmollified(e)) return projected_hessian(e.base, strategy);
   switch (strategy) {
-    case Projection::none: return energy_hessian(e);
-    case Projection::numerical: return project_psd(energy_hessian(e));
+    case Projection::none:
+      return energy_hessian(e);
+    case Projection::numerical:
+      return project_psd(energy_hessian(e));
     case Projection::gauss_newton: {
       PairEnergy<Scalar> b = e.base;
       b.psi.second *= e.mollifier;
@@ -269,12 +269,14 @@ template <class Scalar> Mat12<Scalar> projected_hessian(const MollifiedEnergy<Sc
     }
     case Projection::analytic:
     case Projection::abs:
-    case Projection::exact: break;
+    case Projection::exact:
+      break;
   }
   using std::abs;
   const FrameEigensystem<Scalar> es = energy_eigensystem(e);
   if (strategy == Projection::exact)  // frame Hessian of rank up to 9: a 9×9 reduced problem
-    return detail::exact_projection(e.base.frame, Mat9<Scalar>(es.vectors * es.values.asDiagonal() * es.vectors.transpose()));
+    return detail::exact_projection(e.base.frame,
+                                    Mat9<Scalar>(es.vectors * es.values.asDiagonal() * es.vectors.transpose()));
   Vec9<Scalar> lam = es.values;
   for (int i = 0; i < 9; ++i)
     lam[i] = strategy == Projection::abs ? Scalar(abs(lam[i])) : (lam[i] > Scalar(0) ? lam[i] : Scalar(0));

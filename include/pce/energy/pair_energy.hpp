@@ -39,12 +39,18 @@ enum class Projection {
 /// Name of a strategy, as `pce-probe` spells it.
 inline const char* to_string(Projection p) {
   switch (p) {
-    case Projection::none: return "none";
-    case Projection::analytic: return "analytic";
-    case Projection::numerical: return "numerical";
-    case Projection::gauss_newton: return "gauss_newton";
-    case Projection::abs: return "abs";
-    case Projection::exact: return "exact";
+    case Projection::none:
+      return "none";
+    case Projection::analytic:
+      return "analytic";
+    case Projection::numerical:
+      return "numerical";
+    case Projection::gauss_newton:
+      return "gauss_newton";
+    case Projection::abs:
+      return "abs";
+    case Projection::exact:
+      return "exact";
   }
   return "unknown";
 }
@@ -195,10 +201,14 @@ template <class Scalar> Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>
   const auto clamp = [](const Scalar& v) { return v > Scalar(0) ? v : Scalar(0); };
   const auto flip = [](const Scalar& v) { return Scalar(abs(v)); };
   switch (strategy) {
-    case Projection::none: return energy_hessian(e);
-    case Projection::numerical: return project_psd(energy_hessian(e));
-    case Projection::analytic: return detail::filtered_hessian(e, clamp);
-    case Projection::abs: return detail::filtered_hessian(e, flip);
+    case Projection::none:
+      return energy_hessian(e);
+    case Projection::numerical:
+      return project_psd(energy_hessian(e));
+    case Projection::analytic:
+      return detail::filtered_hessian(e, clamp);
+    case Projection::abs:
+      return detail::filtered_hessian(e, flip);
     case Projection::exact:
       return detail::exact_projection(e.frame, Scalar(e.sigma * e.psi.first), e.psi.second,
                                       [&e] { return detail::hessian_terms(e); });
@@ -214,12 +224,12 @@ template <class Scalar> Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>
 /// All outputs of one pair (`Dofs` coordinates, `FrameDofs` frame coordinates: 12 and 9
 /// for the plane kinds, 9 and 6 for point-edge, 6 and 3 for point-point).
 template <class Scalar, int Dofs = 12, int FrameDofs = 9> struct PairResult {
-  Scalar length;                                 ///< L
-  Scalar value;                                  ///< E = ψ(L)
-  VecN<Scalar, Dofs> gradient;                   ///< ∇E
-  MatN<Scalar, Dofs> hessian;                    ///< exact ∇²E
-  MatN<Scalar, Dofs> projected_hessian;          ///< by the requested strategy
-  FrameEigensystem<Scalar, FrameDofs> eigen;     ///< closed-form, frame space, ascending
+  Scalar length;                              ///< L
+  Scalar value;                               ///< E = ψ(L)
+  VecN<Scalar, Dofs> gradient;                ///< ∇E
+  MatN<Scalar, Dofs> hessian;                 ///< exact ∇²E
+  MatN<Scalar, Dofs> projected_hessian;       ///< by the requested strategy
+  FrameEigensystem<Scalar, FrameDofs> eigen;  ///< closed-form, frame space, ascending
 };
 
 /// Evaluates everything for one pair of kind `Pair` (`VertexFace`, `EdgeEdge`, `PointEdge`,

@@ -35,14 +35,14 @@ namespace pce::detail {
 /// both negative. Written for the contact regime (`d₂ = ψ″ > 0` dominant, `e_k ≠ 0`, as the
 /// Sylvester argument of §9.3 requires for exactly two negative eigenvalues); elsewhere it
 /// may return false, never an unproven answer.
-template <class Scalar>
-bool plane_negative_eigenpairs(const Mat3<Scalar>& R, const Scalar (&d_in)[3], const Scalar (&e_in)[2], Scalar (&lambda)[2],
-                               VecN<Scalar, 5> (&q)[2]) {
+template <class Scalar> bool plane_negative_eigenpairs(const Mat3<Scalar>& R, const Scalar (&d_in)[3],
+                                                       const Scalar (&e_in)[2], Scalar (&lambda)[2],
+                                                       VecN<Scalar, 5> (&q)[2]) {
   using std::abs;
   using std::sqrt;
   const Vec3<Scalar> r0 = R.col(0), r1 = R.col(1), r2 = R.col(2);
   const Scalar G00 = r0.squaredNorm(), G11 = r1.squaredNorm(), G01 = r0.dot(r1);  // G = UᵀU, U = [r0 r1]
-  const Scalar w0 = r0.dot(r2), w1 = r1.dot(r2), rho = r2.squaredNorm();           // w = Uᵀr2, ρ = |r2|²
+  const Scalar w0 = r0.dot(r2), w1 = r1.dot(r2), rho = r2.squaredNorm();          // w = Uᵀr2, ρ = |r2|²
   if (!(rho > Scalar(0))) return false;
   // Rescale by a power of two so that |λ| ~ 1 (the negative eigenvalues are ≈ −|e_k||r_k|):
   // the secular function is of degree 5 in λ, and the approximations square the e_k.
@@ -86,15 +86,18 @@ bool plane_negative_eigenpairs(const Mat3<Scalar>& R, const Scalar (&d_in)[3], c
     for (int k = 0; k < 2; ++k) {
       if (done[k]) continue;
       const Scalar l = x[k], l2 = l * l, a0 = l * d[0] + ee[0], a1 = l * d[1] + ee[1];
-      const Scalar p = l2 - a0 * G00, s = l2 - a1 * G11, pp = Scalar(2) * l - d[0] * G00, sp = Scalar(2) * l - d[1] * G11;
+      const Scalar p = l2 - a0 * G00, s = l2 - a1 * G11, pp = Scalar(2) * l - d[0] * G00,
+                   sp = Scalar(2) * l - d[1] * G11;
       const Scalar a01 = a0 * a1, a01p = d[0] * a1 + a0 * d[1];
       const Scalar m = p * s - a01 * G01 * G01, mp = pp * s + p * sp - a01p * G01 * G01;
       const Scalar h = a0 * s * w0 * w0 + a1 * p * w1 * w1 + Scalar(2) * a01 * G01 * w0 * w1;
-      const Scalar hp = (d[0] * s + a0 * sp) * w0 * w0 + (d[1] * p + a1 * pp) * w1 * w1 + Scalar(2) * a01p * G01 * w0 * w1;
+      const Scalar hp =
+          (d[0] * s + a0 * sp) * w0 * w0 + (d[1] * p + a1 * pp) * w1 * w1 + Scalar(2) * a01p * G01 * w0 * w1;
       const Scalar F = l * m - d[2] * (rho * m + h), Fp = m + l * mp - d[2] * (rho * mp + hp);
       const Scalar step = F / Fp;
       x[k] = l - step;
-      done[k] = !(step * step > Scalar(0.0625) * eps * abs(x[k]) * gap) || abs(step) <= Scalar(4) * eps * abs(x[k]);  // NaN: done, refused below
+      done[k] = !(step * step > Scalar(0.0625) * eps * abs(x[k]) * gap) ||
+                abs(step) <= Scalar(4) * eps * abs(x[k]);  // NaN: done, refused below
     }
   }
   if (!(x[0] < Scalar(0) && x[1] < Scalar(0))) return false;  // also NaN
@@ -135,7 +138,8 @@ bool plane_negative_eigenpairs(const Mat3<Scalar>& R, const Scalar (&d_in)[3], c
   for (int k = 0; k < 2; ++k) {
     const Vec3<Scalar> u = q[k].template head<3>();
     const Scalar t0 = r0.dot(u), t1 = r1.dot(u), t2 = r2.dot(u);
-    const Vec3<Scalar> top = (d[0] * t0 + e[0] * q[k][3]) * r0 + (d[1] * t1 + e[1] * q[k][4]) * r1 + (d[2] * t2) * r2 - x[k] * u;
+    const Vec3<Scalar> top =
+        (d[0] * t0 + e[0] * q[k][3]) * r0 + (d[1] * t1 + e[1] * q[k][4]) * r1 + (d[2] * t2) * r2 - x[k] * u;
     const Scalar b0 = e[0] * t0 - x[k] * q[k][3], b1 = e[1] * t1 - x[k] * q[k][4];
     if (!(top.squaredNorm() + b0 * b0 + b1 * b1 <= tol * tol)) return false;
     if (!(x[k] < Scalar(-2) * tol)) return false;

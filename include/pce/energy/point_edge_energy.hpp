@@ -157,11 +157,16 @@ template <class Scalar> Mat9<Scalar> projected_hessian(const PointEdgeEnergy<Sca
   const auto clamp = [](const Scalar& v) { return v > Scalar(0) ? v : Scalar(0); };
   const auto flip = [](const Scalar& v) { return Scalar(abs(v)); };
   switch (strategy) {
-    case Projection::none: return energy_hessian(e);
-    case Projection::numerical: return project_psd(energy_hessian(e));
-    case Projection::analytic: return detail::filtered_hessian(e, clamp);
-    case Projection::abs: return detail::filtered_hessian(e, flip);
-    case Projection::exact: return detail::exact_projection(e);
+    case Projection::none:
+      return energy_hessian(e);
+    case Projection::numerical:
+      return project_psd(energy_hessian(e));
+    case Projection::analytic:
+      return detail::filtered_hessian(e, clamp);
+    case Projection::abs:
+      return detail::filtered_hessian(e, flip);
+    case Projection::exact:
+      return detail::exact_projection(e);
     case Projection::gauss_newton: {
       const Vec9<Scalar> gL = detail::kron<Scalar>(e.frame.P.row(1), e.frame.u);
       return clamp(e.psi.second) * gL * gL.transpose();

@@ -39,7 +39,8 @@ Status pair_energy(const Vec6<Scalar>& x, const Length&, const Penalty& penalty,
 
 namespace detail {
 /// `[[Hc, −Hc], [−Hc, Hc]]` with `Hc = a ûûᵀ + b (I − ûûᵀ)`.
-template <class Scalar> Mat6<Scalar> point_point_hessian(const PointPointFrame<Scalar>& f, const Scalar& a, const Scalar& b) {
+template <class Scalar>
+Mat6<Scalar> point_point_hessian(const PointPointFrame<Scalar>& f, const Scalar& a, const Scalar& b) {
   const Mat3<Scalar> Hc = b * Mat3<Scalar>::Identity() + (a - b) * (f.u * f.u.transpose());
   Mat6<Scalar> H;
   H << Hc, -Hc, -Hc, Hc;
@@ -73,12 +74,17 @@ template <class Scalar> Mat6<Scalar> projected_hessian(const PointPointEnergy<Sc
   const auto clamp = [](const Scalar& v) { return v > Scalar(0) ? v : Scalar(0); };
   const Scalar c = e.psi.first / e.frame.d;
   switch (strategy) {
-    case Projection::none: return energy_hessian(e);
-    case Projection::numerical: return project_psd(energy_hessian(e));
+    case Projection::none:
+      return energy_hessian(e);
+    case Projection::numerical:
+      return project_psd(energy_hessian(e));
     case Projection::analytic:
-    case Projection::exact: return detail::point_point_hessian(e.frame, clamp(e.psi.second), clamp(c));
-    case Projection::abs: return detail::point_point_hessian(e.frame, Scalar(abs(e.psi.second)), Scalar(abs(c)));
-    case Projection::gauss_newton: return detail::point_point_hessian(e.frame, clamp(e.psi.second), Scalar(0));
+    case Projection::exact:
+      return detail::point_point_hessian(e.frame, clamp(e.psi.second), clamp(c));
+    case Projection::abs:
+      return detail::point_point_hessian(e.frame, Scalar(abs(e.psi.second)), Scalar(abs(c)));
+    case Projection::gauss_newton:
+      return detail::point_point_hessian(e.frame, clamp(e.psi.second), Scalar(0));
   }
   return energy_hessian(e);
 }

@@ -14,8 +14,7 @@ namespace pce {
 
 /// Nearest PSD matrix `V max(Λ, 0) Vᵀ` of a symmetric `H`; returns `H` unchanged when its
 /// smallest eigenvalue is already ≥ 0 (the cheap early exit).
-template <class Scalar, int N>
-Eigen::Matrix<Scalar, N, N> project_psd(const Eigen::Matrix<Scalar, N, N>& H) {
+template <class Scalar, int N> Eigen::Matrix<Scalar, N, N> project_psd(const Eigen::Matrix<Scalar, N, N>& H) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<Scalar, N, N>> es(H);
   const auto& lam = es.eigenvalues();
   if (lam.minCoeff() >= Scalar(0)) return H;

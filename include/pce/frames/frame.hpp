@@ -45,7 +45,7 @@ template <class Scalar> struct FrameBlocks {
   Mat3<Scalar> h00, h11, h22;  ///< diagonal blocks
   ///@}
   ///@{
-  Mat3<Scalar> h02, h12;       ///< off-diagonal blocks; (2,0) and (2,1) are their transposes
+  Mat3<Scalar> h02, h12;  ///< off-diagonal blocks; (2,0) and (2,1) are their transposes
   ///@}
 
   /// All five blocks zero.
@@ -96,8 +96,7 @@ template <class Scalar, class Row> VecN<Scalar, 3 * Row::SizeAtCompileTime> kron
 template <class Scalar> Vec12<Scalar> pullback(const Frame<Scalar>& f, const Vec9<Scalar>& gc) {
   Vec12<Scalar> g;
   for (int j = 0; j < 4; ++j)
-    g.template segment<3>(3 * j) = f.P(0, j) * gc.template segment<3>(0) +
-                                   f.P(1, j) * gc.template segment<3>(3) +
+    g.template segment<3>(3 * j) = f.P(0, j) * gc.template segment<3>(0) + f.P(1, j) * gc.template segment<3>(3) +
                                    f.P(2, j) * gc.template segment<3>(6);
   return g;
 }
@@ -110,9 +109,8 @@ template <class Scalar> Mat12<Scalar> pullback(const Frame<Scalar>& f, const Fra
     const Scalar p0i = f.P(0, i), p1i = f.P(1, i), p2i = f.P(2, i);
     for (int j = i; j < 4; ++j) {
       const Scalar p0j = f.P(0, j), p1j = f.P(1, j), p2j = f.P(2, j);
-      Mat3<Scalar> b = (p0i * p0j) * hc.h00 + (p1i * p1j) * hc.h11 + (p2i * p2j) * hc.h22 +
-                       (p0i * p2j) * hc.h02 + (p2i * p0j) * hc.h02.transpose() +
-                       (p1i * p2j) * hc.h12 + (p2i * p1j) * hc.h12.transpose();
+      Mat3<Scalar> b = (p0i * p0j) * hc.h00 + (p1i * p1j) * hc.h11 + (p2i * p2j) * hc.h22 + (p0i * p2j) * hc.h02 +
+                       (p2i * p0j) * hc.h02.transpose() + (p1i * p2j) * hc.h12 + (p2i * p1j) * hc.h12.transpose();
       H.template block<3, 3>(3 * i, 3 * j) = b;
       if (j != i) H.template block<3, 3>(3 * j, 3 * i) = b.transpose();
     }
@@ -122,7 +120,6 @@ template <class Scalar> Mat12<Scalar> pullback(const Frame<Scalar>& f, const Fra
 
 namespace detail {
 
-
 /// Build the frame from the pair's edge vectors and the constant map `D` (rows: e0, e1, e2
 /// as combinations of the four vertices). Uses the stable forms of
 /// `docs/stability.md`: an exact power-of-two rescaling, β and γ from `m = e0 × e1`
@@ -130,14 +127,13 @@ namespace detail {
 /// Returns `degenerate` when `e0 × e1` vanishes (in the rescaled coordinates), `overflow`
 /// when the third edge is beyond the scalar's range relative to the primitive; `f` is
 /// written only on `ok`.
-template <class Scalar>
-Status make_frame(const Vec3<Scalar>& e0, const Vec3<Scalar>& e1, const Vec3<Scalar>& e2,
-                  const Mat34<Scalar>& D, Frame<Scalar>& f) {
+template <class Scalar> Status make_frame(const Vec3<Scalar>& e0, const Vec3<Scalar>& e1, const Vec3<Scalar>& e2,
+                                          const Mat34<Scalar>& D, Frame<Scalar>& f) {
   using std::frexp;
   using std::ldexp;
   using std::sqrt;
-  const Scalar big = (e0.cwiseAbs().maxCoeff() > e1.cwiseAbs().maxCoeff()) ? e0.cwiseAbs().maxCoeff()
-                                                                           : e1.cwiseAbs().maxCoeff();
+  const Scalar big =
+      (e0.cwiseAbs().maxCoeff() > e1.cwiseAbs().maxCoeff()) ? e0.cwiseAbs().maxCoeff() : e1.cwiseAbs().maxCoeff();
   if (!(big > Scalar(0))) return Status::degenerate;
   const PowerOfTwoScale<Scalar> sc(big);
   const Vec3<Scalar> E0 = sc.down(e0), E1 = sc.down(e1), E2 = sc.down(e2);

@@ -38,9 +38,9 @@ template <class Scalar> struct LengthFamily {
   ///@{
   Scalar lambda_big, lambda_small;  ///< λ_big·λ_small = −1/a², |λ_big| ≥ 1/a ≥ |λ_small|
   ///@}
-  Scalar s;                         ///< sgn(l), +1 at l = 0
-  Scalar w;                         ///< w = 1/ρ ∈ (0, 1]
-  Scalar n2;                        ///< 1/(1 + w²), the squared normalisation of both vectors
+  Scalar s;   ///< sgn(l), +1 at l = 0
+  Scalar w;   ///< w = 1/ρ ∈ (0, 1]
+  Scalar n2;  ///< 1/(1 + w²), the squared normalisation of both vectors
 
   /// `q_big = (s, w)/√(1+w²)`, the unit eigenvector of λ_big.
   Eigen::Matrix<Scalar, 2, 1> big() const {
@@ -88,7 +88,8 @@ template <class Scalar, int N = 9> struct FrameEigensystem {
 namespace detail {
 /// Sorts `n` eigenpairs ascending (insertion sort: stable, no allocation).
 template <class Scalar, int N>
-FrameEigensystem<Scalar, N> sorted_eigensystem(const std::array<Scalar, N>& val, const std::array<VecN<Scalar, N>, N>& vec) {
+FrameEigensystem<Scalar, N> sorted_eigensystem(const std::array<Scalar, N>& val,
+                                               const std::array<VecN<Scalar, N>, N>& vec) {
   std::array<int, N> order;
   for (int i = 0; i < N; ++i) order[i] = i;
   for (int i = 1; i < N; ++i)

@@ -24,8 +24,7 @@ struct CubicPenalty {
 
   /// Whether the parameters are admissible (finite, k ≥ 0, …); else `invalid_input`.
   bool valid() const {
-    return std::isfinite(stiffness) && stiffness >= 0 && std::isfinite(eps) && std::isfinite(delta) &&
-           delta >= 0;
+    return std::isfinite(stiffness) && stiffness >= 0 && std::isfinite(eps) && std::isfinite(delta) && delta >= 0;
   }
 
   /// ψ(L), ψ′(L), ψ″(L).

@@ -27,7 +27,6 @@ namespace {
 using namespace pce::sim;
 using nlohmann::json;
 
-
 json frame_record(const FrameStats& s, long intersections) {
   json r;
   r["frame"] = s.frame;
@@ -167,12 +166,13 @@ int main(int argc, char** argv) {
         status = 3;
         break;
       }
-      const long intersections = sim.model.triangles.cols() > 1 ? intersecting_triangle_pairs(sim.x, sim.model.triangles) : 0;
+      const long intersections =
+          sim.model.triangles.cols() > 1 ? intersecting_triangle_pairs(sim.x, sim.model.triangles) : 0;
       stats.push_back(frame_record(s, intersections));
       if (!no_frames && (f % scene->output_every == 0 || f == sim.frames))
         write_frame(dir.string(), f, sim.x, sim.model.triangles, sim.model.segments);
-      std::fprintf(stderr, "frame %d of %d: %.1f ms, %d Newton iterations, residual %.2e, %s%ld intersecting pairs\n", f,
-                   sim.frames, s.wall_ms, s.newton_iterations, s.residual,
+      std::fprintf(stderr, "frame %d of %d: %.1f ms, %d Newton iterations, residual %.2e, %s%ld intersecting pairs\n",
+                   f, sim.frames, s.wall_ms, s.newton_iterations, s.residual,
                    s.hit_iteration_cap ? "iteration cap hit, " : "", intersections);
     }
     if (no_frames) write_frame(dir.string(), sim.frame, sim.x, sim.model.triangles, sim.model.segments);

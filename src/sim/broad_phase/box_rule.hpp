@@ -49,9 +49,8 @@ inline bool padding(const Eigen::Matrix3Xd& x, double distance, double& pad) {
 /// the one the trees were built for (then `built_for` takes it). Returns false, and sets
 /// nothing, when a coordinate is not finite: the caller answers with
 /// `brute_force_candidates` itself.
-template <class Matrix>
-bool begin_query(const Eigen::Matrix3Xd& x, double distance, const Matrix& topology, Matrix& built_for, double& h,
-                 bool& new_topology);
+template <class Matrix> bool begin_query(const Eigen::Matrix3Xd& x, double distance, const Matrix& topology,
+                                         Matrix& built_for, double& h, bool& new_topology);
 
 /// The box a tree stores for vertex v: [x_v − h, x_v + h].
 inline void vertex_box(const Eigen::Matrix3Xd& x, int v, double h, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
@@ -89,8 +88,7 @@ inline bool accept_vertex_face(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi
 
 /// The brute force's edge-edge rule for a pair a tree reported (i < j): the edges share no
 /// vertex and blo − ahi ≤ d, alo − bhi ≤ d on every axis, with the brute force's operations.
-inline bool accept_edge_edge(const Eigen::Matrix3Xd& x, const Eigen::Matrix2Xi& edges, int i, int j,
-                             double distance) {
+inline bool accept_edge_edge(const Eigen::Matrix3Xd& x, const Eigen::Matrix2Xi& edges, int i, int j, double distance) {
   const int a0 = edges(0, i), a1 = edges(1, i), b0 = edges(0, j), b1 = edges(1, j);
   if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) return false;
   const Eigen::Vector3d alo = x.col(a0).cwiseMin(x.col(a1)), ahi = x.col(a0).cwiseMax(x.col(a1));
@@ -125,9 +123,8 @@ template <class Matrix> bool same_topology(const Matrix& a, const Matrix& b) {
   return a.cols() == b.cols() && (a.array() == b.array()).all();
 }
 
-template <class Matrix>
-bool begin_query(const Eigen::Matrix3Xd& x, double distance, const Matrix& topology, Matrix& built_for, double& h,
-                 bool& new_topology) {
+template <class Matrix> bool begin_query(const Eigen::Matrix3Xd& x, double distance, const Matrix& topology,
+                                         Matrix& built_for, double& h, bool& new_topology) {
   double pad = 0;
   if (!padding(x, distance, pad)) return false;
   new_topology = !same_topology(topology, built_for);

@@ -7,9 +7,12 @@ namespace pce::sim {
 
 const char* to_string(BroadPhaseKind kind) {
   switch (kind) {
-    case BroadPhaseKind::fcl: return "fcl";
-    case BroadPhaseKind::bullet: return "bullet";
-    case BroadPhaseKind::brute: return "brute";
+    case BroadPhaseKind::fcl:
+      return "fcl";
+    case BroadPhaseKind::bullet:
+      return "bullet";
+    case BroadPhaseKind::brute:
+      return "brute";
   }
   return "unknown";
 }
@@ -46,9 +49,12 @@ Instrumentation& instrumentation() {
 std::unique_ptr<BroadPhase> make_broad_phase(BroadPhaseKind kind) {
   ++instrumentation().broad_phases_built;
   switch (kind) {
-    case BroadPhaseKind::brute: return std::make_unique<BruteForce>();
-    case BroadPhaseKind::bullet: return make_bullet_broad_phase();
-    case BroadPhaseKind::fcl: break;
+    case BroadPhaseKind::brute:
+      return std::make_unique<BruteForce>();
+    case BroadPhaseKind::bullet:
+      return make_bullet_broad_phase();
+    case BroadPhaseKind::fcl:
+      break;
   }
   return make_fcl_broad_phase();
 }

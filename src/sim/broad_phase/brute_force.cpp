@@ -10,7 +10,8 @@ namespace pce::sim {
 Candidates brute_force_candidates(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& triangles,
                                   const Eigen::Matrix2Xi& edges, double distance) {
   Candidates c;
-  const int nv = static_cast<int>(x.cols()), nt = static_cast<int>(triangles.cols()), ne = static_cast<int>(edges.cols());
+  const int nv = static_cast<int>(x.cols()), nt = static_cast<int>(triangles.cols()),
+            ne = static_cast<int>(edges.cols());
   for (int v = 0; v < nv; ++v)
     for (int t = 0; t < nt; ++t)
       if (box_rule::accept_vertex_face(x, triangles, v, t, distance)) c.vertex_face.push_back({v, t});

@@ -155,7 +155,8 @@ class BulletBroadPhase final : public BroadPhase {
       return;
     }
     const int n = static_cast<int>(x.cols()), m = static_cast<int>(triangles.cols());
-    vertices_.set(n, false, [&](int v, Eigen::Vector3d& lo, Eigen::Vector3d& hi) { box_rule::vertex_box(x, v, h, lo, hi); });
+    vertices_.set(n, false,
+                  [&](int v, Eigen::Vector3d& lo, Eigen::Vector3d& hi) { box_rule::vertex_box(x, v, h, lo, hi); });
     triangles_.set(m, new_topology, [&](int t, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
       box_rule::triangle_box(x, triangles, t, h, lo, hi);
     });
@@ -175,9 +176,8 @@ class BulletBroadPhase final : public BroadPhase {
       return;
     }
     const int m = static_cast<int>(edges.cols());
-    edges_.set(m, new_topology, [&](int e, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
-      box_rule::edge_box(x, edges, e, h, lo, hi);
-    });
+    edges_.set(m, new_topology,
+               [&](int e, Eigen::Vector3d& lo, Eigen::Vector3d& hi) { box_rule::edge_box(x, edges, e, h, lo, hi); });
     EdgeEdgePairs pairs(x, edges, distance, out);
     edges_.tree().collideTTpersistentStack(edges_.root(), edges_.root(), pairs);
     box_rule::sort_pairs(out, m, scratch_, start_);

@@ -63,8 +63,10 @@ inline bool dihedral_angle(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1,
 inline double angle_difference(double theta, double theta0) {
   constexpr double pi = 3.14159265358979323846;
   double d = theta - theta0;
-  if (d > pi) d -= 2 * pi;
-  else if (d <= -pi) d += 2 * pi;
+  if (d > pi)
+    d -= 2 * pi;
+  else if (d <= -pi)
+    d += 2 * pi;
   return d;
 }
 

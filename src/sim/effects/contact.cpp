@@ -106,7 +106,9 @@ template <bool VF> class SelfContact final : public Effect {
   /// keeps its set. max_step never lets rel pass the budget; the set is queried again once
   /// rel passes half of it, so every Newton step has at least half a budget of relative
   /// motion to use (waiting for the whole budget left steps of ~0 and stalled Newton).
-  bool still_valid(const Eigen::Matrix3Xd& x) override { return validity_use(mesh_drift(x - query_at_), nullptr) <= 0.5; }
+  bool still_valid(const Eigen::Matrix3Xd& x) override {
+    return validity_use(mesh_drift(x - query_at_), nullptr) <= 0.5;
+  }
 
   void refresh(const Eigen::Matrix3Xd& x) override {
     set_query_point(x);
@@ -342,14 +344,18 @@ template <bool VF> class SelfContact final : public Effect {
   }
 
   static bool inside(const Frame<double>& f) {
-    if constexpr (VF) return f.beta >= 0 && f.gamma >= 0 && f.beta + f.gamma <= 1;
-    else return f.beta >= 0 && f.beta <= 1 && f.gamma <= 0 && f.gamma >= -1;
+    if constexpr (VF)
+      return f.beta >= 0 && f.gamma >= 0 && f.beta + f.gamma <= 1;
+    else
+      return f.beta >= 0 && f.beta <= 1 && f.gamma <= 0 && f.gamma >= -1;
   }
 
   void query_pairs(const Eigen::Matrix3Xd& x, std::vector<std::array<int, 2>>& out) {
     const double r = spec_.penalty.distance + margin();
-    if constexpr (VF) broad_phase_->vertex_face(x, model_->triangles, r, out);
-    else broad_phase_->edge_edge(x, model_->edges, r, out);
+    if constexpr (VF)
+      broad_phase_->vertex_face(x, model_->triangles, r, out);
+    else
+      broad_phase_->edge_edge(x, model_->edges, r, out);
   }
 
   void query() {
@@ -419,9 +425,8 @@ template <bool VF> class SelfContact final : public Effect {
     excluded_ready_ = true;
   }
 
-  template <class Penalty>
-  void evaluate_pair(const Eigen::Matrix3Xd& x, long k, const Penalty& penalty, std::vector<PairHessian>* hessians,
-                     PairOut& o) const {
+  template <class Penalty> void evaluate_pair(const Eigen::Matrix3Xd& x, long k, const Penalty& penalty,
+                                              std::vector<PairHessian>* hessians, PairOut& o) const {
     o.active = false;
     const auto v = vertices(pairs_[static_cast<std::size_t>(k)]);
     const Vec12<double> xp = gather(x, v);
@@ -540,7 +545,7 @@ template <bool VF> class SelfContact final : public Effect {
   std::vector<int> mesh_of_;  ///< mesh index per vertex (only with exclude_rest_neighbours)
   double margin_ = 0;         ///< this step's candidate margin m
   std::vector<signed char> sides_;
-  std::vector<char> declared_, near_;  ///< per candidate: in the pattern; active at the last update_pattern
+  std::vector<char> declared_, near_;          ///< per candidate: in the pattern; active at the last update_pattern
   std::vector<std::vector<PairOut>> actives_;  ///< per thread, active pairs only
   std::vector<std::vector<PairHessian>> hessians_;  ///< per thread, active pairs only
   Stats stats_;
@@ -554,16 +559,20 @@ ContactSpec parse_contact(const Params& p) {
   s.closest_features = p.boolean("closest_features", false);
   s.exclude_rest_neighbours = p.boolean("exclude_rest_neighbours", true);
   s.ccd = p.boolean("ccd", true);
-  const std::string h = p.choice("hessian", {"analytic", "exact", "numerical", "gauss_newton", "abs"}, std::string("analytic"));
+  const std::string h =
+      p.choice("hessian", {"analytic", "exact", "numerical", "gauss_newton", "abs"}, std::string("analytic"));
   s.hessian = h == "exact"          ? Projection::exact
               : h == "numerical"    ? Projection::numerical
               : h == "gauss_newton" ? Projection::gauss_newton
               : h == "abs"          ? Projection::abs
                                     : Projection::analytic;
   if (s.closest_features && s.signed_length)
-    p.fail("length", "closest-feature evaluation measures the distance between the primitives, which is unsigned: use \"unsigned\" or \"closest_features\": false");
+    p.fail("length",
+           "closest-feature evaluation measures the distance between the primitives, which is unsigned: use "
+           "\"unsigned\" or \"closest_features\": false");
   if (s.penalty.barrier() && !s.closest_features)
-    p.fail("closest_features", "the log barrier needs the distance between the primitives: set \"closest_features\": true");
+    p.fail("closest_features",
+           "the log barrier needs the distance between the primitives: set \"closest_features\": true");
   return s;
 }
 

@@ -43,9 +43,12 @@ namespace {
 /// Radius of a sphere about the obstacle's origin containing the whole shape.
 double bounding_radius(const Obstacle& o) {
   switch (o.kind) {
-    case ShapeKind::sphere: return o.radius;
-    case ShapeKind::box: return o.half_extents.norm();
-    case ShapeKind::capsule: return o.half_length + o.radius;
+    case ShapeKind::sphere:
+      return o.radius;
+    case ShapeKind::box:
+      return o.half_extents.norm();
+    case ShapeKind::capsule:
+      return o.half_length + o.radius;
     case ShapeKind::mesh: {
       double r = 0;
       for (Eigen::Index v = 0; v < o.mesh.positions.cols(); ++v) r = std::max(r, o.mesh.positions.col(v).norm());
@@ -172,8 +175,9 @@ std::unique_ptr<Effect> make_obstacle_contact(const Params& params, const BuildC
       if (it == all.end()) {
         std::string known;
         for (const Obstacle& o : all) known += (known.empty() ? "" : ", ") + ("\"" + o.name + "\"");
-        throw InputError(params.file(), where,
-                         "unknown obstacle \"" + name + "\" (the scene's obstacles: " + (known.empty() ? "none" : known) + ")");
+        throw InputError(
+            params.file(), where,
+            "unknown obstacle \"" + name + "\" (the scene's obstacles: " + (known.empty() ? "none" : known) + ")");
       }
       if (!seen.insert(name).second) throw InputError(params.file(), where, "obstacle \"" + name + "\" listed twice");
       chosen.push_back(*it);

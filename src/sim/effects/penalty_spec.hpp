@@ -30,8 +30,10 @@ inline PenaltySpec parse_penalty(const Params& p) {
   s.kind = type == "quadratic" ? PenaltySpec::Kind::quadratic
            : type == "cubic"   ? PenaltySpec::Kind::cubic
                                : PenaltySpec::Kind::log_barrier;
-  if (s.kind == PenaltySpec::Kind::cubic) p.only({"type", "stiffness", "distance", "delta"});
-  else p.only({"type", "stiffness", "distance"});
+  if (s.kind == PenaltySpec::Kind::cubic)
+    p.only({"type", "stiffness", "distance", "delta"});
+  else
+    p.only({"type", "stiffness", "distance"});
   s.stiffness = p.positive("stiffness");
   s.distance = p.positive("distance");
   s.delta = s.kind == PenaltySpec::Kind::cubic ? p.nonnegative("delta", 0.0) : 0.0;
@@ -41,9 +43,12 @@ inline PenaltySpec parse_penalty(const Params& p) {
 /// Calls `f(penalty)` with the pce penalty object the spec describes.
 template <class F> decltype(auto) visit_penalty(const PenaltySpec& s, F&& f) {
   switch (s.kind) {
-    case PenaltySpec::Kind::cubic: return f(CubicPenalty{s.stiffness, s.distance, s.delta});
-    case PenaltySpec::Kind::log_barrier: return f(LogBarrierPenalty{s.stiffness, s.distance});
-    case PenaltySpec::Kind::quadratic: break;
+    case PenaltySpec::Kind::cubic:
+      return f(CubicPenalty{s.stiffness, s.distance, s.delta});
+    case PenaltySpec::Kind::log_barrier:
+      return f(LogBarrierPenalty{s.stiffness, s.distance});
+    case PenaltySpec::Kind::quadratic:
+      break;
   }
   return f(QuadraticPenalty{s.stiffness, s.distance});
 }

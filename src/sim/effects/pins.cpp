@@ -18,7 +18,7 @@ struct PinGroup {
   std::vector<int> vertices;
   long release_frame = 0;  ///< 0: never released
   bool active = true;
-  bool moving = false;     ///< has a motion; else the targets are the rest positions
+  bool moving = false;  ///< has a motion; else the targets are the rest positions
   Motion motion;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
 };
@@ -95,7 +95,8 @@ std::unique_ptr<Effect> make_pins(const Params& params, const BuildContext& ctx)
         }
       if (!found) g.fail("mesh", "no mesh named \"" + mesh + "\"");
     }
-    if (g.has("vertices") == g.has("box")) g.fail(g.has("box") ? "box" : "vertices", "expected exactly one of \"vertices\" and \"box\"");
+    if (g.has("vertices") == g.has("box"))
+      g.fail(g.has("box") ? "box" : "vertices", "expected exactly one of \"vertices\" and \"box\"");
     if (g.has("vertices")) {
       for (int i : g.indices("vertices", size)) group.vertices.push_back(first + i);
       if (group.vertices.empty()) g.fail("vertices", "expected at least one vertex index");

@@ -137,8 +137,9 @@ std::unique_ptr<Effect> make_strand_bending(const Params& params, const BuildCon
     const Eigen::Vector3d e2 = model.rest.col(jt.v[2]) - model.rest.col(v);
     const double mean = 0.5 * (e1.norm() + e2.norm());
     if (!(e1.norm() > 0 && e2.norm() > 0))
-      throw InputError(params.file(), params.path(),
-                       "a segment at vertex " + std::to_string(v) + " has zero rest length (strand bending needs a rest shape)");
+      throw InputError(
+          params.file(), params.path(),
+          "a segment at vertex " + std::to_string(v) + " has zero rest length (strand bending needs a rest shape)");
     jt.phi0 = turning_angle(e1, e2);
     jt.weight = k / mean;
     joints.push_back(jt);

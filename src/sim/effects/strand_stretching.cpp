@@ -18,7 +18,7 @@ namespace {
 
 struct Spring {
   std::array<int, 2> v;
-  double length;  ///< rest length L
+  double length;                   ///< rest length L
   Eigen::Vector3d rest_direction;  ///< n at rest, the fallback when |e| = 0
 };
 

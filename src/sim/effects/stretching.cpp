@@ -27,7 +27,7 @@ using Matrix9 = Eigen::Matrix<double, 9, 9>;
 using Vector9 = Eigen::Matrix<double, 9, 1>;
 
 struct RestTriangle {
-  Matrix32 D;  ///< F = X D: row a holds ∂F(:, j)/∂x_a (rows 1, 2 are D_m⁻¹, row 0 their negated sum)
+  Matrix32 D;     ///< F = X D: row a holds ∂F(:, j)/∂x_a (rows 1, 2 are D_m⁻¹, row 0 their negated sum)
   double weight;  ///< μ A (rest area)
   std::array<int, 3> v;
 };
@@ -49,8 +49,7 @@ inline Eigen::Vector3d any_orthogonal(const Eigen::Vector3d& u) {
 /// One triangle: returns E = w Σ(σᵢ − 1)², adds ∂E/∂X (3×3, column a = vertex a) to `G`
 /// and the projected Hessian to `H` when non-null. Degenerate F (σ₂ ≈ 0, even F = 0) uses
 /// any orthonormal completion of the polar factor: finite, never NaN.
-inline double arap_triangle(const Eigen::Matrix3d& X, const Matrix32& D, double w, Eigen::Matrix3d* G,
-                            Matrix9* H) {
+inline double arap_triangle(const Eigen::Matrix3d& X, const Matrix32& D, double w, Eigen::Matrix3d* G, Matrix9* H) {
   const Matrix32 F = X * D;
   // V and σ₁ from the 2×2 FᵀF = [[a, b], [b, c]]; σ₂ = |F₀ × F₁|/σ₁ avoids the cancellation
   // of √λ₂ for thin triangles.

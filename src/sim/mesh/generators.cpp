@@ -17,7 +17,8 @@ void require(bool ok, const char* generator, const std::string& what) {
 Mesh grid(double width, double height, int nx, int ny) {
   require(std::isfinite(width) && width > 0 && std::isfinite(height) && height > 0, "grid",
           "width and height must be finite and positive");
-  require(nx >= 1 && ny >= 1 && nx <= 4096 && ny <= 4096, "grid", "the resolution must be between 1 and 4096 quads per side");
+  require(nx >= 1 && ny >= 1 && nx <= 4096 && ny <= 4096, "grid",
+          "the resolution must be between 1 and 4096 quads per side");
   Mesh m;
   m.positions.resize(3, (nx + 1) * (ny + 1));
   for (int j = 0; j <= ny; ++j)
@@ -27,7 +28,8 @@ Mesh grid(double width, double height, int nx, int ny) {
   int t = 0;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
-      const int a = j * (nx + 1) + i, b = a + 1, c = a + nx + 1, d = c + 1;  // a b / c d, counter-clockwise seen from +z
+      const int a = j * (nx + 1) + i, b = a + 1, c = a + nx + 1,
+                d = c + 1;  // a b / c d, counter-clockwise seen from +z
       if ((i + j) % 2 == 0) {
         m.triangles.col(t++) << a, b, d;
         m.triangles.col(t++) << a, d, c;

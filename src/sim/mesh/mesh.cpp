@@ -35,11 +35,13 @@ template <int N> void check_elements(const Eigen::Matrix<int, N, Eigen::Dynamic>
     for (int k = 0; k < N; ++k) {
       const int i = el(k, c);
       if (i < 0 || i >= n)
-        throw InputError(source, "", std::string(kind) + " " + std::to_string(c) + " refers to vertex " + std::to_string(i) +
-                                         ", but the mesh has " + std::to_string(n) + " vertices");
+        throw InputError(source, "",
+                         std::string(kind) + " " + std::to_string(c) + " refers to vertex " + std::to_string(i) +
+                             ", but the mesh has " + std::to_string(n) + " vertices");
       for (int m = 0; m < k; ++m)
         if (el(m, c) == i)
-          throw InputError(source, "", std::string(kind) + " " + std::to_string(c) + " uses vertex " + std::to_string(i) + " twice");
+          throw InputError(
+              source, "", std::string(kind) + " " + std::to_string(c) + " uses vertex " + std::to_string(i) + " twice");
     }
 }
 }  // namespace

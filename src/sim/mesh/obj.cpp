@@ -19,7 +19,9 @@ namespace {
 struct LineReader {
   std::string file;
   int line = 0;
-  [[noreturn]] void fail(const std::string& what) const { throw InputError(file, "line " + std::to_string(line), what); }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError(file, "line " + std::to_string(line), what);
+  }
 };
 
 double parse_coordinate(const std::string& token, const LineReader& r) {
@@ -37,11 +39,13 @@ int parse_index(const std::string& token, long vertex_count, const LineReader& r
   errno = 0;
   char* end = nullptr;
   const long i = std::strtol(head.c_str(), &end, 10);
-  if (head.empty() || end == head.c_str() || *end != '\0' || errno == ERANGE) r.fail("expected a vertex index, found '" + token + "'");
+  if (head.empty() || end == head.c_str() || *end != '\0' || errno == ERANGE)
+    r.fail("expected a vertex index, found '" + token + "'");
   if (i == 0) r.fail("vertex index 0 (OBJ indices start at 1)");
   const long zero_based = i > 0 ? i - 1 : vertex_count + i;  // negative: relative to the vertices so far
   if (zero_based < 0 || zero_based >= vertex_count)
-    r.fail("vertex index " + std::to_string(i) + " out of range (" + std::to_string(vertex_count) + " vertices so far)");
+    r.fail("vertex index " + std::to_string(i) + " out of range (" + std::to_string(vertex_count) +
+           " vertices so far)");
   return static_cast<int>(zero_based);
 }
 
@@ -100,9 +104,11 @@ void write_obj(const std::filesystem::path& path, const Mesh& mesh) {
   if (!out) throw InputError(file, "", "cannot open the file for writing");
   bool ok = true;
   for (Eigen::Index i = 0; i < mesh.positions.cols(); ++i)
-    ok = ok && std::fprintf(out, "v %.17g %.17g %.17g\n", mesh.positions(0, i), mesh.positions(1, i), mesh.positions(2, i)) > 0;
+    ok = ok && std::fprintf(out, "v %.17g %.17g %.17g\n", mesh.positions(0, i), mesh.positions(1, i),
+                            mesh.positions(2, i)) > 0;
   for (Eigen::Index i = 0; i < mesh.triangles.cols(); ++i)
-    ok = ok && std::fprintf(out, "f %d %d %d\n", mesh.triangles(0, i) + 1, mesh.triangles(1, i) + 1, mesh.triangles(2, i) + 1) > 0;
+    ok = ok && std::fprintf(out, "f %d %d %d\n", mesh.triangles(0, i) + 1, mesh.triangles(1, i) + 1,
+                            mesh.triangles(2, i) + 1) > 0;
   for (Eigen::Index i = 0; i < mesh.segments.cols(); ++i)
     ok = ok && std::fprintf(out, "l %d %d\n", mesh.segments(0, i) + 1, mesh.segments(1, i) + 1) > 0;
   ok = (std::fclose(out) == 0) && ok;

@@ -127,10 +127,18 @@ SurfaceDistance surface_distance(const Obstacle& o, const Eigen::Isometry3d& pos
   const Eigen::Vector3d q = R.transpose() * (p - pose.translation());  // local coordinates
   SurfaceDistance s;
   switch (o.kind) {
-    case ShapeKind::sphere: s = sphere_distance(o.radius, q); break;
-    case ShapeKind::box: s = box_distance(o.half_extents, q); break;
-    case ShapeKind::capsule: s = capsule_distance(o.radius, o.half_length, q); break;
-    case ShapeKind::mesh: s = mesh_distance(o.mesh, q); break;
+    case ShapeKind::sphere:
+      s = sphere_distance(o.radius, q);
+      break;
+    case ShapeKind::box:
+      s = box_distance(o.half_extents, q);
+      break;
+    case ShapeKind::capsule:
+      s = capsule_distance(o.radius, o.half_length, q);
+      break;
+    case ShapeKind::mesh:
+      s = mesh_distance(o.mesh, q);
+      break;
   }
   s.normal = R * s.normal;
   return s;
@@ -209,10 +217,18 @@ Mesh surface_mesh(const Obstacle& o, const Eigen::Isometry3d& pose, int resoluti
   const int rings = std::max(2, 2 * ((around + 3) / 4));  // even, about around/2
   Mesh m;
   switch (o.kind) {
-    case ShapeKind::sphere: m = round_mesh(o.radius, 0.0, around, rings); break;
-    case ShapeKind::capsule: m = round_mesh(o.radius, o.half_length, around, rings); break;
-    case ShapeKind::box: m = box_mesh(o.half_extents); break;
-    case ShapeKind::mesh: m = o.mesh; break;
+    case ShapeKind::sphere:
+      m = round_mesh(o.radius, 0.0, around, rings);
+      break;
+    case ShapeKind::capsule:
+      m = round_mesh(o.radius, o.half_length, around, rings);
+      break;
+    case ShapeKind::box:
+      m = box_mesh(o.half_extents);
+      break;
+    case ShapeKind::mesh:
+      m = o.mesh;
+      break;
   }
   for (Eigen::Index v = 0; v < m.positions.cols(); ++v) m.positions.col(v) = pose * Eigen::Vector3d(m.positions.col(v));
   return m;

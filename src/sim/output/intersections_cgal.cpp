@@ -52,12 +52,18 @@ Segment segment(const Hull& h) { return Segment(h.p[0], h.p[1]); }
 bool meet(const Hull& s, const Hull& t) {
   if (s.dimension < t.dimension) return meet(t, s);
   switch (s.dimension * 3 + t.dimension) {
-    case 2 * 3 + 2: return CGAL::do_intersect(triangle(s), triangle(t));
-    case 2 * 3 + 1: return CGAL::do_intersect(triangle(s), segment(t));
-    case 2 * 3 + 0: return CGAL::do_intersect(triangle(s), t.p[0]);
-    case 1 * 3 + 1: return CGAL::do_intersect(segment(s), segment(t));
-    case 1 * 3 + 0: return CGAL::do_intersect(segment(s), t.p[0]);
-    default: return s.p[0] == t.p[0];
+    case 2 * 3 + 2:
+      return CGAL::do_intersect(triangle(s), triangle(t));
+    case 2 * 3 + 1:
+      return CGAL::do_intersect(triangle(s), segment(t));
+    case 2 * 3 + 0:
+      return CGAL::do_intersect(triangle(s), t.p[0]);
+    case 1 * 3 + 1:
+      return CGAL::do_intersect(segment(s), segment(t));
+    case 1 * 3 + 0:
+      return CGAL::do_intersect(segment(s), t.p[0]);
+    default:
+      return s.p[0] == t.p[0];
   }
 }
 
@@ -106,8 +112,8 @@ std::vector<Point> points(const Eigen::Matrix3Xd& x) {
 
 void check_indices(const Eigen::Matrix3Xi& triangles, Eigen::Index vertex_count, const char* what) {
   if (triangles.size() > 0 && (triangles.minCoeff() < 0 || triangles.maxCoeff() >= vertex_count))
-    throw std::invalid_argument(std::string("intersecting_triangle_pairs: ") + what +
-                                " index out of range [0, " + std::to_string(vertex_count) + ")");
+    throw std::invalid_argument(std::string("intersecting_triangle_pairs: ") + what + " index out of range [0, " +
+                                std::to_string(vertex_count) + ")");
 }
 
 /// The points of triangle `t`, in index order.
@@ -189,15 +195,16 @@ long intersecting_triangle_pairs(const Eigen::Matrix3Xd& x, const Eigen::Matrix3
       b.begin(), b.end(),
       [&](const Box& s, const Box& t) {
         const Corners cs = corners(p, triangles, s.index), ct = corners(p, triangles, t.index);
-        count += meet(triangles.col(s.index), triangles.col(t.index), cs.p, ct.p,
-                      h[static_cast<std::size_t>(s.index)], h[static_cast<std::size_t>(t.index)]);
+        count += meet(triangles.col(s.index), triangles.col(t.index), cs.p, ct.p, h[static_cast<std::size_t>(s.index)],
+                      h[static_cast<std::size_t>(t.index)]);
       },
       CGAL::Box_intersection_d::Box_traits_d<Box>(), box_cutoff, CGAL::Box_intersection_d::CLOSED);
   return count;
 }
 
 long intersecting_triangle_pairs(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& triangles,
-                                 const Eigen::Matrix3Xd& obstacle_vertices, const Eigen::Matrix3Xi& obstacle_triangles) {
+                                 const Eigen::Matrix3Xd& obstacle_vertices,
+                                 const Eigen::Matrix3Xi& obstacle_triangles) {
   check_indices(triangles, x.cols(), "triangle");
   check_indices(obstacle_triangles, obstacle_vertices.cols(), "obstacle triangle");
   const std::vector<Point> p = points(x), q = points(obstacle_vertices);

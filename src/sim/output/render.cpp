@@ -34,7 +34,9 @@ struct Camera {
   }
 };
 
-bool usable(const RenderMesh& m, int vertex) { return vertex >= 0 && vertex < m.positions.cols() && m.positions.col(vertex).allFinite(); }
+bool usable(const RenderMesh& m, int vertex) {
+  return vertex >= 0 && vertex < m.positions.cols() && m.positions.col(vertex).allFinite();
+}
 
 /// The camera whose picture of every usable vertex fills a `w` × `h` image but for `margin`.
 /// False if there is no usable vertex.
@@ -97,7 +99,8 @@ Eigen::Matrix3Xd vertex_normals(const RenderMesh& m, const std::vector<bool>& tr
   for (Eigen::Index t = 0; t < m.triangles.cols(); ++t) {
     if (!triangle_ok[static_cast<std::size_t>(t)]) continue;
     const auto i = m.triangles.col(t);
-    const Eigen::Vector3d c = (m.positions.col(i[1]) - m.positions.col(i[0])).cross(m.positions.col(i[2]) - m.positions.col(i[0]));
+    const Eigen::Vector3d c =
+        (m.positions.col(i[1]) - m.positions.col(i[0])).cross(m.positions.col(i[2]) - m.positions.col(i[0]));
     for (int k = 0; k < 3; ++k) n.col(i[k]) += c;
   }
   return n;

@@ -26,14 +26,17 @@ std::string number_text(double v) {
 Params::Params(const nlohmann::json& object, std::string file, std::string path)
     : j_(&object), file_(std::move(file)), path_(std::move(path)) {
   if (!object.is_object())
-    throw InputError(file_, path_.empty() ? "(root)" : path_, std::string("expected an object, got ") + type_name(object));
+    throw InputError(file_, path_.empty() ? "(root)" : path_,
+                     std::string("expected an object, got ") + type_name(object));
 }
 
 bool Params::has(const std::string& key) const { return j_->contains(key); }
 
 std::string Params::path_of(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
 
-void Params::fail(const std::string& key, const std::string& what) const { throw InputError(file_, path_of(key), what); }
+void Params::fail(const std::string& key, const std::string& what) const {
+  throw InputError(file_, path_of(key), what);
+}
 
 const nlohmann::json& Params::at(const std::string& key) const {
   const auto it = j_->find(key);
@@ -50,7 +53,8 @@ double Params::number(const std::string& key, std::optional<double> fallback, do
   if (!j.is_number()) fail(key, std::string("expected a number, got ") + type_name(j));
   const double v = j.get<double>();
   if (!std::isfinite(v)) fail(key, "expected a finite number");
-  if (v < lo || v > hi) fail(key, "expected a number in [" + number_text(lo) + ", " + number_text(hi) + "], got " + number_text(v));
+  if (v < lo || v > hi)
+    fail(key, "expected a number in [" + number_text(lo) + ", " + number_text(hi) + "], got " + number_text(v));
   return v;
 }
 
@@ -72,12 +76,13 @@ long Params::integer(const std::string& key, std::optional<long> fallback, long 
     fail(key, "missing required field (an integer)");
   }
   const nlohmann::json& j = at(key);
-  if (!j.is_number_integer() && !(j.is_number_float() && std::floor(j.get<double>()) == j.get<double>() &&
-                                  std::abs(j.get<double>()) < 1e15))
+  if (!j.is_number_integer() &&
+      !(j.is_number_float() && std::floor(j.get<double>()) == j.get<double>() && std::abs(j.get<double>()) < 1e15))
     fail(key, std::string("expected an integer, got ") + type_name(j));
   const long v = j.is_number_integer() ? j.get<long>() : static_cast<long>(j.get<double>());
   if (v < lo || v > hi)
-    fail(key, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + std::to_string(v));
+    fail(key,
+         "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + std::to_string(v));
   return v;
 }
 
@@ -136,7 +141,8 @@ std::vector<int> Params::indices(const std::string& key, long hi) const {
   out.reserve(j.size());
   for (std::size_t k = 0; k < j.size(); ++k) {
     const nlohmann::json& e = j[k];
-    if (!e.is_number_integer()) throw InputError(file_, path_of(key) + "[" + std::to_string(k) + "]", "expected an integer");
+    if (!e.is_number_integer())
+      throw InputError(file_, path_of(key) + "[" + std::to_string(k) + "]", "expected an integer");
     const long v = e.get<long>();
     if (v < 0 || v >= hi)
       throw InputError(file_, path_of(key) + "[" + std::to_string(k) + "]",

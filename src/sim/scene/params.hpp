@@ -37,8 +37,7 @@ class Params {
   /// A finite number; `lo`/`hi` are inclusive bounds (checked) and the default is used
   /// when the key is absent (required when no default is given).
   double number(const std::string& key, std::optional<double> fallback = std::nullopt,
-                double lo = -std::numeric_limits<double>::max(),
-                double hi = std::numeric_limits<double>::max()) const;
+                double lo = -std::numeric_limits<double>::max(), double hi = std::numeric_limits<double>::max()) const;
   /// A number > 0.
   double positive(const std::string& key, std::optional<double> fallback = std::nullopt) const;
   /// A number ≥ 0.

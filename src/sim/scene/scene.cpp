@@ -172,8 +172,8 @@ Model build_model(const std::vector<MeshSpec>& meshes, const Params& root) {
     for (int t = 0; t < ct; ++t) {
       const auto tri = s.mesh.triangles.col(t);
       const double area = 0.5 * (s.mesh.positions.col(tri[1]) - s.mesh.positions.col(tri[0]))
-                                     .cross(s.mesh.positions.col(tri[2]) - s.mesh.positions.col(tri[0]))
-                                     .norm();
+                                    .cross(s.mesh.positions.col(tri[2]) - s.mesh.positions.col(tri[0]))
+                                    .norm();
       for (int j = 0; j < 3; ++j) m.mass[v0 + tri[j]] += s.density * area / 3.0;
     }
     for (int e = 0; e < cs; ++e) {
@@ -184,7 +184,8 @@ Model build_model(const std::vector<MeshSpec>& meshes, const Params& root) {
     for (int i = 0; i < cv; ++i)
       if (!(m.mass[v0 + i] > 0))
         throw InputError(root.file(), "meshes[" + std::to_string(k) + "]",
-                         "vertex " + std::to_string(i) + " belongs to no triangle or segment of positive size (it would have no mass)");
+                         "vertex " + std::to_string(i) +
+                             " belongs to no triangle or segment of positive size (it would have no mass)");
     v0 += cv;
     t0 += ct;
     s0 += cs;
@@ -206,7 +207,8 @@ std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::strin
     throw InputError(name, "", std::string("not valid JSON: ") + e.what());
   }
   const Params root(j, name, "");
-  root.only({"description", "dt", "frames", "solver", "meshes", "obstacles", "effects", "output_every", "view_direction"});
+  root.only(
+      {"description", "dt", "frames", "solver", "meshes", "obstacles", "effects", "output_every", "view_direction"});
   auto scene = std::make_unique<Scene>();
   Simulation& sim = scene->simulation;
   sim.solver.dt = root.positive("dt");

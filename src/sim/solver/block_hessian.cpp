@@ -25,7 +25,8 @@ bool BlockHessian::set_pattern(int n, const Pattern& pattern) {
   row_begin_.assign(static_cast<std::size_t>(n) + 1, 0);
   for (std::size_t k = 0; k < keys.size(); ++k) {
     const int j = static_cast<int>(keys[k] >> 32);
-    if (j >= n) throw std::logic_error("BlockHessian: pattern names vertex " + std::to_string(j) + " of " + std::to_string(n));
+    if (j >= n)
+      throw std::logic_error("BlockHessian: pattern names vertex " + std::to_string(j) + " of " + std::to_string(n));
     rows_[k] = static_cast<int>(keys[k] & 0xffffffffu);
     ++row_begin_[static_cast<std::size_t>(j) + 1];
   }
@@ -58,9 +59,7 @@ bool BlockHessian::set_pattern(int n, const Pattern& pattern) {
   return true;
 }
 
-void BlockHessian::set_zero() {
-  std::fill(m_.valuePtr(), m_.valuePtr() + m_.nonZeros(), 0.0);
-}
+void BlockHessian::set_zero() { std::fill(m_.valuePtr(), m_.valuePtr() + m_.nonZeros(), 0.0); }
 
 Eigen::Index BlockHessian::offset(int i, int j) const {
   const auto first = rows_.begin() + row_begin_[j], last = rows_.begin() + row_begin_[j + 1];

@@ -164,8 +164,8 @@ FrameStats Simulation::step() {
       effect_ms[k] += ms_since(t0);
     }
     if (!std::isfinite(E) || !g.allFinite())
-      throw std::runtime_error("frame " + std::to_string(st.frame) + ": non-finite energy or gradient at Newton iteration " +
-                               std::to_string(it + 1));
+      throw std::runtime_error("frame " + std::to_string(st.frame) +
+                               ": non-finite energy or gradient at Newton iteration " + std::to_string(it + 1));
     // Newton direction.
     t0 = Clock::now();
     rhs = -Eigen::Map<const Eigen::VectorXd>(g.data(), g.size());
@@ -197,7 +197,8 @@ FrameStats Simulation::step() {
     }
     st.line_search_ms += ms_since(t0);
     if (trace_)
-      std::fprintf(stderr, "  it %d E %.9g slope %.3g alpha %.3g residual %.3g accepted %d\n", it, E, slope, alpha, st.residual, accepted);
+      std::fprintf(stderr, "  it %d E %.9g slope %.3g alpha %.3g residual %.3g accepted %d\n", it, E, slope, alpha,
+                   st.residual, accepted);
     if (!accepted) {
       ++st.line_search_failures;
       break;
@@ -215,8 +216,7 @@ FrameStats Simulation::step() {
     if (converged) break;
     if (it + 1 == cap && !solver.single_solve) st.hit_iteration_cap = true;
   }
-  if (!y.allFinite())
-    throw std::runtime_error("frame " + std::to_string(st.frame) + ": the state became non-finite");
+  if (!y.allFinite()) throw std::runtime_error("frame " + std::to_string(st.frame) + ": the state became non-finite");
   // One more energy pass at the accepted state, so the energy and every counter (contact
   // counts, minimum distances) describe it rather than the last line-search trial.
   {
@@ -239,12 +239,18 @@ FrameStats Simulation::step() {
     effects[k]->report(c);
     for (const auto& [key, value] : c) {
       auto it = st.counters.find(key);
-      if (it == st.counters.end()) st.counters[key] = value;
-      else if (key.find("min_distance") != std::string::npos) it->second = std::min(it->second, value);
-      else it->second += value;
+      if (it == st.counters.end())
+        st.counters[key] = value;
+      else if (key.find("min_distance") != std::string::npos)
+        it->second = std::min(it->second, value);
+      else
+        it->second += value;
     }
   }
-  const auto counter = [&](const char* key) { const auto it = st.counters.find(key); return it == st.counters.end() ? 0.0 : it->second; };
+  const auto counter = [&](const char* key) {
+    const auto it = st.counters.find(key);
+    return it == st.counters.end() ? 0.0 : it->second;
+  };
   st.broad_phase_ms = counter("broad_phase_ms");
   st.pair_ms = counter("pair_ms");
   st.assembly_ms += counter("scatter_ms");

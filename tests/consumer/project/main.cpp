@@ -14,8 +14,8 @@ int main() {
   x << 0.2, 0.3, 0.05, 0, 0, 0, 1, 0, 0, 0, 1, 0;
 
   pce::PairEnergy<double> e;
-  const pce::Status s = pce::pair_energy<pce::VertexFace>(
-      x, pce::SignedLength{pce::Side::positive}, pce::LogBarrierPenalty{1e3, 0.1}, e);
+  const pce::Status s =
+      pce::pair_energy<pce::VertexFace>(x, pce::SignedLength{pce::Side::positive}, pce::LogBarrierPenalty{1e3, 0.1}, e);
   if (s != pce::Status::ok) {
     std::printf("pair_energy: status %d\n", static_cast<int>(s));
     return 1;

@@ -88,8 +88,8 @@ class BlockHessian {
   int n_ = 0;
   std::size_t block_count_ = 0;
   Eigen::SparseMatrix<double> m_;
-  std::vector<int> rows_;        ///< per block column j: its row vertices i ≤ j, sorted
-  std::vector<int> row_begin_;   ///< start of block column j in rows_
+  std::vector<int> rows_;            ///< per block column j: its row vertices i ≤ j, sorted
+  std::vector<int> row_begin_;       ///< start of block column j in rows_
   std::vector<std::uint64_t> last_;  ///< the previous call's declarations, as given
 };
 

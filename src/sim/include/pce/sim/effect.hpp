@@ -45,9 +45,7 @@ class Effect {
   virtual double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) = 0;
   /// Largest fraction t ∈ (0, 1] of the step `dx` from `x` that this effect allows (a
   /// barrier keeps every active length above 0); 1 for effects without a domain limit.
-  virtual double max_step(const Eigen::Matrix3Xd& /*x*/, const Eigen::Matrix3Xd& /*dx*/) {
-    return 1.0;
-  }
+  virtual double max_step(const Eigen::Matrix3Xd& /*x*/, const Eigen::Matrix3Xd& /*dx*/) { return 1.0; }
   /// Called after each accepted Newton update; returns false when the effect needs a new
   /// `begin_step`-time query (a contact effect whose candidates went stale).
   virtual bool still_valid(const Eigen::Matrix3Xd& /*x*/) { return true; }

@@ -49,8 +49,7 @@ long intersecting_triangle_pairs(const Eigen::Matrix3Xd& x, const Eigen::Matrix3
 /// (no neighbour rule: the two meshes share no vertices). Pairs within one mesh are not
 /// counted. Throws `std::invalid_argument` if an index is out of range.
 long intersecting_triangle_pairs(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& triangles,
-                                 const Eigen::Matrix3Xd& obstacle_vertices,
-                                 const Eigen::Matrix3Xi& obstacle_triangles);
+                                 const Eigen::Matrix3Xd& obstacle_vertices, const Eigen::Matrix3Xi& obstacle_triangles);
 
 /// The pair predicate the counts use, for triangles `a` and `b` of one mesh (vertex indices
 /// into `x`), neighbour rule included; false when `a` and `b` hold the same three indices.

@@ -14,8 +14,8 @@ namespace pce::sim {
 
 /// Where one scene mesh lives inside the model.
 struct MeshRange {
-  std::string name;       ///< the scene's mesh name
-  int first_vertex = 0;   ///< global index of its vertex 0
+  std::string name;      ///< the scene's mesh name
+  int first_vertex = 0;  ///< global index of its vertex 0
   /// Number of its vertices.
   int vertex_count = 0;
   /// Global index of its first triangle (column of `Model::triangles`).
@@ -44,9 +44,9 @@ struct Model {
 
 /// What every effect may read when a time step begins.
 struct StepContext {
-  int frame = 0;                ///< the frame being computed (1 for the first step)
-  double time = 0;              ///< time at the end of the step (s)
-  double dt = 0;                ///< step size (s)
+  int frame = 0;    ///< the frame being computed (1 for the first step)
+  double time = 0;  ///< time at the end of the step (s)
+  double dt = 0;    ///< step size (s)
   /// The model being simulated.
   const Model* model = nullptr;
   const Eigen::Matrix3Xd* x_start = nullptr;  ///< positions at the start of the step

@@ -49,11 +49,11 @@ struct Obstacle {
   std::string name;
   /// Which of the shape fields below apply.
   ShapeKind kind = ShapeKind::sphere;
-  double radius = 0;                                   ///< sphere, capsule
-  double half_length = 0;                              ///< capsule: half its axis, along local z
+  double radius = 0;                                       ///< sphere, capsule
+  double half_length = 0;                                  ///< capsule: half its axis, along local z
   Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();  ///< box
-  Mesh mesh;                                           ///< kind mesh: triangles in local coordinates
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< centre at t = 0
+  Mesh mesh;                                               ///< kind mesh: triangles in local coordinates
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();      ///< centre at t = 0
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  ///< orientation at t = 0
   /// Its path after t = 0.
   Motion motion;

@@ -22,9 +22,9 @@ namespace pce::sim {
 
 /// One mesh to draw, in world coordinates, with its colour.
 struct RenderMesh {
-  Eigen::Matrix3Xd positions;  ///< one column per vertex
-  Eigen::Matrix3Xi triangles;  ///< drawn as shaded surfaces
-  Eigen::Matrix2Xi segments;   ///< drawn as tubes
+  Eigen::Matrix3Xd positions;                                   ///< one column per vertex
+  Eigen::Matrix3Xi triangles;                                   ///< drawn as shaded surfaces
+  Eigen::Matrix2Xi segments;                                    ///< drawn as tubes
   Eigen::Vector3f color = Eigen::Vector3f(0.8f, 0.35f, 0.25f);  ///< linear RGB in [0, 1]
 };
 
@@ -37,8 +37,8 @@ struct RenderOptions {
   Eigen::Vector3d view_direction = Eigen::Vector3d(-1.0, -2.0, -0.9).normalized();
   double margin = 0.05;  ///< empty border on each side, as a fraction of the image size
   Eigen::Vector3f background = Eigen::Vector3f(0.92f, 0.92f, 0.93f);  ///< light grey
-  double line_width = 3.0;  ///< segment tubes' width, pixels
-  int supersampling = 2;    ///< samples per pixel along each axis, 1 to 4
+  double line_width = 3.0;                                            ///< segment tubes' width, pixels
+  int supersampling = 2;                                              ///< samples per pixel along each axis, 1 to 4
 };
 
 /// Renders `meshes` and writes an RGB PNG of `opts.width` × `opts.height` to `path`.

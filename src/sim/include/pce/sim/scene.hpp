@@ -23,7 +23,7 @@ namespace pce::sim {
 struct SceneOverrides {
   /// Frames to simulate (`frames`).
   std::optional<int> frames;
-  std::optional<std::string> hessian;      ///< every contact effect's Hessian strategy
+  std::optional<std::string> hessian;  ///< every contact effect's Hessian strategy
   /// Every contact effect's broad phase (`solver.broad_phase`).
   std::optional<BroadPhaseKind> broad_phase;
   /// OpenMP threads (`solver.threads`).
@@ -40,7 +40,7 @@ struct Scene {
   std::filesystem::path file;
   /// The simulation the scene declares, at frame 0.
   Simulation simulation;
-  int output_every = 1;                 ///< write every k-th frame's mesh (the last always)
+  int output_every = 1;  ///< write every k-th frame's mesh (the last always)
   Eigen::Vector3d view_direction = Eigen::Vector3d(-1.0, -2.0, -0.9);  ///< picture camera
 };
 

@@ -32,12 +32,12 @@ enum class LinearSolver { direct, ldlt, cg };
 
 /// The scene's `solver` block: step size, Newton's stopping rule, linear solver, threads.
 struct SolverSettings {
-  double dt = 1.0 / 40.0;      ///< time step (s), one per frame
-  int max_iterations = 50;     ///< Newton iteration cap per step
-  double tolerance = 1e-2;     ///< on max|Δx|/(h·ℓ), 1/s
-  bool single_solve = false;   ///< one linearised solve per step (the paper's mode)
+  double dt = 1.0 / 40.0;                      ///< time step (s), one per frame
+  int max_iterations = 50;                     ///< Newton iteration cap per step
+  double tolerance = 1e-2;                     ///< on max|Δx|/(h·ℓ), 1/s
+  bool single_solve = false;                   ///< one linearised solve per step (the paper's mode)
   LinearSolver linear = LinearSolver::direct;  ///< direct: CHOLMOD when built with it, else LDLᵀ
-  int threads = 0;             ///< 0: OpenMP's default
+  int threads = 0;                             ///< 0: OpenMP's default
 };
 
 /// What one frame cost and reached (`stats.json`, contract §2).
@@ -48,9 +48,9 @@ struct FrameStats {
   double wall_ms = 0;
   /// Linear solves in this step.
   int newton_iterations = 0;
-  double residual = 0;          ///< max|Δx|/(h·ℓ) of the last Newton direction
-  double energy = 0;            ///< incremental potential at the accepted state
-  int line_search_failures = 0; ///< iterations whose line search found no decrease
+  double residual = 0;           ///< max|Δx|/(h·ℓ) of the last Newton direction
+  double energy = 0;             ///< incremental potential at the accepted state
+  int line_search_failures = 0;  ///< iterations whose line search found no decrease
   /// Newton mode only: `max_iterations` were used up.
   bool hit_iteration_cap = false;
   ///@{
@@ -59,7 +59,7 @@ struct FrameStats {
   double broad_phase_ms = 0, pair_ms = 0, assembly_ms = 0, solve_ms = 0, line_search_ms = 0;
   ///@}
   std::vector<std::pair<std::string, double>> effect_ms;  ///< per evaluated effect, in scene order
-  EffectCounters counters;      ///< merged effect counters (contact counts, distances, …)
+  EffectCounters counters;                                ///< merged effect counters (contact counts, distances, …)
 };
 
 /// A whole simulation: the model, its obstacles, the declared effects, the solver settings
@@ -74,11 +74,11 @@ class Simulation {
   std::vector<std::unique_ptr<Effect>> effects;
   /// Step size, stopping rule, linear solver, threads.
   SolverSettings solver;
-  int frames = 1;               ///< frames to simulate
+  int frames = 1;  ///< frames to simulate
   ///@{
-  Eigen::Matrix3Xd x, v;        ///< current positions and velocities
+  Eigen::Matrix3Xd x, v;  ///< current positions and velocities
   ///@}
-  int frame = 0;                ///< frames done
+  int frame = 0;  ///< frames done
   /// Simulated time (s) at the end of the last step.
   double time = 0;
 
@@ -88,7 +88,7 @@ class Simulation {
 
  private:
   double potential(const Eigen::Matrix3Xd& y, std::vector<double>* effect_ms);
-  Eigen::VectorXd mass3_;       ///< per coordinate m/h²
+  Eigen::VectorXd mass3_;  ///< per coordinate m/h²
   Eigen::Matrix3Xd x_tilde_;
   double scale_ = 1;
   struct LinearState;
