@@ -179,7 +179,6 @@ class Context:
         self.docs = Path(args.docs).resolve()
         self.images = self.docs.parent / "images" / "benchmarks"
         self.jobs = args.jobs
-        self.step_seconds = {}
 
     def exe(self, name):
         for sub in ("benchmarks", "src/sim", "tests", "src/probe", "."):
@@ -293,7 +292,7 @@ def make_scene(ctx, name, base, changes):
     return path
 
 
-def run_sim(ctx, scene_path, tag, strategy, mode, tol, threads=1, keep_stats=False):
+def run_sim(ctx, scene_path, tag, strategy, mode, tol, threads=1):
     out = ctx.results / "runs" / tag
     if out.exists():
         shutil.rmtree(out)
@@ -326,8 +325,6 @@ def run_sim(ctx, scene_path, tag, strategy, mode, tol, threads=1, keep_stats=Fal
     r["other_ms"] = max(r["ms_per_frame"] - sum(r[k] for k in STAGES), 0.0)
     last = out / f"frame_{summary['frames_done']:04d}.obj"
     r["final_obj"] = str(last) if last.exists() else None
-    if keep_stats:
-        r["stats"] = stats
     return r
 
 
@@ -662,8 +659,7 @@ def write_report(ctx, machine, cost, acc, bp, threads, scenes, total_s):
                      f"{fmt(r['residual_median'])} / {fmt(r['residual_max'])}", fmt(r["peak_mib"]),
                      r["line_search_failures"], r["iteration_caps"], r["frames_with_intersections"],
                      "—" if r["kind"] == "reference" else fmt(r["dev_rms"]),
-                     "—" if r["kind"] == "reference" else fmt(r["dev_max"])] +
-                    ([] if not r["failure"] else []) for r in rows],
+                     "—" if r["kind"] == "reference" else fmt(r["dev_max"])] for r in rows],
                    ["---", "---"] + ["---:"] * 9) + "\n")
         failed = [r for r in rows if r["failure"]]
         for r in failed:
