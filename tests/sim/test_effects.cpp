@@ -166,28 +166,28 @@ void expect_hessian_matches(Effect& e, const Matrix3Xd& x, double tol = 1e-5) {
 TEST(Gravity, EnergyGradientAndNoHessian) {
   Model m = cloth();
   m.mass.setLinSpaced(m.mass.size(), 0.5, 2.0);
-  auto e = build(make_gravity, R"({"type":"gravity","acceleration":[1,2,-9]})", m);
+  auto e = build(load_gravity, R"({"type":"gravity","acceleration":[1,2,-9]})", m);
   const Matrix3Xd x = perturbed(m.rest, 0.1, 3);
   double expected = 0;
   for (Eigen::Index i = 0; i < x.cols(); ++i) expected -= m.mass[i] * Eigen::Vector3d(1, 2, -9).dot(x.col(i));
   EXPECT_NEAR(energy(*e, x), expected, 1e-12 * std::abs(expected));
   expect_gradient_matches(*e, x);
   EXPECT_EQ(hessian(*e, x).norm(), 0.0);
-  auto d = build(make_gravity, R"({"type":"gravity"})", m);  // default −9.81 ẑ
+  auto d = build(load_gravity, R"({"type":"gravity"})", m);  // default −9.81 ẑ
   EXPECT_NEAR(gradient(*d, x)(2, 4), 9.81 * m.mass[4], 1e-12);
 }
 
 TEST(Gravity, BadParameters) {
   const Model m = cloth();
-  EXPECT_EQ(error_at(make_gravity, R"({"type":"gravity","acceleration":[0,-9.81]})", m), "effects[0].acceleration");
-  EXPECT_EQ(error_at(make_gravity, R"({"type":"gravity","g":[0,0,-9.81]})", m), "effects[0].g");
+  EXPECT_EQ(error_at(load_gravity, R"({"type":"gravity","acceleration":[0,-9.81]})", m), "effects[0].acceleration");
+  EXPECT_EQ(error_at(load_gravity, R"({"type":"gravity","g":[0,0,-9.81]})", m), "effects[0].g");
 }
 
 // --- stretching -------------------------------------------------------------------------
 
 TEST(Stretching, ZeroAtRestAndUnderRigidMotion) {
   const Model m = cloth(3, 3, 0.1);
-  auto e = build(make_stretching, R"({"type":"stretching","stiffness":10})", m);
+  auto e = build(load_stretching, R"({"type":"stretching","stiffness":10})", m);
   EXPECT_NEAR(energy(*e, m.rest), 0.0, 1e-24);
   EXPECT_NEAR(energy(*e, rigid(m.rest)), 0.0, 1e-20);
   EXPECT_LT(gradient(*e, rigid(m.rest)).norm(), 1e-10);
@@ -202,7 +202,7 @@ TEST(Stretching, ZeroAtRestAndUnderRigidMotion) {
 
 TEST(Stretching, GradientMatchesFiniteDifferences) {
   const Model m = cloth(3, 3, 0.05);
-  auto e = build(make_stretching, R"({"type":"stretching","model":"arap","stiffness":7})", m);
+  auto e = build(load_stretching, R"({"type":"stretching","model":"arap","stiffness":7})", m);
   for (unsigned seed = 1; seed <= 4; ++seed)
     expect_gradient_matches(*e, perturbed(rigid(m.rest, 0.8 + 0.2 * seed), 0.1, seed));
 }
@@ -210,13 +210,13 @@ TEST(Stretching, GradientMatchesFiniteDifferences) {
 TEST(Stretching, HessianIsExactWhenStretched) {
   // σ₁, σ₂ > 1 and σ₁ + σ₂ > 2 in every triangle: no eigenvalue is clamped.
   const Model m = cloth(3, 3, 0.05);
-  auto e = build(make_stretching, R"({"type":"stretching","stiffness":7})", m);
+  auto e = build(load_stretching, R"({"type":"stretching","stiffness":7})", m);
   expect_hessian_matches(*e, perturbed(rigid(m.rest, 1.4), 0.02, 5));
 }
 
 TEST(Stretching, HessianIsPsdEverywhere) {
   const Model m = cloth(3, 3, 0.05);
-  auto e = build(make_stretching, R"({"type":"stretching","stiffness":7})", m);
+  auto e = build(load_stretching, R"({"type":"stretching","stiffness":7})", m);
   for (unsigned seed = 1; seed <= 4; ++seed) expect_psd(*e, perturbed(rigid(m.rest, 0.25 * seed), 0.2, seed));
   // Compressed (every σ < 1): the true Hessian is indefinite, the projection is not.
   const Matrix3Xd squeezed = perturbed(rigid(m.rest, 0.6), 0.01, 9);
@@ -240,7 +240,7 @@ TEST(Stretching, ClosedFormEqualsTheNumericalProjectionInFSpace) {
   m.rest(1, 2) = 1;
   m.triangles = Eigen::Vector3i(0, 1, 2);
   m.mass = Eigen::VectorXd::Ones(3);
-  auto e = build(make_stretching, R"({"type":"stretching","stiffness":3})", m);
+  auto e = build(load_stretching, R"({"type":"stretching","stiffness":3})", m);
   for (unsigned seed = 1; seed <= 6; ++seed)
     for (double s : {0.4, 0.8, 1.1, 1.6}) {
       Matrix3Xd x = perturbed(rigid(m.rest, s), 0.15, seed);
@@ -255,7 +255,7 @@ TEST(Stretching, ClosedFormEqualsTheNumericalProjectionInFSpace) {
 
 TEST(Stretching, DegenerateTrianglesStayFinite) {
   const Model m = cloth(2, 2);
-  auto e = build(make_stretching, R"({"type":"stretching","stiffness":7})", m);
+  auto e = build(load_stretching, R"({"type":"stretching","stiffness":7})", m);
   Matrix3Xd line = m.rest;
   line.row(1).setZero();                                // every triangle flattened onto a line: σ₂ = 0
   Matrix3Xd point = Matrix3Xd::Zero(3, m.rest.cols());  // F = 0
@@ -270,20 +270,20 @@ TEST(Stretching, DegenerateTrianglesStayFinite) {
 
 TEST(Stretching, BadParameters) {
   const Model m = cloth();
-  EXPECT_EQ(error_at(make_stretching, R"({"type":"stretching","stiffness":-1})", m), "effects[0].stiffness");
-  EXPECT_EQ(error_at(make_stretching, R"({"type":"stretching"})", m), "effects[0].stiffness");
-  EXPECT_EQ(error_at(make_stretching, R"({"type":"stretching","stiffness":1,"model":"neo"})", m), "effects[0].model");
-  EXPECT_EQ(error_at(make_stretching, R"({"type":"stretching","stifness":1})", m), "effects[0].stifness");
+  EXPECT_EQ(error_at(load_stretching, R"({"type":"stretching","stiffness":-1})", m), "effects[0].stiffness");
+  EXPECT_EQ(error_at(load_stretching, R"({"type":"stretching"})", m), "effects[0].stiffness");
+  EXPECT_EQ(error_at(load_stretching, R"({"type":"stretching","stiffness":1,"model":"neo"})", m), "effects[0].model");
+  EXPECT_EQ(error_at(load_stretching, R"({"type":"stretching","stifness":1})", m), "effects[0].stifness");
   Model flat = cloth(1, 1);
   flat.rest.col(3) = flat.rest.col(0);  // a zero-area rest triangle
-  EXPECT_EQ(error_at(make_stretching, R"({"type":"stretching","stiffness":1})", flat), "effects[0]");
+  EXPECT_EQ(error_at(load_stretching, R"({"type":"stretching","stiffness":1})", flat), "effects[0]");
 }
 
 // --- bending ----------------------------------------------------------------------------
 
 TEST(Bending, HingesOfTheGrid) {
   const Model m = cloth(3, 3);
-  auto e = build(make_bending, R"({"type":"bending","stiffness":1})", m);
+  auto e = build(load_bending, R"({"type":"bending","stiffness":1})", m);
   EffectCounters c;
   e->report(c);
   EXPECT_EQ(c["hinges"], 33 - 12);  // interior edges: all 33 minus the 12 on the boundary
@@ -292,13 +292,13 @@ TEST(Bending, HingesOfTheGrid) {
 
 TEST(Bending, GradientMatchesFiniteDifferences) {
   const Model m = cloth(3, 3, 0.1);
-  auto e = build(make_bending, R"({"type":"bending","stiffness":0.3})", m);
+  auto e = build(load_bending, R"({"type":"bending","stiffness":0.3})", m);
   for (unsigned seed = 1; seed <= 4; ++seed) expect_gradient_matches(*e, perturbed(m.rest, 0.08, seed));
 }
 
 TEST(Bending, HessianIsExactAtTheRestAngle) {
   const Model m = cloth(3, 3, 0.1);
-  auto e = build(make_bending, R"({"type":"bending","stiffness":0.3})", m);
+  auto e = build(load_bending, R"({"type":"bending","stiffness":0.3})", m);
   const Matrix3Xd x = rigid(m.rest);
   EXPECT_NEAR(energy(*e, x), 0.0, 1e-20);
   expect_hessian_matches(*e, x);
@@ -308,7 +308,7 @@ TEST(Bending, HessianIsExactAtTheRestAngle) {
 TEST(Bending, EnergyOfAKnownFold) {
   // Two triangles folded by 90° about their shared diagonal: E = k (π/2)² 3|e|²/(A₁ + A₂).
   Model m = cloth(1, 1);
-  auto e = build(make_bending, R"({"type":"bending","stiffness":2})", m);
+  auto e = build(load_bending, R"({"type":"bending","stiffness":2})", m);
   ASSERT_EQ(m.triangles.cols(), 2);
   // Find the shared edge and the wings, then rotate one wing about the edge by 90°.
   int shared[2], n = 0, wing = -1;
@@ -327,7 +327,7 @@ TEST(Bending, EnergyOfAKnownFold) {
 
 TEST(Bending, HessianIsPsdAndDegenerateHingesStayFinite) {
   const Model m = cloth(3, 3, 0.1);
-  auto e = build(make_bending, R"({"type":"bending","stiffness":0.3})", m);
+  auto e = build(load_bending, R"({"type":"bending","stiffness":0.3})", m);
   for (unsigned seed = 1; seed <= 3; ++seed) expect_psd(*e, perturbed(m.rest, 0.3, seed));
   Matrix3Xd x = m.rest;
   x.col(5) = x.col(6);  // collapses the triangles around the edge (5, 6)
@@ -341,16 +341,16 @@ TEST(Bending, HessianIsPsdAndDegenerateHingesStayFinite) {
 
 TEST(Bending, BadParameters) {
   const Model m = cloth();
-  EXPECT_EQ(error_at(make_bending, R"({"type":"bending","stiffness":0})", m), "effects[0].stiffness");
-  EXPECT_EQ(error_at(make_bending, R"({"type":"bending","stiffness":"1"})", m), "effects[0].stiffness");
-  EXPECT_EQ(error_at(make_bending, R"({"type":"bending","stiffness":1,"rest_angle":0})", m), "effects[0].rest_angle");
+  EXPECT_EQ(error_at(load_bending, R"({"type":"bending","stiffness":0})", m), "effects[0].stiffness");
+  EXPECT_EQ(error_at(load_bending, R"({"type":"bending","stiffness":"1"})", m), "effects[0].stiffness");
+  EXPECT_EQ(error_at(load_bending, R"({"type":"bending","stiffness":1,"rest_angle":0})", m), "effects[0].rest_angle");
 }
 
 // --- strand stretching ------------------------------------------------------------------
 
 TEST(StrandStretching, GradientHessianAndProjection) {
   const Model m = hair(2, 4, 0.05);
-  auto e = build(make_strand_stretching, R"({"type":"strand_stretching","stiffness":50})", m);
+  auto e = build(load_strand_stretching, R"({"type":"strand_stretching","stiffness":50})", m);
   EXPECT_NEAR(energy(*e, rigid(m.rest)), 0.0, 1e-20);
   for (unsigned seed = 1; seed <= 3; ++seed) expect_gradient_matches(*e, perturbed(m.rest, 0.05, seed));
   expect_hessian_matches(*e, perturbed(rigid(m.rest, 1.3), 0.005, 4));  // every segment stretched: exact
@@ -364,22 +364,22 @@ TEST(StrandStretching, GradientHessianAndProjection) {
   expect_psd(*e, x);
   // One segment stretched by 10 %: E = ½ k (0.1 L)²/L.
   Model one = hair(1, 1);
-  auto s = build(make_strand_stretching, R"({"type":"strand_stretching","stiffness":50})", one);
+  auto s = build(load_strand_stretching, R"({"type":"strand_stretching","stiffness":50})", one);
   EXPECT_NEAR(energy(*s, one.rest * 1.1), 0.5 * 50 * 0.01, 1e-12);
 }
 
 TEST(StrandStretching, BadParameters) {
   const Model m = hair();
-  EXPECT_EQ(error_at(make_strand_stretching, R"({"type":"strand_stretching","stiffness":-3})", m),
+  EXPECT_EQ(error_at(load_strand_stretching, R"({"type":"strand_stretching","stiffness":-3})", m),
             "effects[0].stiffness");
-  EXPECT_EQ(error_at(make_strand_stretching, R"({"type":"strand_stretching","k":3})", m), "effects[0].k");
+  EXPECT_EQ(error_at(load_strand_stretching, R"({"type":"strand_stretching","k":3})", m), "effects[0].k");
 }
 
 // --- strand bending ---------------------------------------------------------------------
 
 TEST(StrandBending, JointsGradientAndExactHessianAtRest) {
   const Model m = hair(2, 5, 0.05);
-  auto e = build(make_strand_bending, R"({"type":"strand_bending","stiffness":0.01})", m);
+  auto e = build(load_strand_bending, R"({"type":"strand_bending","stiffness":0.01})", m);
   EffectCounters c;
   e->report(c);
   EXPECT_EQ(c["joints"], 2 * 4);
@@ -392,7 +392,7 @@ TEST(StrandBending, JointsGradientAndExactHessianAtRest) {
 TEST(StrandBending, KnownAngle) {
   // Three vertices with a right angle, rest straight: E = k (π/2)²/ℓ̄.
   Model m = hair(1, 2);
-  auto e = build(make_strand_bending, R"({"type":"strand_bending","stiffness":0.5})", m);
+  auto e = build(load_strand_bending, R"({"type":"strand_bending","stiffness":0.5})", m);
   Matrix3Xd x = m.rest;
   const double L = (m.rest.col(1) - m.rest.col(0)).norm();
   x.col(2) = x.col(1) + Eigen::Vector3d(L, 0, 0);
@@ -402,7 +402,7 @@ TEST(StrandBending, KnownAngle) {
 
 TEST(StrandBending, StraightStrandsStayFiniteAndStiffBothWays) {
   const Model straight = hair(1, 4);
-  auto e = build(make_strand_bending, R"({"type":"strand_bending","stiffness":0.01})", straight);
+  auto e = build(load_strand_bending, R"({"type":"strand_bending","stiffness":0.01})", straight);
   // Exactly straight at rest: zero gradient, finite Hessian, stiff in both transverse
   // directions (the Hessian of k φ²/ℓ̄ is isotropic about the tangent there).
   EXPECT_EQ(gradient(*e, straight.rest).norm(), 0.0);
@@ -419,7 +419,7 @@ TEST(StrandBending, StraightStrandsStayFiniteAndStiffBothWays) {
   // Curly rest shape, straight current shape (φ = 0 ≠ φ₀): the direction of ∇φ is not
   // defined; gradient and Hessian stay finite.
   const Model curly = hair(1, 4, 0.05);
-  auto f = build(make_strand_bending, R"({"type":"strand_bending","stiffness":0.01})", curly);
+  auto f = build(load_strand_bending, R"({"type":"strand_bending","stiffness":0.01})", curly);
   EXPECT_TRUE(gradient(*f, straight.rest).allFinite());
   expect_psd(*f, straight.rest);
   // Folded back onto itself (φ = π).
@@ -431,15 +431,15 @@ TEST(StrandBending, StraightStrandsStayFiniteAndStiffBothWays) {
 
 TEST(StrandBending, BadParameters) {
   const Model m = hair();
-  EXPECT_EQ(error_at(make_strand_bending, R"({"type":"strand_bending","stiffness":-1})", m), "effects[0].stiffness");
-  EXPECT_EQ(error_at(make_strand_bending, R"({"type":"strand_bending","stiffness":1,"rest":0})", m), "effects[0].rest");
+  EXPECT_EQ(error_at(load_strand_bending, R"({"type":"strand_bending","stiffness":-1})", m), "effects[0].stiffness");
+  EXPECT_EQ(error_at(load_strand_bending, R"({"type":"strand_bending","stiffness":1,"rest":0})", m), "effects[0].rest");
 }
 
 // --- pins -------------------------------------------------------------------------------
 
 TEST(Pins, EnergyGradientHessianAndRelease) {
   const Model m = cloth(3, 3);
-  auto e = build(make_pins,
+  auto e = build(load_pins,
                  R"({"type":"pins","stiffness":100,"groups":[{"vertices":[0,3]},
                      {"box":{"min":[-1,0.4,-1],"max":[1,1,1]},"release_frame":3}]})",
                  m);
@@ -470,7 +470,7 @@ TEST(Pins, MovingGroupFollowsItsMotionAtTheEndOfTheStep) {
   // their midpoint (0,-0.5,0) at π/2 rad/s about +y and move +z at 0.2 m/s, from t = 1 s
   // to t = 3 s; vertex 12 is pinned in place.
   const Model m = cloth(3, 3);
-  auto e = build(make_pins,
+  auto e = build(load_pins,
                  R"({"type":"pins","stiffness":100,"groups":[{"vertices":[12]},
                      {"vertices":[0,3],"motion":{"angular_velocity":[0,1.5707963267948966,0],
                       "velocity":[0,0,0.2],"start":1,"stop":3}}]})",
@@ -495,7 +495,7 @@ TEST(Pins, MovingGroupFollowsItsMotionAtTheEndOfTheStep) {
   expect_gradient_matches(*e, x);
   expect_hessian_matches(*e, x);
   // an explicit centre
-  auto c = build(make_pins, R"({"type":"pins","stiffness":100,"groups":[{"vertices":[0],
+  auto c = build(load_pins, R"({"type":"pins","stiffness":100,"groups":[{"vertices":[0],
                      "motion":{"angular_velocity":[0,0,3.141592653589793],"center":[0,0,0]}}]})",
                  m);
   step.time = 1.0;  // half a turn about z through the origin: (-0.5,-0.5) → (0.5,0.5)
@@ -512,11 +512,11 @@ TEST(Pins, MeshLocalIndicesAndDefaultStiffness) {
   m.rest.col(5) << 6, 6, 6;
   m.mass = Eigen::VectorXd::Ones(6);
   m.meshes.push_back({"other", 4, 2, 2, 0, 0, 0});
-  auto e = build(make_pins, R"({"type":"pins","groups":[{"mesh":"other","vertices":[1]}]})", m);
+  auto e = build(load_pins, R"({"type":"pins","groups":[{"mesh":"other","vertices":[1]}]})", m);
   Matrix3Xd x = m.rest;
   x(0, 5) += 0.01;
   EXPECT_NEAR(energy(*e, x), 0.5 * 1e5 * 1e-4, 1e-9);
-  auto b = build(make_pins, R"({"type":"pins","groups":[{"mesh":"other","box":{"min":[0,0,0],"max":[9,9,9]}}]})", m);
+  auto b = build(load_pins, R"({"type":"pins","groups":[{"mesh":"other","box":{"min":[0,0,0],"max":[9,9,9]}}]})", m);
   EffectCounters c;
   b->report(c);
   EXPECT_EQ(c["pinned_vertices"], 2);
@@ -524,31 +524,31 @@ TEST(Pins, MeshLocalIndicesAndDefaultStiffness) {
 
 TEST(Pins, BadParameters) {
   const Model m = cloth(1, 1);
-  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0,4]}]})", m),
+  EXPECT_EQ(error_at(load_pins, R"({"type":"pins","groups":[{"vertices":[0,4]}]})", m),
             "effects[0].groups[0].vertices[1]");
   EXPECT_EQ(
-      error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0]},{"box":{"min":[5,5,5],"max":[6,6,6]}}]})", m),
+      error_at(load_pins, R"({"type":"pins","groups":[{"vertices":[0]},{"box":{"min":[5,5,5],"max":[6,6,6]}}]})", m),
       "effects[0].groups[1].box");
-  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","stiffness":-1,"groups":[{"vertices":[0]}]})", m),
+  EXPECT_EQ(error_at(load_pins, R"({"type":"pins","stiffness":-1,"groups":[{"vertices":[0]}]})", m),
             "effects[0].stiffness");
-  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0],"release_frame":0}]})", m),
+  EXPECT_EQ(error_at(load_pins, R"({"type":"pins","groups":[{"vertices":[0],"release_frame":0}]})", m),
             "effects[0].groups[0].release_frame");
-  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0],"mesh":"nope"}]})", m),
+  EXPECT_EQ(error_at(load_pins, R"({"type":"pins","groups":[{"vertices":[0],"mesh":"nope"}]})", m),
             "effects[0].groups[0].mesh");
   EXPECT_EQ(
-      error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0],"box":{"min":[0,0,0],"max":[1,1,1]}}]})", m),
+      error_at(load_pins, R"({"type":"pins","groups":[{"vertices":[0],"box":{"min":[0,0,0],"max":[1,1,1]}}]})", m),
       "effects[0].groups[0].box");
-  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertex":[0]}]})", m), "effects[0].groups[0].vertex");
-  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"box":{"min":[1,0,0],"max":[0,1,1]}}]})", m),
+  EXPECT_EQ(error_at(load_pins, R"({"type":"pins","groups":[{"vertex":[0]}]})", m), "effects[0].groups[0].vertex");
+  EXPECT_EQ(error_at(load_pins, R"({"type":"pins","groups":[{"box":{"min":[1,0,0],"max":[0,1,1]}}]})", m),
             "effects[0].groups[0].box.max");
-  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0],"motion":{"start":2,"stop":1}}]})", m),
+  EXPECT_EQ(error_at(load_pins, R"({"type":"pins","groups":[{"vertices":[0],"motion":{"start":2,"stop":1}}]})", m),
             "effects[0].groups[0].motion.stop");
-  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0],"motion":{"centre":[0,0,0]}}]})", m),
+  EXPECT_EQ(error_at(load_pins, R"({"type":"pins","groups":[{"vertices":[0],"motion":{"centre":[0,0,0]}}]})", m),
             "effects[0].groups[0].motion.centre");
-  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[{"vertices":[0],"motion":{"velocity":[0,"a",0]}}]})", m),
+  EXPECT_EQ(error_at(load_pins, R"({"type":"pins","groups":[{"vertices":[0],"motion":{"velocity":[0,"a",0]}}]})", m),
             "effects[0].groups[0].motion.velocity");
-  EXPECT_EQ(error_at(make_pins, R"({"type":"pins","groups":[]})", m), "effects[0].groups");
-  EXPECT_EQ(error_at(make_pins, R"({"type":"pins"})", m), "effects[0].groups");
+  EXPECT_EQ(error_at(load_pins, R"({"type":"pins","groups":[]})", m), "effects[0].groups");
+  EXPECT_EQ(error_at(load_pins, R"({"type":"pins"})", m), "effects[0].groups");
 }
 
 // --- damping ----------------------------------------------------------------------------
@@ -556,7 +556,7 @@ TEST(Pins, BadParameters) {
 TEST(Damping, DragOnTheStepVelocity) {
   Model m = cloth(2, 2);
   m.mass.setLinSpaced(m.mass.size(), 1.0, 3.0);
-  auto e = build(make_damping, R"({"type":"damping","coefficient":0.5})", m, 0.01);
+  auto e = build(load_damping, R"({"type":"damping","coefficient":0.5})", m, 0.01);
   const Matrix3Xd start = perturbed(m.rest, 0.1, 7);
   StepContext step;
   step.frame = 1;
@@ -570,14 +570,14 @@ TEST(Damping, DragOnTheStepVelocity) {
     EXPECT_LT((g.col(i) - 0.5 * m.mass[i] * (x.col(i) - start.col(i)) / 0.02).norm(), 1e-12);
   expect_gradient_matches(*e, x);
   expect_hessian_matches(*e, x);
-  auto none = build(make_damping, R"({"type":"damping","coefficient":0})", m);
+  auto none = build(load_damping, R"({"type":"damping","coefficient":0})", m);
   EXPECT_EQ(energy(*none, x), 0.0);
 }
 
 TEST(Damping, BadParameters) {
   const Model m = cloth(1, 1);
-  EXPECT_EQ(error_at(make_damping, R"({"type":"damping","coefficient":-0.1})", m), "effects[0].coefficient");
-  EXPECT_EQ(error_at(make_damping, R"({"type":"damping","coeff":0.1})", m), "effects[0].coeff");
+  EXPECT_EQ(error_at(load_damping, R"({"type":"damping","coefficient":-0.1})", m), "effects[0].coefficient");
+  EXPECT_EQ(error_at(load_damping, R"({"type":"damping","coeff":0.1})", m), "effects[0].coeff");
 }
 
 // --- all together: one pattern covers every effect's blocks ----------------------------
@@ -585,11 +585,11 @@ TEST(Damping, BadParameters) {
 TEST(Effects, SharedPatternCoversEverything) {
   const Model m = cloth(4, 3, 0.05);
   std::vector<std::unique_ptr<Effect>> effects;
-  effects.push_back(build(make_gravity, R"({"type":"gravity"})", m));
-  effects.push_back(build(make_stretching, R"({"type":"stretching","stiffness":5})", m));
-  effects.push_back(build(make_bending, R"({"type":"bending","stiffness":0.1})", m));
-  effects.push_back(build(make_pins, R"({"type":"pins","groups":[{"vertices":[0,4]}]})", m));
-  effects.push_back(build(make_damping, R"({"type":"damping","coefficient":1})", m));
+  effects.push_back(build(load_gravity, R"({"type":"gravity"})", m));
+  effects.push_back(build(load_stretching, R"({"type":"stretching","stiffness":5})", m));
+  effects.push_back(build(load_bending, R"({"type":"bending","stiffness":0.1})", m));
+  effects.push_back(build(load_pins, R"({"type":"pins","groups":[{"vertices":[0,4]}]})", m));
+  effects.push_back(build(load_damping, R"({"type":"damping","coefficient":1})", m));
   Pattern pattern;
   for (const auto& e : effects) e->declare(pattern);
   BlockHessian H;
@@ -621,8 +621,8 @@ TEST(Effects, DISABLED_Timing) {
   const Matrix3Xd x = perturbed(m.rest, 0.003, 1);
   for (const char* which : {"stretching", "bending"}) {
     const bool stretch = std::string(which) == "stretching";
-    auto e = stretch ? build(make_stretching, R"({"type":"stretching","stiffness":5})", m)
-                     : build(make_bending, R"({"type":"bending","stiffness":0.1})", m);
+    auto e = stretch ? build(load_stretching, R"({"type":"stretching","stiffness":5})", m)
+                     : build(load_bending, R"({"type":"bending","stiffness":0.1})", m);
     Pattern pattern;
     e->declare(pattern);
     BlockHessian H;

@@ -22,7 +22,7 @@
 #include <random>
 
 namespace pce::sim {
-std::unique_ptr<Effect> make_obstacle_contact(const Params& params,
+std::unique_ptr<Effect> load_obstacle_contact(const Params& params,
                                               const BuildContext& ctx);  // effects/obstacle_contact.cpp
 }  // namespace pce::sim
 
@@ -268,7 +268,7 @@ std::unique_ptr<pce::sim::Effect> build(const Scene& s, double time) {
   ctx.obstacles = &s.obstacles;
   ctx.dt = 0.1;
   const pce::sim::Params p(s.effects[0], "scene.json", "effects[0]");
-  auto effect = pce::sim::make_obstacle_contact(p, ctx);
+  auto effect = pce::sim::load_obstacle_contact(p, ctx);
   pce::sim::StepContext step;
   step.frame = 1;
   step.time = time;

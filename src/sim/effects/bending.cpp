@@ -15,6 +15,7 @@
 // Hessian: the Gauss–Newton part 2 k w ∇θ ∇θᵀ, PSD by construction; it drops
 // 2 k w (θ − θ₀) ∇²θ, which vanishes at the rest angle.
 #include <pce/sim/instrumentation.hpp>
+#include "arguments.hpp"
 #include "elastic.hpp"
 
 #include <algorithm>
@@ -109,10 +110,8 @@ class Bending final : public Effect {
 
 }  // namespace
 
-std::unique_ptr<Effect> make_bending(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "stiffness"});
-  const double k = params.positive("stiffness");
-  const Model& model = *ctx.model;
+std::unique_ptr<Effect> make_bending(const Model& model, double stiffness) {
+  const double k = args::positive("stiffness", stiffness);
   const Eigen::Matrix3Xi& T = model.triangles;
   // Every triangle edge as (min, max, triangle, corner): corner c's edge is (c, c+1) in
   // winding order, its wing the vertex c+2. Sorting groups the triangles of an edge.
@@ -144,9 +143,9 @@ std::unique_ptr<Effect> make_bending(const Params& params, const BuildContext& c
       const Eigen::Vector3d e = x1 - x0;
       const double area = 0.5 * (e.cross(x2 - x0).norm() + (x3 - x0).cross(e).norm());
       if (!dihedral_angle(x0, x1, x2, x3, h.theta0, nullptr) || !(area > 0))
-        throw InputError(params.file(), params.path(),
-                         "the hinge of triangles " + std::to_string(A.triangle) + " and " + std::to_string(B.triangle) +
-                             " has a zero-area rest triangle (bending needs a rest shape)");
+        throw ArgumentError("", "the hinge of triangles " + std::to_string(A.triangle) + " and " +
+                                    std::to_string(B.triangle) +
+                                    " has a zero-area rest triangle (bending needs a rest shape)");
       h.weight = k * 3 * e.squaredNorm() / area;
       hinges.push_back(h);
     }
@@ -154,6 +153,12 @@ std::unique_ptr<Effect> make_bending(const Params& params, const BuildContext& c
   }
   instrumentation().bending_hinges_allocated += static_cast<long>(hinges.size());
   return std::make_unique<Bending>(std::move(hinges));
+}
+
+std::unique_ptr<Effect> load_bending(const Params& params, const BuildContext& ctx) {
+  params.only({"type", "stiffness"});
+  const double k = params.positive("stiffness");
+  return params.build([&] { return make_bending(*ctx.model, k); });
 }
 
 }  // namespace pce::sim

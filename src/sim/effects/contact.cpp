@@ -41,15 +41,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-struct ContactSpec {
-  PenaltySpec penalty;
-  bool signed_length = false;
-  bool closest_features = false;
-  Projection hessian = Projection::analytic;
-  bool exclude_rest_neighbours = true;
-  bool ccd = true;  ///< limit every Newton step so no pair can cross (always on for the barrier)
-};
-
 /// An active pair's result of one evaluation (k its candidate index). Kept per thread, for
 /// active pairs only, so the serial pass that sums and scatters touches those alone (a
 /// record per candidate made it sweep ~100 MB per evaluation on the hammock).
@@ -71,8 +62,8 @@ struct PairHessian {
 
 template <bool VF> class SelfContact final : public Effect {
  public:
-  SelfContact(const ContactSpec& spec, const BuildContext& ctx)
-      : spec_(spec), model_(ctx.model), broad_phase_(make_broad_phase(ctx.broad_phase)) {
+  SelfContact(const ContactSettings& spec, const Model& model)
+      : spec_(spec), model_(&model), broad_phase_(make_broad_phase(spec.broad_phase)) {
     if (spec_.exclude_rest_neighbours) {
       mesh_of_.resize(static_cast<std::size_t>(model_->vertex_count()));
       for (std::size_t m = 0; m < model_->meshes.size(); ++m)
@@ -533,7 +524,7 @@ template <bool VF> class SelfContact final : public Effect {
     double min_length = std::numeric_limits<double>::infinity();
   };
 
-  ContactSpec spec_;
+  ContactSettings spec_;
   const Model* model_;
   std::unique_ptr<BroadPhase> broad_phase_;
   std::vector<std::array<int, 2>> excluded_;  ///< same-mesh pairs closer than r at rest, sorted
@@ -551,9 +542,9 @@ template <bool VF> class SelfContact final : public Effect {
   Stats stats_;
 };
 
-ContactSpec parse_contact(const Params& p) {
+ContactSettings parse_contact(const Params& p, const BuildContext& ctx) {
   p.only({"type", "penalty", "length", "hessian", "closest_features", "exclude_rest_neighbours", "ccd"});
-  ContactSpec s;
+  ContactSettings s;
   s.penalty = parse_penalty(p.object("penalty"));
   s.signed_length = p.choice("length", {"unsigned", "signed"}, std::string("unsigned")) == "signed";
   s.closest_features = p.boolean("closest_features", false);
@@ -566,28 +557,47 @@ ContactSpec parse_contact(const Params& p) {
               : h == "gauss_newton" ? Projection::gauss_newton
               : h == "abs"          ? Projection::abs
                                     : Projection::analytic;
-  if (s.closest_features && s.signed_length)
-    p.fail("length",
-           "closest-feature evaluation measures the distance between the primitives, which is unsigned: use "
-           "\"unsigned\" or \"closest_features\": false");
-  if (s.penalty.barrier() && !s.closest_features)
-    p.fail("closest_features",
-           "the log barrier needs the distance between the primitives: set \"closest_features\": true");
+  s.broad_phase = ctx.broad_phase;
   return s;
+}
+
+/// Throws ArgumentError unless the settings are consistent (fields named as the scene's keys).
+void check_contact(const ContactSettings& s) {
+  check_penalty(s.penalty, "penalty.");
+  if (s.hessian == Projection::none)
+    throw ArgumentError("hessian",
+                        "expected a PSD strategy (analytic, exact, numerical, gauss_newton or abs), got none");
+  if (s.closest_features && s.signed_length)
+    throw ArgumentError("length",
+                        "closest-feature evaluation measures the distance between the primitives, which is unsigned: "
+                        "use \"unsigned\" or \"closest_features\": false");
+  if (s.penalty.barrier() && !s.closest_features)
+    throw ArgumentError("closest_features",
+                        "the log barrier needs the distance between the primitives: set \"closest_features\": true");
 }
 
 }  // namespace
 
-std::unique_ptr<Effect> make_self_vertex_face(const Params& params, const BuildContext& ctx) {
-  const ContactSpec s = parse_contact(params);
-  if (ctx.model->triangles.cols() == 0) params.fail("type", "self_vertex_face needs a mesh with triangles");
-  return std::make_unique<SelfContact<true>>(s, ctx);
+std::unique_ptr<Effect> make_self_vertex_face(const Model& model, const ContactSettings& settings) {
+  check_contact(settings);
+  if (model.triangles.cols() == 0) throw ArgumentError("", "self_vertex_face needs a mesh with triangles");
+  return std::make_unique<SelfContact<true>>(settings, model);
 }
 
-std::unique_ptr<Effect> make_self_edge_edge(const Params& params, const BuildContext& ctx) {
-  const ContactSpec s = parse_contact(params);
-  if (ctx.model->edges.cols() < 2) params.fail("type", "self_edge_edge needs at least two edges");
-  return std::make_unique<SelfContact<false>>(s, ctx);
+std::unique_ptr<Effect> make_self_edge_edge(const Model& model, const ContactSettings& settings) {
+  check_contact(settings);
+  if (model.edges.cols() < 2) throw ArgumentError("", "self_edge_edge needs at least two edges");
+  return std::make_unique<SelfContact<false>>(settings, model);
+}
+
+std::unique_ptr<Effect> load_self_vertex_face(const Params& params, const BuildContext& ctx) {
+  const ContactSettings s = parse_contact(params, ctx);
+  return params.build([&] { return make_self_vertex_face(*ctx.model, s); });
+}
+
+std::unique_ptr<Effect> load_self_edge_edge(const Params& params, const BuildContext& ctx) {
+  const ContactSettings s = parse_contact(params, ctx);
+  return params.build([&] { return make_self_edge_edge(*ctx.model, s); });
 }
 
 }  // namespace pce::sim

@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
 // Damping as an incremental potential: E = Σᵢ mᵢ c/(2h) |xᵢ − xᵢⁿ|², whose force
 // −mᵢ c (xᵢ − xᵢⁿ)/h = −c mᵢ vᵢ is a linear drag on the step's velocity (backward Euler).
+#include "arguments.hpp"
 #include "elastic.hpp"
+
+#include <limits>
 
 namespace pce::sim {
 
@@ -9,7 +12,7 @@ namespace {
 
 class Damping final : public Effect {
  public:
-  Damping(const Model& model, double c, double dt) : model_(&model), c_(c), h_(dt), x_start_(model.rest) {}
+  Damping(const Model& model, double c) : model_(&model), c_(c), x_start_(model.rest) {}
   const char* name() const override { return "damping"; }
   void begin_step(const StepContext& ctx) override {
     if (ctx.x_start) x_start_ = *ctx.x_start;  // same size: no allocation
@@ -33,17 +36,21 @@ class Damping final : public Effect {
 
  private:
   const Model* model_;
-  double c_, h_;
+  double c_;
+  double h_ = std::numeric_limits<double>::infinity();  ///< until the first step: c/h = 0, no drag
   Eigen::Matrix3Xd x_start_;
 };
 
 }  // namespace
 
-std::unique_ptr<Effect> make_damping(const Params& params, const BuildContext& ctx) {
+std::unique_ptr<Effect> make_damping(const Model& model, double coefficient) {
+  return std::make_unique<Damping>(model, args::nonnegative("coefficient", coefficient));
+}
+
+std::unique_ptr<Effect> load_damping(const Params& params, const BuildContext& ctx) {
   params.only({"type", "coefficient"});
   const double c = params.nonnegative("coefficient");
-  if (!(ctx.dt > 0)) throw InputError(params.file(), params.path(), "damping needs the scene's step size dt > 0");
-  return std::make_unique<Damping>(*ctx.model, c, ctx.dt);
+  return params.build([&] { return make_damping(*ctx.model, c); });
 }
 
 }  // namespace pce::sim

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// Factories of the elastic and kinematic effects (one file each in `effects/`): gravity,
-/// cloth stretching and bending, strand stretching and bending, pins, damping. The scene's
-/// registry maps the effect names to them. Internal.
+/// Scene loaders of the elastic and kinematic effects (one file each in `effects/`): gravity,
+/// cloth stretching and bending, strand stretching and bending, pins, damping. Each reads
+/// its effect object and calls the typed builder of `pce/sim/effects.hpp`, which does the
+/// building. The scene's registry maps the effect names to them. Internal.
 ///
 /// Scene forms (SI units; every key not listed is an error):
 /// - `{"type":"gravity", "acceleration":[ax,ay,az] (m/s², default [0,0,-9.81])}`
@@ -20,21 +21,23 @@
 
 #include "factory.hpp"
 
+#include <pce/sim/effects.hpp>
+
 namespace pce::sim {
 
 /// E = −Σᵢ mᵢ g·xᵢ.
-std::unique_ptr<Effect> make_gravity(const Params& params, const BuildContext& ctx);
+std::unique_ptr<Effect> load_gravity(const Params& params, const BuildContext& ctx);
 /// E = Σ_t μ A_t ‖F_t − R(F_t)‖²_F (as-rigid-as-possible membrane, closed-form PSD Hessian).
-std::unique_ptr<Effect> make_stretching(const Params& params, const BuildContext& ctx);
+std::unique_ptr<Effect> load_stretching(const Params& params, const BuildContext& ctx);
 /// E = Σ_hinges 3k (θ − θ₀)² |ē|²/(Ā₁ + Ā₂) (discrete shells), Gauss–Newton Hessian.
-std::unique_ptr<Effect> make_bending(const Params& params, const BuildContext& ctx);
+std::unique_ptr<Effect> load_bending(const Params& params, const BuildContext& ctx);
 /// E = Σ_segments ½ k (|e| − L)²/L, exactly projected Hessian.
-std::unique_ptr<Effect> make_strand_stretching(const Params& params, const BuildContext& ctx);
+std::unique_ptr<Effect> load_strand_stretching(const Params& params, const BuildContext& ctx);
 /// E = Σ_joints k (φ − φ₀)²/ℓ̄ over the turning angle φ of consecutive segments.
-std::unique_ptr<Effect> make_strand_bending(const Params& params, const BuildContext& ctx);
+std::unique_ptr<Effect> load_strand_bending(const Params& params, const BuildContext& ctx);
 /// E = ½ k Σ_{pinned i} |xᵢ − x̄ᵢ|² over groups not yet released.
-std::unique_ptr<Effect> make_pins(const Params& params, const BuildContext& ctx);
+std::unique_ptr<Effect> load_pins(const Params& params, const BuildContext& ctx);
 /// E = Σᵢ mᵢ c/(2h) |xᵢ − xᵢⁿ|² (drag force −c m v).
-std::unique_ptr<Effect> make_damping(const Params& params, const BuildContext& ctx);
+std::unique_ptr<Effect> load_damping(const Params& params, const BuildContext& ctx);
 
 }  // namespace pce::sim

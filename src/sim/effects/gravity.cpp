@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Gravity: E = −Σᵢ mᵢ g·xᵢ, a linear potential (zero Hessian, nothing declared).
+#include "arguments.hpp"
 #include "elastic.hpp"
 
 namespace pce::sim {
@@ -26,10 +27,14 @@ class Gravity final : public Effect {
 
 }  // namespace
 
-std::unique_ptr<Effect> make_gravity(const Params& params, const BuildContext& ctx) {
+std::unique_ptr<Effect> make_gravity(const Model& model, const Eigen::Vector3d& acceleration) {
+  return std::make_unique<Gravity>(model, args::finite("acceleration", acceleration));
+}
+
+std::unique_ptr<Effect> load_gravity(const Params& params, const BuildContext& ctx) {
   params.only({"type", "acceleration"});
   const Eigen::Vector3d g = params.vec3("acceleration", Eigen::Vector3d(0, 0, -9.81));
-  return std::make_unique<Gravity>(*ctx.model, g);
+  return params.build([&] { return make_gravity(*ctx.model, g); });
 }
 
 }  // namespace pce::sim

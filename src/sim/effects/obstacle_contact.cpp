@@ -60,7 +60,8 @@ double bounding_radius(const Obstacle& o) {
 
 class ObstacleContact final : public Effect {
  public:
-  ObstacleContact(PenaltySpec spec, std::vector<Obstacle> obstacles) : spec_(spec), obstacles_(std::move(obstacles)) {
+  ObstacleContact(ContactPenalty spec, std::vector<Obstacle> obstacles)
+      : spec_(spec), obstacles_(std::move(obstacles)) {
     radius_.reserve(obstacles_.size());
     for (const Obstacle& o : obstacles_) radius_.push_back(bounding_radius(o));
     poses_.assign(obstacles_.size(), Eigen::Isometry3d::Identity());
@@ -144,7 +145,7 @@ class ObstacleContact final : public Effect {
     }
   }
 
-  PenaltySpec spec_;
+  ContactPenalty spec_;
   std::vector<Obstacle> obstacles_;
   std::vector<double> radius_;
   std::vector<Eigen::Isometry3d> poses_;
@@ -153,11 +154,53 @@ class ObstacleContact final : public Effect {
   bool blocked_ = false;
 };
 
+/// Throws ArgumentError (field `obstacles[k].…`) unless `o` is a shape the distances handle.
+void check_obstacle(const Obstacle& o, const std::string& at) {
+  switch (o.kind) {
+    case ShapeKind::sphere:
+      args::positive(at + ".radius", o.radius);
+      break;
+    case ShapeKind::box:
+      if (!(o.half_extents.allFinite() && o.half_extents.minCoeff() > 0))
+        throw ArgumentError(at + ".half_extents", "expected three finite numbers > 0");
+      break;
+    case ShapeKind::capsule:
+      args::positive(at + ".radius", o.radius);
+      args::positive(at + ".half_length", o.half_length);
+      break;
+    case ShapeKind::mesh:
+      if (o.mesh.triangles.cols() == 0) throw ArgumentError(at + ".mesh", "a mesh obstacle needs triangles");
+      try {
+        validate(o.mesh, o.name);
+      } catch (const InputError& e) {
+        throw ArgumentError(at + ".mesh", e.what());
+      }
+      break;
+    default:
+      throw ArgumentError(at + ".kind", "expected sphere, box, capsule or mesh");
+  }
+  args::finite(at + ".position", o.position);
+  if (!(o.rotation.allFinite() && (o.rotation.transpose() * o.rotation - Eigen::Matrix3d::Identity()).norm() < 1e-9 &&
+        o.rotation.determinant() > 0))
+    throw ArgumentError(at + ".rotation", "expected a rotation matrix (orthonormal, determinant 1)");
+  args::finite(at + ".motion.velocity", o.motion.velocity);
+  args::finite(at + ".motion.angular_velocity", o.motion.angular_velocity);
+  args::nonnegative(at + ".motion.start", o.motion.start);
+  if (!(o.motion.stop >= o.motion.start)) throw ArgumentError(at + ".motion.stop", "expected stop >= start");
+}
+
 }  // namespace
 
-std::unique_ptr<Effect> make_obstacle_contact(const Params& params, const BuildContext& ctx) {
+std::unique_ptr<Effect> make_obstacle_contact(const std::vector<Obstacle>& obstacles, const ContactPenalty& penalty) {
+  check_penalty(penalty, "penalty.");
+  for (std::size_t k = 0; k < obstacles.size(); ++k)
+    check_obstacle(obstacles[k], "obstacles[" + std::to_string(k) + "]");
+  return std::make_unique<ObstacleContact>(penalty, obstacles);
+}
+
+std::unique_ptr<Effect> load_obstacle_contact(const Params& params, const BuildContext& ctx) {
   params.only({"type", "penalty", "obstacles"});
-  const PenaltySpec spec = parse_penalty(params.object("penalty"));
+  const ContactPenalty spec = parse_penalty(params.object("penalty"));
   static const std::vector<Obstacle> none;
   const std::vector<Obstacle>& all = ctx.obstacles ? *ctx.obstacles : none;
   std::vector<Obstacle> chosen;
@@ -183,7 +226,7 @@ std::unique_ptr<Effect> make_obstacle_contact(const Params& params, const BuildC
       chosen.push_back(*it);
     }
   }
-  return std::make_unique<ObstacleContact>(spec, std::move(chosen));
+  return params.build([&] { return make_obstacle_contact(chosen, spec); });
 }
 
 }  // namespace pce::sim

@@ -9,6 +9,9 @@
 #pragma once
 
 #include "../scene/params.hpp"
+#include "arguments.hpp"
+
+#include <pce/sim/effects.hpp>
 
 #include <pce/penalties/cubic.hpp>
 #include <pce/penalties/log_barrier.hpp>
@@ -16,38 +19,42 @@
 
 namespace pce::sim {
 
-struct PenaltySpec {
-  enum class Kind { quadratic, cubic, log_barrier } kind = Kind::quadratic;
-  double stiffness = 0;
-  double distance = 0;  ///< activation distance: ε (quadratic, cubic) or d̂ (log barrier)
-  double delta = 0;     ///< cubic smoothing δ
-  bool barrier() const { return kind == Kind::log_barrier; }
-};
+/// Throws ArgumentError (fields `<prefix>stiffness`, …) unless `s` is a valid penalty.
+inline void check_penalty(const ContactPenalty& s, const std::string& prefix) {
+  args::positive(prefix + "stiffness", s.stiffness);
+  args::positive(prefix + "distance", s.distance);
+  args::nonnegative(prefix + "delta", s.delta);
+  if (s.kind != ContactPenalty::Kind::cubic && s.delta != 0)
+    throw ArgumentError(prefix + "delta", "only the cubic penalty has a delta");
+  if (s.kind != ContactPenalty::Kind::quadratic && s.kind != ContactPenalty::Kind::cubic &&
+      s.kind != ContactPenalty::Kind::log_barrier)
+    throw ArgumentError(prefix + "type", "expected quadratic, cubic or log_barrier");
+}
 
-inline PenaltySpec parse_penalty(const Params& p) {
-  PenaltySpec s;
+inline ContactPenalty parse_penalty(const Params& p) {
+  ContactPenalty s;
   const std::string type = p.choice("type", {"quadratic", "cubic", "log_barrier"});
-  s.kind = type == "quadratic" ? PenaltySpec::Kind::quadratic
-           : type == "cubic"   ? PenaltySpec::Kind::cubic
-                               : PenaltySpec::Kind::log_barrier;
-  if (s.kind == PenaltySpec::Kind::cubic)
+  s.kind = type == "quadratic" ? ContactPenalty::Kind::quadratic
+           : type == "cubic"   ? ContactPenalty::Kind::cubic
+                               : ContactPenalty::Kind::log_barrier;
+  if (s.kind == ContactPenalty::Kind::cubic)
     p.only({"type", "stiffness", "distance", "delta"});
   else
     p.only({"type", "stiffness", "distance"});
   s.stiffness = p.positive("stiffness");
   s.distance = p.positive("distance");
-  s.delta = s.kind == PenaltySpec::Kind::cubic ? p.nonnegative("delta", 0.0) : 0.0;
+  s.delta = s.kind == ContactPenalty::Kind::cubic ? p.nonnegative("delta", 0.0) : 0.0;
   return s;
 }
 
 /// Calls `f(penalty)` with the pce penalty object the spec describes.
-template <class F> decltype(auto) visit_penalty(const PenaltySpec& s, F&& f) {
+template <class F> decltype(auto) visit_penalty(const ContactPenalty& s, F&& f) {
   switch (s.kind) {
-    case PenaltySpec::Kind::cubic:
+    case ContactPenalty::Kind::cubic:
       return f(CubicPenalty{s.stiffness, s.distance, s.delta});
-    case PenaltySpec::Kind::log_barrier:
+    case ContactPenalty::Kind::log_barrier:
       return f(LogBarrierPenalty{s.stiffness, s.distance});
-    case PenaltySpec::Kind::quadratic:
+    case ContactPenalty::Kind::quadratic:
       break;
   }
   return f(QuadraticPenalty{s.stiffness, s.distance});

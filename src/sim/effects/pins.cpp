@@ -5,8 +5,12 @@
 // x̂ᵢ(t) = c + v τ + exp([ω]× τ)(x̄ᵢ − c) (pce/sim/obstacle.hpp, Motion) at the end of the
 // step, c the group's centre (the twist scene turns one end of a ribbon that way). A group
 // is active for frames < release_frame (always without one).
+#include "arguments.hpp"
 #include "elastic.hpp"
 
+#include <pce/sim/effects.hpp>
+
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -14,9 +18,10 @@ namespace pce::sim {
 
 namespace {
 
-struct PinGroup {
+/// A group as the effect runs it.
+struct Group {
   std::vector<int> vertices;
-  long release_frame = 0;  ///< 0: never released
+  int release_frame = 0;  ///< 0: never released
   bool active = true;
   bool moving = false;  ///< has a motion; else the targets are the rest positions
   Motion motion;
@@ -25,18 +30,18 @@ struct PinGroup {
 
 class Pins final : public Effect {
  public:
-  Pins(const Model& model, std::vector<PinGroup> groups, double k)
+  Pins(const Model& model, std::vector<Group> groups, double k)
       : model_(&model), groups_(std::move(groups)), k_(k), target_(model.rest) {}
   const char* name() const override { return "pins"; }
   void begin_step(const StepContext& ctx) override {
-    for (PinGroup& g : groups_) {
+    for (Group& g : groups_) {
       g.active = g.release_frame == 0 || ctx.frame < g.release_frame;
       if (g.active && g.moving)
         for (int i : g.vertices) target_.col(i) = g.motion.apply(ctx.time, g.centre, model_->rest.col(i));
     }
   }
   void declare(Pattern& pattern) const override {
-    for (const PinGroup& g : groups_)
+    for (const Group& g : groups_)
       if (g.active)
         for (int i : g.vertices) pattern.add(i);
   }
@@ -44,7 +49,7 @@ class Pins final : public Effect {
   double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) override {
     double energy = 0;
     const Eigen::Matrix3d K = k_ * Eigen::Matrix3d::Identity();
-    for (const PinGroup& g : groups_) {
+    for (const Group& g : groups_) {
       if (!g.active) continue;
       for (int i : g.vertices) {
         const Eigen::Vector3d d = x.col(i) - target_.col(i);
@@ -57,21 +62,78 @@ class Pins final : public Effect {
   }
   void report(EffectCounters& counters) const override {
     double pinned = 0;
-    for (const PinGroup& g : groups_)
+    for (const Group& g : groups_)
       if (g.active) pinned += static_cast<double>(g.vertices.size());
     counters["pinned_vertices"] = pinned;
   }
 
  private:
   const Model* model_;
-  std::vector<PinGroup> groups_;
+  std::vector<Group> groups_;
   double k_;
   Eigen::Matrix3Xd target_;  ///< x̂ per vertex (rest positions but for moving groups)
 };
 
 }  // namespace
 
-std::unique_ptr<Effect> make_pins(const Params& params, const BuildContext& ctx) {
+std::vector<int> vertices_in_box(const Model& model, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                                 const std::string& mesh) {
+  args::finite("min", lo);
+  args::finite("max", hi);
+  if (!(lo.array() <= hi.array()).all()) throw ArgumentError("max", "expected max >= min in every coordinate");
+  int first = 0, size = model.vertex_count();
+  if (!mesh.empty()) {
+    const auto it =
+        std::find_if(model.meshes.begin(), model.meshes.end(), [&](const MeshRange& r) { return r.name == mesh; });
+    if (it == model.meshes.end()) throw ArgumentError("mesh", "no mesh named \"" + mesh + "\"");
+    first = it->first_vertex, size = it->vertex_count;
+  }
+  std::vector<int> inside;
+  for (int i = first; i < first + size; ++i) {
+    const Eigen::Vector3d p = model.rest.col(i);
+    if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all()) inside.push_back(i);
+  }
+  return inside;
+}
+
+std::unique_ptr<Effect> make_pins(const Model& model, std::vector<PinGroup> groups, double stiffness) {
+  const double k = args::positive("stiffness", stiffness);
+  if (groups.empty()) throw ArgumentError("groups", "expected at least one pin group");
+  std::vector<Group> run;
+  for (std::size_t gi = 0; gi < groups.size(); ++gi) {
+    const PinGroup& g = groups[gi];
+    const std::string at = "groups[" + std::to_string(gi) + "]";
+    if (g.vertices.empty()) throw ArgumentError(at + ".vertices", "expected at least one vertex index");
+    for (std::size_t j = 0; j < g.vertices.size(); ++j)
+      if (g.vertices[j] < 0 || g.vertices[j] >= model.vertex_count())
+        throw ArgumentError(at + ".vertices[" + std::to_string(j) + "]", "expected a vertex index in [0, " +
+                                                                             std::to_string(model.vertex_count()) +
+                                                                             "), got " + std::to_string(g.vertices[j]));
+    if (g.release_frame < 0)
+      throw ArgumentError(at + ".release_frame",
+                          "expected a frame >= 1 (0: never released), got " + std::to_string(g.release_frame));
+    Group group;
+    group.vertices = g.vertices;
+    group.release_frame = g.release_frame;
+    if (g.motion) {
+      const Motion& m = *g.motion;
+      args::finite(at + ".motion.velocity", m.velocity);
+      args::finite(at + ".motion.angular_velocity", m.angular_velocity);
+      args::nonnegative(at + ".motion.start", m.start);
+      if (!(m.stop >= m.start)) throw ArgumentError(at + ".motion.stop", "expected stop >= start");
+      group.motion = m;
+      group.moving = true;
+      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+      for (int i : group.vertices) centroid += model.rest.col(i);
+      group.centre = g.centre ? args::finite(at + ".motion.center", *g.centre)
+                              : Eigen::Vector3d(centroid / static_cast<double>(group.vertices.size()));
+    }
+    run.push_back(std::move(group));
+  }
+  return std::make_unique<Pins>(model, std::move(run), k);
+}
+
+std::unique_ptr<Effect> load_pins(const Params& params, const BuildContext& ctx) {
   params.only({"type", "stiffness", "groups"});
   const double k = params.positive("stiffness", 1e5);
   const Model& model = *ctx.model;
@@ -82,18 +144,16 @@ std::unique_ptr<Effect> make_pins(const Params& params, const BuildContext& ctx)
     const Params g = params.element("groups", gi);
     g.only({"vertices", "box", "mesh", "release_frame", "motion"});
     PinGroup group;
-    if (g.has("release_frame")) group.release_frame = g.integer("release_frame", std::nullopt, 1);  // ≥ 1
+    if (g.has("release_frame"))
+      group.release_frame = static_cast<int>(g.integer("release_frame", std::nullopt, 1));  // ≥ 1
     // The vertex range a group may name: one mesh's (local indices) or the whole model's.
     int first = 0, size = model.vertex_count();
-    if (g.has("mesh")) {
-      const std::string mesh = g.string("mesh");
-      bool found = false;
-      for (const MeshRange& r : model.meshes)
-        if (r.name == mesh) {
-          first = r.first_vertex, size = r.vertex_count, found = true;
-          break;
-        }
-      if (!found) g.fail("mesh", "no mesh named \"" + mesh + "\"");
+    const std::string mesh = g.has("mesh") ? g.string("mesh") : std::string();
+    if (!mesh.empty() || g.has("mesh")) {
+      const auto it =
+          std::find_if(model.meshes.begin(), model.meshes.end(), [&](const MeshRange& r) { return r.name == mesh; });
+      if (it == model.meshes.end()) g.fail("mesh", "no mesh named \"" + mesh + "\"");
+      first = it->first_vertex, size = it->vertex_count;
     }
     if (g.has("vertices") == g.has("box"))
       g.fail(g.has("box") ? "box" : "vertices", "expected exactly one of \"vertices\" and \"box\"");
@@ -104,25 +164,18 @@ std::unique_ptr<Effect> make_pins(const Params& params, const BuildContext& ctx)
       const Params box = g.object("box");
       box.only({"min", "max"});
       const Eigen::Vector3d lo = box.vec3("min"), hi = box.vec3("max");
-      if (!(lo.array() <= hi.array()).all()) box.fail("max", "expected max >= min in every coordinate");
-      for (int i = first; i < first + size; ++i) {
-        const Eigen::Vector3d p = model.rest.col(i);
-        if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all()) group.vertices.push_back(i);
-      }
+      group.vertices = box.build([&] { return vertices_in_box(model, lo, hi, mesh); });
       if (group.vertices.empty()) g.fail("box", "the box contains no vertex of the rest shape");
     }
     if (g.has("motion")) {
       const Params m = g.object("motion");
       m.only({"velocity", "angular_velocity", "center", "start", "stop"});
       group.motion = parse_motion(m);
-      group.moving = true;
-      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-      for (int i : group.vertices) centroid += model.rest.col(i);
-      group.centre = m.vec3("center", centroid / static_cast<double>(group.vertices.size()));
+      if (m.has("center")) group.centre = m.vec3("center");
     }
     groups.push_back(std::move(group));
   }
-  return std::make_unique<Pins>(model, std::move(groups), k);
+  return params.build([&] { return make_pins(model, std::move(groups), k); });
 }
 
 }  // namespace pce::sim

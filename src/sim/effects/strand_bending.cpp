@@ -15,6 +15,7 @@
 // when (φ − φ₀) times it is positive. This term is what keeps a straight strand stiff in
 // both bending directions (φ cot(φ/2) → 2 as φ → 0: the Hessian of k φ²/ℓ̄ is isotropic
 // there). The in-plane part of (φ − φ₀)∇²φ is dropped; it vanishes at the rest angle.
+#include "arguments.hpp"
 #include "elastic.hpp"
 
 #include <array>
@@ -112,10 +113,8 @@ class StrandBending final : public Effect {
 
 }  // namespace
 
-std::unique_ptr<Effect> make_strand_bending(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "stiffness"});
-  const double k = params.positive("stiffness");
-  const Model& model = *ctx.model;
+std::unique_ptr<Effect> make_strand_bending(const Model& model, double stiffness) {
+  const double k = args::positive("stiffness", stiffness);
   const Eigen::Matrix2Xi& S = model.segments;
   // A joint at every vertex shared by exactly two segments (strand ends and branch points
   // carry none).
@@ -137,14 +136,19 @@ std::unique_ptr<Effect> make_strand_bending(const Params& params, const BuildCon
     const Eigen::Vector3d e2 = model.rest.col(jt.v[2]) - model.rest.col(v);
     const double mean = 0.5 * (e1.norm() + e2.norm());
     if (!(e1.norm() > 0 && e2.norm() > 0))
-      throw InputError(
-          params.file(), params.path(),
-          "a segment at vertex " + std::to_string(v) + " has zero rest length (strand bending needs a rest shape)");
+      throw ArgumentError(
+          "", "a segment at vertex " + std::to_string(v) + " has zero rest length (strand bending needs a rest shape)");
     jt.phi0 = turning_angle(e1, e2);
     jt.weight = k / mean;
     joints.push_back(jt);
   }
   return std::make_unique<StrandBending>(std::move(joints));
+}
+
+std::unique_ptr<Effect> load_strand_bending(const Params& params, const BuildContext& ctx) {
+  params.only({"type", "stiffness"});
+  const double k = params.positive("stiffness");
+  return params.build([&] { return make_strand_bending(*ctx.model, k); });
 }
 
 }  // namespace pce::sim

@@ -5,6 +5,7 @@
 //   ∇²_{x1x1}E = (k/L) [n nᵀ + (1 − L/|e|)(I − n nᵀ)],
 // whose eigenvalues are k/L (along n) and (k/L)(1 − L/|e|) twice; the projection clamps the
 // latter at 0 (exact PSD projection of the 6×6 [[H, −H], [−H, H]]).
+#include "arguments.hpp"
 #include "elastic.hpp"
 
 #include <array>
@@ -61,10 +62,8 @@ class StrandStretching final : public Effect {
 
 }  // namespace
 
-std::unique_ptr<Effect> make_strand_stretching(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "stiffness"});
-  const double k = params.positive("stiffness");
-  const Model& model = *ctx.model;
+std::unique_ptr<Effect> make_strand_stretching(const Model& model, double stiffness) {
+  const double k = args::positive("stiffness", stiffness);
   std::vector<Spring> springs;
   springs.reserve(static_cast<std::size_t>(model.segments.cols()));
   for (Eigen::Index j = 0; j < model.segments.cols(); ++j) {
@@ -73,12 +72,18 @@ std::unique_ptr<Effect> make_strand_stretching(const Params& params, const Build
     const Eigen::Vector3d e = model.rest.col(s.v[1]) - model.rest.col(s.v[0]);
     s.length = e.norm();
     if (!(s.length > 0))
-      throw InputError(params.file(), params.path(),
-                       "segment " + std::to_string(j) + " has zero rest length (strand stretching needs a rest shape)");
+      throw ArgumentError(
+          "", "segment " + std::to_string(j) + " has zero rest length (strand stretching needs a rest shape)");
     s.rest_direction = e / s.length;
     springs.push_back(s);
   }
   return std::make_unique<StrandStretching>(std::move(springs), k);
+}
+
+std::unique_ptr<Effect> load_strand_stretching(const Params& params, const BuildContext& ctx) {
+  params.only({"type", "stiffness"});
+  const double k = params.positive("stiffness");
+  return params.build([&] { return make_strand_stretching(*ctx.model, k); });
 }
 
 }  // namespace pce::sim

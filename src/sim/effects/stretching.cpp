@@ -11,6 +11,7 @@
 //   u₃ vᵢᵀ (u₃ the unit normal)         1 − 1/σᵢ          (R's column i tilts by 1/σᵢ)
 // The projection clamps the three last eigenvalues at 0; the result maps to x-space with
 // the constant dF/dx (F = X D, X = [x0 x1 x2], D the 3×2 matrix below).
+#include "arguments.hpp"
 #include "elastic.hpp"
 
 #include <array>
@@ -136,11 +137,8 @@ class Stretching final : public Effect {
 
 }  // namespace
 
-std::unique_ptr<Effect> make_stretching(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "model", "stiffness"});
-  params.choice("model", {"arap"}, std::string("arap"));
-  const double mu = params.positive("stiffness");
-  const Model& model = *ctx.model;
+std::unique_ptr<Effect> make_stretching(const Model& model, double stiffness) {
+  const double mu = args::positive("stiffness", stiffness);
   std::vector<RestTriangle> triangles;
   triangles.reserve(static_cast<std::size_t>(model.triangles.cols()));
   for (Eigen::Index k = 0; k < model.triangles.cols(); ++k) {
@@ -152,8 +150,7 @@ std::unique_ptr<Effect> make_stretching(const Params& params, const BuildContext
     const Eigen::Vector3d normal = e1.cross(e2);
     const double l1 = e1.norm(), area2 = normal.norm();
     if (!(area2 > 1e-12 * l1 * e2.norm()))
-      throw InputError(params.file(), params.path(),
-                       "triangle " + std::to_string(k) + " has zero rest area (stretching needs a rest shape)");
+      throw ArgumentError("", "triangle " + std::to_string(k) + " has zero rest area (stretching needs a rest shape)");
     const Eigen::Vector3d t1 = e1 / l1, t2 = (normal / area2).cross(t1);
     Eigen::Matrix2d Dm;
     Dm << l1, e2.dot(t1), 0.0, e2.dot(t2);
@@ -165,6 +162,13 @@ std::unique_ptr<Effect> make_stretching(const Params& params, const BuildContext
     triangles.push_back(t);
   }
   return std::make_unique<Stretching>(std::move(triangles));
+}
+
+std::unique_ptr<Effect> load_stretching(const Params& params, const BuildContext& ctx) {
+  params.only({"type", "model", "stiffness"});
+  params.choice("model", {"arap"}, std::string("arap"));
+  const double mu = params.positive("stiffness");
+  return params.build([&] { return make_stretching(*ctx.model, mu); });
 }
 
 }  // namespace pce::sim

@@ -34,6 +34,12 @@ bool Params::has(const std::string& key) const { return j_->contains(key); }
 
 std::string Params::path_of(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
 
+std::string Params::join(const std::string& field) const {
+  if (field.empty()) return path_;
+  if (field.front() == '[') return path_ + field;
+  return path_of(field);
+}
+
 void Params::fail(const std::string& key, const std::string& what) const {
   throw InputError(file_, path_of(key), what);
 }

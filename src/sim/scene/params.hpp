@@ -63,6 +63,18 @@ class Params {
   /// Throws for any key not in `known` (catches typos such as "stifness").
   void only(std::initializer_list<const char*> known) const;
 
+  /// Returns `make()`; an `ArgumentError` it throws (a typed builder's, naming a field
+  /// relative to this object) becomes an `InputError` at that field's JSON path.
+  template <class F> auto build(F&& make) const -> decltype(make()) {
+    try {
+      return make();
+    } catch (const ArgumentError& e) {
+      throw InputError(file_, join(e.field()), e.expected());
+    }
+  }
+  /// The JSON path of `field` (a key, `key[i].key`, `[i]`, or "" for this object) inside this object.
+  std::string join(const std::string& field) const;
+
  private:
   const nlohmann::json& at(const std::string& key) const;
   const nlohmann::json* j_;

@@ -83,16 +83,9 @@ Mesh parse_generator(const Params& g) {
   }
 }
 
-struct MeshSpec {
-  std::string name;
-  Mesh mesh;
-  double density = 0;         ///< kg/m² (cloth)
-  double linear_density = 0;  ///< kg/m (strands)
-};
-
-MeshSpec parse_mesh(const Params& p, const std::filesystem::path& base) {
+ModelMesh parse_mesh(const Params& p, const std::filesystem::path& base) {
   p.only({"name", "file", "generator", "transform", "density", "linear_density"});
-  MeshSpec s;
+  ModelMesh s;
   s.name = p.string("name");
   if (p.has("file") == p.has("generator")) p.fail("file", "expected exactly one of \"file\" or \"generator\"");
   s.mesh = p.has("file") ? read_mesh(p, "file", base) : parse_generator(p.object("generator"));
@@ -147,55 +140,6 @@ Obstacle parse_obstacle(const Params& p, const std::filesystem::path& base) {
   return o;
 }
 
-/// Concatenates the meshes into the model and lumps the masses.
-Model build_model(const std::vector<MeshSpec>& meshes, const Params& root) {
-  Model m;
-  int nv = 0, nt = 0, ns = 0;
-  for (const auto& s : meshes) {
-    nv += static_cast<int>(s.mesh.vertex_count());
-    nt += static_cast<int>(s.mesh.triangles.cols());
-    ns += static_cast<int>(s.mesh.segments.cols());
-  }
-  m.rest.resize(3, nv);
-  m.triangles.resize(3, nt);
-  m.segments.resize(2, ns);
-  m.mass = Eigen::VectorXd::Zero(nv);
-  int v0 = 0, t0 = 0, s0 = 0;
-  for (std::size_t k = 0; k < meshes.size(); ++k) {
-    const MeshSpec& s = meshes[k];
-    const int cv = static_cast<int>(s.mesh.vertex_count()), ct = static_cast<int>(s.mesh.triangles.cols()),
-              cs = static_cast<int>(s.mesh.segments.cols());
-    m.meshes.push_back({s.name, v0, cv, t0, ct, s0, cs});
-    m.rest.middleCols(v0, cv) = s.mesh.positions;
-    m.triangles.middleCols(t0, ct) = s.mesh.triangles.array() + v0;
-    m.segments.middleCols(s0, cs) = s.mesh.segments.array() + v0;
-    for (int t = 0; t < ct; ++t) {
-      const auto tri = s.mesh.triangles.col(t);
-      const double area = 0.5 * (s.mesh.positions.col(tri[1]) - s.mesh.positions.col(tri[0]))
-                                    .cross(s.mesh.positions.col(tri[2]) - s.mesh.positions.col(tri[0]))
-                                    .norm();
-      for (int j = 0; j < 3; ++j) m.mass[v0 + tri[j]] += s.density * area / 3.0;
-    }
-    for (int e = 0; e < cs; ++e) {
-      const auto seg = s.mesh.segments.col(e);
-      const double len = (s.mesh.positions.col(seg[1]) - s.mesh.positions.col(seg[0])).norm();
-      for (int j = 0; j < 2; ++j) m.mass[v0 + seg[j]] += s.linear_density * len / 2.0;
-    }
-    for (int i = 0; i < cv; ++i)
-      if (!(m.mass[v0 + i] > 0))
-        throw InputError(root.file(), "meshes[" + std::to_string(k) + "]",
-                         "vertex " + std::to_string(i) +
-                             " belongs to no triangle or segment of positive size (it would have no mass)");
-    v0 += cv;
-    t0 += ct;
-    s0 += cs;
-  }
-  const Eigen::Matrix2Xi tri_edges = unique_edges(m.triangles);
-  m.edges.resize(2, tri_edges.cols() + m.segments.cols());
-  m.edges << tri_edges, m.segments;
-  return m;
-}
-
 }  // namespace
 
 std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::string& name,
@@ -239,14 +183,14 @@ std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::strin
   // Meshes (unique names), then the model.
   const nlohmann::json& meshes = root.array("meshes", true);
   if (meshes.empty()) root.fail("meshes", "expected at least one mesh");
-  std::vector<MeshSpec> specs;
+  std::vector<ModelMesh> specs;
   std::set<std::string> names;
   for (std::size_t k = 0; k < meshes.size(); ++k) {
     const Params p = root.element("meshes", k);
     specs.push_back(parse_mesh(p, base));
     if (!names.insert(specs.back().name).second) p.fail("name", "duplicate mesh name \"" + specs.back().name + "\"");
   }
-  sim.model = build_model(specs, root);
+  sim.model = root.build([&] { return build_model(specs); });
 
   const nlohmann::json& obstacles = root.array("obstacles");
   for (std::size_t k = 0; k < obstacles.size(); ++k) {
@@ -281,8 +225,7 @@ std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::strin
     const Params q(effects[k], name, "effects[" + std::to_string(k) + "]");
     sim.effects.push_back(reg->make(q, ctx));
   }
-  sim.x = sim.model.rest;
-  sim.v = Eigen::Matrix3Xd::Zero(3, sim.model.vertex_count());
+  sim.start_at_rest();
   return scene;
 }
 

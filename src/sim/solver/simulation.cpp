@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Backward Euler by projected Newton on the incremental potential (simulation.hpp).
+#include <pce/sim/input_error.hpp>
 #include <pce/sim/simulation.hpp>
 
 #include <Eigen/IterativeLinearSolvers>
@@ -92,8 +93,33 @@ double Simulation::potential(const Eigen::Matrix3Xd& y, std::vector<double>* eff
   return E;
 }
 
+void Simulation::start_at_rest() {
+  x = model.rest;
+  v = Eigen::Matrix3Xd::Zero(3, model.vertex_count());
+  frame = 0;
+  time = 0;
+}
+
+void Simulation::check() const {
+  const Eigen::Index n = model.rest.cols();
+  const std::string count = std::to_string(n);
+  if (n == 0) throw ArgumentError("model", "the model has no vertices (build it with build_model)");
+  if (model.mass.size() != n || !(model.mass.array() > 0).all() || !model.mass.allFinite())
+    throw ArgumentError("model.mass", "expected " + count + " finite masses > 0, one per vertex");
+  if (x.cols() != n || v.cols() != n)
+    throw ArgumentError("x", "x has " + std::to_string(x.cols()) + " columns and v " + std::to_string(v.cols()) +
+                                 ", the model " + count + " vertices (start_at_rest() sets both)");
+  if (!(std::isfinite(solver.dt) && solver.dt > 0)) throw ArgumentError("solver.dt", "expected a finite number > 0");
+  if (!(std::isfinite(solver.tolerance) && solver.tolerance > 0))
+    throw ArgumentError("solver.tolerance", "expected a finite number > 0");
+  if (solver.max_iterations < 1) throw ArgumentError("solver.max_iterations", "expected at least 1");
+  for (std::size_t k = 0; k < effects.size(); ++k)
+    if (!effects[k]) throw ArgumentError("effects[" + std::to_string(k) + "]", "expected an effect, got null");
+}
+
 FrameStats Simulation::step() {
   const auto t_frame = Clock::now();
+  check();
   if (!linear_) linear_ = std::make_shared<LinearState>();
   if (solver.threads > 0) omp_set_num_threads(solver.threads);
   static const bool trace_ = std::getenv("PCE_SIM_TRACE") != nullptr;  // one line per Newton iteration on stderr

@@ -5,6 +5,8 @@
 /// vertex masses. Kinematic obstacles are not part of it (`pce/sim/obstacle.hpp`).
 #pragma once
 
+#include <pce/sim/mesh.hpp>
+
 #include <Eigen/Core>
 
 #include <string>
@@ -41,6 +43,23 @@ struct Model {
   /// Number of deformable vertices (columns of `rest`).
   int vertex_count() const { return static_cast<int>(rest.cols()); }
 };
+
+/// One deformable mesh of a model and its material (a scene's `meshes[k]`).
+struct ModelMesh {
+  /// Its name (unique in the model; pin groups and errors use it).
+  std::string name;
+  /// Positions and elements (checked by `validate`).
+  Mesh mesh;
+  double density = 0.1;           ///< areal density of the triangles (kg/m²) > 0
+  double linear_density = 0.005;  ///< linear density of the segments (kg/m) > 0
+};
+
+/// The model of `meshes`, concatenated in order: global vertex indices, the unique triangle
+/// edges followed by the segments as `edges`, and lumped masses (each triangle gives each
+/// corner density·area/3, each segment each end linear_density·length/2). Throws
+/// `ArgumentError` naming `meshes[k]` (or one of its fields) for an invalid mesh, an empty
+/// or duplicate name, a density that is not finite and > 0, or a vertex left without mass.
+Model build_model(const std::vector<ModelMesh>& meshes);
 
 /// What every effect may read when a time step begins.
 struct StepContext {

@@ -63,9 +63,14 @@ struct FrameStats {
 };
 
 /// A whole simulation: the model, its obstacles, the declared effects, the solver settings
-/// and the current state; `step()` advances it by one time step (one frame).
+/// and the current state; `step()` advances it by one time step (one frame). Effects point
+/// into `model`, so a Simulation is neither copied nor moved (hold it by `std::unique_ptr`).
 class Simulation {
  public:
+  Simulation() = default;
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+  ~Simulation() = default;
   /// The deformable vertices and elements.
   Model model;
   /// The scene's rigid obstacles.
@@ -82,11 +87,18 @@ class Simulation {
   /// Simulated time (s) at the end of the last step.
   double time = 0;
 
-  /// Advances one time step. Throws std::runtime_error("frame N: …") when the state
-  /// becomes non-finite (nothing of that frame is kept).
+  /// Sets `x` to the rest shape and `v` to zero, and `frame` and `time` to 0: where a scene
+  /// starts.
+  void start_at_rest();
+
+  /// Advances one time step. Throws `ArgumentError` before touching anything when the
+  /// simulation is not runnable (`x` or `v` not one column per model vertex, a mass not > 0,
+  /// `solver.dt` or `solver.tolerance` not > 0, a null effect), and std::runtime_error
+  /// ("frame N: …") when the state becomes non-finite (nothing of that frame is kept).
   FrameStats step();
 
  private:
+  void check() const;
   double potential(const Eigen::Matrix3Xd& y, std::vector<double>* effect_ms);
   Eigen::VectorXd mass3_;  ///< per coordinate m/h²
   Eigen::Matrix3Xd x_tilde_;

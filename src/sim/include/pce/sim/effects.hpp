@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// The built-in effects, built from C++: one typed builder per scene effect type, taking
+/// what the scene's effect object holds (docs/simulation.md §3 lists the scene forms). The
+/// scene loader calls these same builders, so a scene file and its C++ transcription build
+/// the same effects and simulate bit for bit alike (`tests/sim/test_effects_api.cpp`).
+///
+/// Every builder validates its arguments and throws `ArgumentError` naming the field as the
+/// scene key would (`stiffness`, `groups[1].vertices`, `penalty.distance`), before anything
+/// is built. An effect keeps a pointer to the model it was built from: build it from the
+/// `Simulation::model` it will run in, after that model is final.
+#pragma once
+
+#include <pce/energy/pair_energy.hpp>
+#include <pce/sim/broad_phase.hpp>
+#include <pce/sim/effect.hpp>
+#include <pce/sim/input_error.hpp>
+#include <pce/sim/model.hpp>
+#include <pce/sim/obstacle.hpp>
+
+#include <Eigen/Core>
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace pce::sim {
+
+/// Gravity, E = −Σᵢ mᵢ g·xᵢ (`acceleration` g in m/s², finite).
+std::unique_ptr<Effect> make_gravity(const Model& model,
+                                     const Eigen::Vector3d& acceleration = Eigen::Vector3d(0, 0, -9.81));
+
+/// Cloth membrane stretching, as-rigid-as-possible: E = Σ_t μ A_t ‖F_t − R(F_t)‖²_F with a
+/// closed-form PSD Hessian; `stiffness` μ > 0 (N/m). Every rest triangle needs an area.
+std::unique_ptr<Effect> make_stretching(const Model& model, double stiffness);
+
+/// Cloth bending (discrete shells): E = Σ_hinges 3k (θ − θ₀)² |ē|²/(Ā₁ + Ā₂) over the
+/// interior manifold edges, Gauss–Newton Hessian; `stiffness` k > 0 (N·m).
+std::unique_ptr<Effect> make_bending(const Model& model, double stiffness);
+
+/// Strand stretching: E = Σ_segments ½ k (|e| − L)²/L, exactly projected Hessian;
+/// `stiffness` k > 0 (N).
+std::unique_ptr<Effect> make_strand_stretching(const Model& model, double stiffness);
+
+/// Strand bending: E = Σ_joints k (φ − φ₀)²/ℓ̄ over the turning angle φ at every vertex shared
+/// by two segments; `stiffness` k > 0 (N·m²).
+std::unique_ptr<Effect> make_strand_bending(const Model& model, double stiffness);
+
+/// Damping as a potential: E = Σᵢ mᵢ c/(2h) |xᵢ − xᵢⁿ|² (drag force −c m v), `coefficient`
+/// c ≥ 0 (1/s). h and xⁿ are each step's (zero energy before the first step begins).
+std::unique_ptr<Effect> make_damping(const Model& model, double coefficient);
+
+/// A group of pinned vertices (scene `pins.groups[i]`).
+struct PinGroup {
+  /// Global vertex indices (`Model` columns); at least one, each in range.
+  std::vector<int> vertices;
+  /// Pinned for frames < release_frame; 0: never released.
+  int release_frame = 0;
+  /// Without a motion the targets are the rest positions; with one they follow it
+  /// (`Motion::apply`) about `centre`.
+  std::optional<Motion> motion;
+  /// The centre the motion turns about; the group's rest centroid when absent.
+  std::optional<Eigen::Vector3d> centre;
+};
+
+/// Pins: stiff zero-length springs to targets, E = ½ k Σ_{pinned i} |xᵢ − x̂ᵢ|² over the
+/// groups not yet released; `stiffness` k > 0 (N/m).
+std::unique_ptr<Effect> make_pins(const Model& model, std::vector<PinGroup> groups, double stiffness = 1e5);
+
+/// The vertices whose rest positions lie in the closed box [lo, hi] (what a scene pin group's
+/// `box` selects), optionally only those of the model mesh named `mesh` (empty: all).
+/// Throws ArgumentError when `lo > hi` in a coordinate or no mesh has that name.
+std::vector<int> vertices_in_box(const Model& model, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                                 const std::string& mesh = {});
+
+/// A contact effect's penalty ψ (scene `penalty` object; pce's penalty types).
+struct ContactPenalty {
+  /// quadratic (`QuadraticPenalty`), cubic (`CubicPenalty`) or log barrier (`LogBarrierPenalty`).
+  enum class Kind { quadratic, cubic, log_barrier } kind = Kind::quadratic;
+  double stiffness = 0;  ///< k > 0
+  double distance = 0;   ///< activation distance > 0: ε (quadratic, cubic) or d̂ (log barrier)
+  double delta = 0;      ///< cubic smoothing δ ≥ 0 (cubic only)
+  /// Whether ψ is the log barrier (infinite at zero length).
+  bool barrier() const { return kind == Kind::log_barrier; }
+};
+
+/// A self-contact effect's settings (scene `self_vertex_face` / `self_edge_edge` objects).
+struct ContactSettings {
+  /// The penalty ψ of the pair's length.
+  ContactPenalty penalty;
+  /// Signed length (plane mode only) instead of unsigned (scene `length`).
+  bool signed_length = false;
+  /// Closest-feature evaluation (the distance between the primitives) instead of the plane.
+  bool closest_features = false;
+  /// The Hessian's PSD strategy (not `Projection::none`).
+  Projection hessian = Projection::analytic;
+  /// Skip pairs that share a vertex or are one rest edge's wings.
+  bool exclude_rest_neighbours = true;
+  /// Limit every Newton step so no pair can cross (always on for the barrier).
+  bool ccd = true;
+  /// The broad phase that finds the candidate pairs (scene `solver.broad_phase`).
+  BroadPhaseKind broad_phase = BroadPhaseKind::fcl;
+};
+
+/// Vertex-face self contact: Σ ψ(L) over candidate (vertex, triangle) pairs of the model's
+/// triangles (docs/simulation.md §4). Needs triangles; the log barrier needs
+/// `closest_features`, which needs the unsigned length.
+std::unique_ptr<Effect> make_self_vertex_face(const Model& model, const ContactSettings& settings);
+
+/// Edge-edge self contact: Σ ψ(L) over candidate pairs of the model's edges (triangle edges
+/// and strand segments). Needs two edges; the same settings rules as vertex-face.
+std::unique_ptr<Effect> make_self_edge_edge(const Model& model, const ContactSettings& settings);
+
+/// Contact with kinematic obstacles: Σ ψ(d) over (vertex, obstacle) pairs, d the signed
+/// distance to the obstacle's surface (negative inside). The obstacles are copied; each
+/// must be a valid shape (sizes > 0, finite pose, a mesh with triangles).
+std::unique_ptr<Effect> make_obstacle_contact(const std::vector<Obstacle>& obstacles, const ContactPenalty& penalty);
+
+}  // namespace pce::sim

@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: MIT
+// build_model (model.hpp): meshes concatenated into one model, masses lumped.
+#include <pce/sim/input_error.hpp>
+#include <pce/sim/model.hpp>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <set>
+#include <string>
+
+namespace pce::sim {
+
+Model build_model(const std::vector<ModelMesh>& meshes) {
+  if (meshes.empty()) throw ArgumentError("meshes", "expected at least one mesh");
+  std::set<std::string> names;
+  int nv = 0, nt = 0, ns = 0;
+  for (std::size_t k = 0; k < meshes.size(); ++k) {
+    const ModelMesh& s = meshes[k];
+    const std::string at = "meshes[" + std::to_string(k) + "]";
+    if (s.name.empty()) throw ArgumentError(at + ".name", "expected a non-empty name");
+    if (!names.insert(s.name).second) throw ArgumentError(at + ".name", "duplicate mesh name \"" + s.name + "\"");
+    try {
+      validate(s.mesh, s.name);
+    } catch (const InputError& e) {
+      throw ArgumentError(at, e.what());
+    }
+    if (!(std::isfinite(s.density) && s.density > 0))
+      throw ArgumentError(at + ".density", "expected a finite number > 0");
+    if (!(std::isfinite(s.linear_density) && s.linear_density > 0))
+      throw ArgumentError(at + ".linear_density", "expected a finite number > 0");
+    nv += static_cast<int>(s.mesh.vertex_count());
+    nt += static_cast<int>(s.mesh.triangles.cols());
+    ns += static_cast<int>(s.mesh.segments.cols());
+  }
+  Model m;
+  m.rest.resize(3, nv);
+  m.triangles.resize(3, nt);
+  m.segments.resize(2, ns);
+  m.mass = Eigen::VectorXd::Zero(nv);
+  int v0 = 0, t0 = 0, s0 = 0;
+  for (std::size_t k = 0; k < meshes.size(); ++k) {
+    const ModelMesh& s = meshes[k];
+    const int cv = static_cast<int>(s.mesh.vertex_count()), ct = static_cast<int>(s.mesh.triangles.cols()),
+              cs = static_cast<int>(s.mesh.segments.cols());
+    m.meshes.push_back({s.name, v0, cv, t0, ct, s0, cs});
+    m.rest.middleCols(v0, cv) = s.mesh.positions;
+    m.triangles.middleCols(t0, ct) = s.mesh.triangles.array() + v0;
+    m.segments.middleCols(s0, cs) = s.mesh.segments.array() + v0;
+    for (int t = 0; t < ct; ++t) {
+      const auto tri = s.mesh.triangles.col(t);
+      const double area = 0.5 * (s.mesh.positions.col(tri[1]) - s.mesh.positions.col(tri[0]))
+                                    .cross(s.mesh.positions.col(tri[2]) - s.mesh.positions.col(tri[0]))
+                                    .norm();
+      for (int j = 0; j < 3; ++j) m.mass[v0 + tri[j]] += s.density * area / 3.0;
+    }
+    for (int e = 0; e < cs; ++e) {
+      const auto seg = s.mesh.segments.col(e);
+      const double len = (s.mesh.positions.col(seg[1]) - s.mesh.positions.col(seg[0])).norm();
+      for (int j = 0; j < 2; ++j) m.mass[v0 + seg[j]] += s.linear_density * len / 2.0;
+    }
+    for (int i = 0; i < cv; ++i)
+      if (!(m.mass[v0 + i] > 0))
+        throw ArgumentError("meshes[" + std::to_string(k) + "]",
+                            "vertex " + std::to_string(i) +
+                                " belongs to no triangle or segment of positive size (it would have no mass)");
+    v0 += cv;
+    t0 += ct;
+    s0 += cs;
+  }
+  const Eigen::Matrix2Xi tri_edges = unique_edges(m.triangles);
+  m.edges.resize(2, tri_edges.cols() + m.segments.cols());
+  m.edges << tri_edges, m.segments;
+  return m;
+}
+
+}  // namespace pce::sim
