@@ -53,14 +53,14 @@ std::unique_ptr<Effect> make_damping(const Model& model, double coefficient);
 /// A group of pinned vertices (scene `pins.groups[i]`).
 struct PinGroup {
   /// Global vertex indices (`Model` columns); at least one, each in range.
-  std::vector<int> vertices;
+  std::vector<int> vertices{};
   /// Pinned for frames < release_frame; 0: never released.
   int release_frame = 0;
   /// Without a motion the targets are the rest positions; with one they follow it
   /// (`Motion::apply`) about `centre`.
-  std::optional<Motion> motion;
+  std::optional<Motion> motion = std::nullopt;
   /// The centre the motion turns about; the group's rest centroid when absent.
-  std::optional<Eigen::Vector3d> centre;
+  std::optional<Eigen::Vector3d> centre = std::nullopt;
 };
 
 /// Pins: stiff zero-length springs to targets, E = ½ k Σ_{pinned i} |xᵢ − x̂ᵢ|² over the
@@ -76,7 +76,9 @@ std::vector<int> vertices_in_box(const Model& model, const Eigen::Vector3d& lo, 
 /// A contact effect's penalty ψ (scene `penalty` object; pce's penalty types).
 struct ContactPenalty {
   /// quadratic (`QuadraticPenalty`), cubic (`CubicPenalty`) or log barrier (`LogBarrierPenalty`).
-  enum class Kind { quadratic, cubic, log_barrier } kind = Kind::quadratic;
+  enum class Kind { quadratic, cubic, log_barrier };
+  /// Which penalty.
+  Kind kind = Kind::quadratic;
   double stiffness = 0;  ///< k > 0
   double distance = 0;   ///< activation distance > 0: ε (quadratic, cubic) or d̂ (log barrier)
   double delta = 0;      ///< cubic smoothing δ ≥ 0 (cubic only)
@@ -87,7 +89,7 @@ struct ContactPenalty {
 /// A self-contact effect's settings (scene `self_vertex_face` / `self_edge_edge` objects).
 struct ContactSettings {
   /// The penalty ψ of the pair's length.
-  ContactPenalty penalty;
+  ContactPenalty penalty{};
   /// Signed length (plane mode only) instead of unsigned (scene `length`).
   bool signed_length = false;
   /// Closest-feature evaluation (the distance between the primitives) instead of the plane.

@@ -47,9 +47,9 @@ struct Model {
 /// One deformable mesh of a model and its material (a scene's `meshes[k]`).
 struct ModelMesh {
   /// Its name (unique in the model; pin groups and errors use it).
-  std::string name;
+  std::string name{};
   /// Positions and elements (checked by `validate`).
-  Mesh mesh;
+  Mesh mesh{};
   double density = 0.1;           ///< areal density of the triangles (kg/m²) > 0
   double linear_density = 0.005;  ///< linear density of the segments (kg/m) > 0
 };
