@@ -2,7 +2,7 @@
 #   -DMODE=install  -DBUILD=<pce's build> -DPREFIX=<dir> [-DCOMPONENT=<c>] [-DCONFIG=<cfg>]
 #       a fresh `cmake --install` of pce into PREFIX (removed first: nothing stale counts)
 #   -DMODE=consume  -DBINARY=<dir> -DGENERATOR=... -DCXX=... -DCONFIG=<cfg> [-DSIM=ON]
-#       [-DPREFIX=<dir> | -DPCE_SOURCE=<pce's source tree>] [-DEXPECT_VERSION=<v>]
+#       [-DPREFIX=<dir> | -DPCE_SOURCE=<pce's source tree> | -DPCE_GIT=<pce's git URL>] [-DEXPECT_VERSION=<v>]
 #       [-DEIGEN3_DIR=<dir>] [-DWERROR=ON] [-DEXPECT_FAIL=<regex>] [-DCONFIGURE_ONLY=ON]
 #       configures project/ in a fresh BINARY, builds it and runs its programs; with
 #       EXPECT_FAIL, the configuration must fail with a message matching the regex; with
@@ -37,6 +37,9 @@ if(PREFIX)
 endif()
 if(PCE_SOURCE)
   list(APPEND args -DPCE_CONSUMER_SOURCE=${PCE_SOURCE} -DPCE_WERROR=${WERROR})
+endif()
+if(PCE_GIT)
+  list(APPEND args -DPCE_CONSUMER_GIT=${PCE_GIT} -DPCE_WERROR=${WERROR})
 endif()
 if(EIGEN3_DIR)
   list(APPEND args -DEigen3_DIR=${EIGEN3_DIR})
