@@ -28,6 +28,13 @@ struct Group {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
 };
 
+/// The model mesh named `name`, or null.
+const MeshRange* find_mesh(const Model& model, const std::string& name) {
+  const auto it =
+      std::find_if(model.meshes.begin(), model.meshes.end(), [&](const MeshRange& r) { return r.name == name; });
+  return it == model.meshes.end() ? nullptr : &*it;
+}
+
 class Pins final : public Effect {
  public:
   Pins(const Model& model, std::vector<Group> groups, double k)
@@ -83,10 +90,9 @@ std::vector<int> vertices_in_box(const Model& model, const Eigen::Vector3d& lo, 
   if (!(lo.array() <= hi.array()).all()) throw ArgumentError("max", "expected max >= min in every coordinate");
   int first = 0, size = model.vertex_count();
   if (!mesh.empty()) {
-    const auto it =
-        std::find_if(model.meshes.begin(), model.meshes.end(), [&](const MeshRange& r) { return r.name == mesh; });
-    if (it == model.meshes.end()) throw ArgumentError("mesh", "no mesh named \"" + mesh + "\"");
-    first = it->first_vertex, size = it->vertex_count;
+    const MeshRange* r = find_mesh(model, mesh);
+    if (!r) throw ArgumentError("mesh", "no mesh named \"" + mesh + "\"");
+    first = r->first_vertex, size = r->vertex_count;
   }
   std::vector<int> inside;
   for (int i = first; i < first + size; ++i) {
@@ -149,11 +155,10 @@ std::unique_ptr<Effect> load_pins(const Params& params, const BuildContext& ctx)
     // The vertex range a group may name: one mesh's (local indices) or the whole model's.
     int first = 0, size = model.vertex_count();
     const std::string mesh = g.has("mesh") ? g.string("mesh") : std::string();
-    if (!mesh.empty() || g.has("mesh")) {
-      const auto it =
-          std::find_if(model.meshes.begin(), model.meshes.end(), [&](const MeshRange& r) { return r.name == mesh; });
-      if (it == model.meshes.end()) g.fail("mesh", "no mesh named \"" + mesh + "\"");
-      first = it->first_vertex, size = it->vertex_count;
+    if (g.has("mesh")) {
+      const MeshRange* r = find_mesh(model, mesh);
+      if (!r) g.fail("mesh", "no mesh named \"" + mesh + "\"");
+      first = r->first_vertex, size = r->vertex_count;
     }
     if (g.has("vertices") == g.has("box"))
       g.fail(g.has("box") ? "box" : "vertices", "expected exactly one of \"vertices\" and \"box\"");
