@@ -1,4 +1,4 @@
-"""What accuracy costs in time: runs every benchmark of issue 10 and rewrites docs/benchmarks.md.
+"""What accuracy costs in time: runs every benchmark and rewrites docs/benchmarks.md.
 
     benchmarks/run_all [--quick] [--build DIR] [--results DIR] [--docs FILE] [--jobs N]
 
@@ -11,7 +11,9 @@ Steps, in this order (each writes JSON/CSV into the results folder):
   scenes       scenes.json/.csv: pce-sim per scene x strategy x mode x tolerance, deviation
                from a tight-tolerance reference run
 then draws the PNG plots (next to the docs file, in images/benchmarks/) and writes the docs
-file. --quick runs a few-second subset of every step (the test suite's smoke test) and
+file, whose last section is benchmarks/guidance.md with its numbers recomputed from the
+results folder by benchmarks/guidance_numbers.py (when the results folder is
+benchmarks/results, guidance.md itself is rewritten too). --quick runs a few-second subset of every step (the test suite's smoke test) and
 writes its docs file into the results folder unless --docs says otherwise.
 
 Timings are only compared within one run; nothing here asserts a timing. The script exits
@@ -38,6 +40,9 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import guidance_numbers  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 STRATEGIES = ["analytic", "abs", "exact", "gauss_newton", "numerical"]
@@ -581,6 +586,7 @@ def write_report(ctx, machine, cost, acc, bp, threads, scenes, total_s):
                                        " (with uncommitted changes)" if machine["dirty"] else "",
                                        machine["date_utc"], total_s / 60))
     A(conclusion(cost, acc, bp, threads, scenes))
+    A(guidance(ctx))
 
     # --- per pair ---
     A("## 1. Per pair: cost and accuracy side by side\n")
@@ -787,10 +793,22 @@ def conclusion(cost, acc, bp, threads, scenes):
     if len(tr) > 1:
         L.append(f"- **Threads**: {tr[-1]['threads']} threads speed pair evaluation up {fmt(tr[-1]['speedup_pair_ms'])}×, "
                  f"assembly {fmt(tr[-1]['speedup_assembly_ms'])}×, a whole frame {fmt(tr[-1]['speedup_ms_per_frame'])}×.")
-    guide = (ROOT / "benchmarks" / "guidance.md")
-    if guide.exists():
-        L.append("\n" + guide.read_text().strip())
     return "\n".join(L) + "\n"
+
+
+def guidance(ctx):
+    """benchmarks/guidance.md with its numbers from this run's results folder (markers removed).
+    When the results folder is benchmarks/results, guidance.md itself is rewritten too."""
+    guide = ROOT / "benchmarks" / "guidance.md"
+    page = guide.read_text()
+    values, failed = guidance_numbers.compute(ctx.results)
+    new = guidance_numbers.render(page, values)
+    if ctx.results == (ROOT / "benchmarks" / "results").resolve() and new != page:
+        guide.write_text(new)
+        log(f"rewrote the numbers of {guide}")
+    for text in failed:
+        log(f"WARNING: the results contradict benchmarks/guidance.md: {text} (rewrite the advice)")
+    return guidance_numbers.guidance_numbers_in(new) + "\n"
 
 
 # ---------------------------------------------------------------------------------------------
