@@ -1,6 +1,10 @@
 """What accuracy costs in time: runs every benchmark and rewrites docs/benchmarks.md.
 
-    benchmarks/run_all [--quick] [--build DIR] [--results DIR] [--docs FILE] [--jobs N]
+    benchmarks/run_all [--quick] [--build DIR] [--results DIR] [--docs FILE] [--jobs N] [--steps S]
+
+The executables come from --build DIR as they are. Without --build: from build/ when it has
+every executable the steps need, otherwise run_all configures build-benchmarks/ (Release,
+tests and benchmarks on, examples and pce-probe off) and builds just those targets there.
 
 Steps, in this order (each writes JSON/CSV into the results folder):
   machine      machine.json: CPU, cores, memory, OS, compiler, library versions, commit
@@ -186,12 +190,47 @@ class Context:
         self.jobs = args.jobs
 
     def exe(self, name):
-        for sub in ("benchmarks", "src/sim", "tests", "src/probe", "."):
-            p = self.build / sub / name
-            if p.is_file() and os.access(p, os.X_OK):
-                return p
+        p = find_exe(self.build, name)
+        if p:
+            return p
         raise RuntimeError(f"{name} not found under {self.build}: build it first "
                            f"(cmake --build {self.build} --target {name})")
+
+
+BUILD_SUBDIRS = ("benchmarks", "src/sim", "tests", "src/probe", ".")
+
+
+def find_exe(build, name):
+    for sub in BUILD_SUBDIRS:
+        p = Path(build) / sub / name
+        if p.is_file() and os.access(p, os.X_OK):
+            return p
+    return None
+
+
+def default_build(targets, jobs):
+    """The build folder when --build is not given: build/ if it has every executable in
+    `targets` (a developer's full build), else build-benchmarks/, which run_all configures
+    (Release, with the tests' support library that pce-accuracy needs) and in which it builds
+    just `targets`. The README's quick start (bash .ci/demo) configures build/ without tests
+    and benchmarks, so after it the benchmarks are built here, leaving build/ as it is."""
+    targets = sorted(set(targets))
+    main_build = ROOT / "build"
+    if all(find_exe(main_build, t) for t in targets):
+        return main_build
+    own = ROOT / "build-benchmarks"
+    missing = [t for t in targets if not find_exe(main_build, t)]
+    log(f"{main_build} has no {', '.join(missing)}: building {', '.join(targets)} in {own}")
+    if not (own / "CMakeCache.txt").exists():
+        cmd = ["cmake", "-S", ROOT, "-B", own] + (["-G", "Ninja"] if shutil.which("ninja") else []) + [
+            "-DCMAKE_BUILD_TYPE=Release", "-DPCE_BUILD_TESTS=ON", "-DPCE_BUILD_BENCHMARKS=ON", "-DPCE_BUILD_SIM=ON",
+            "-DPCE_BUILD_EXAMPLES=OFF", "-DPCE_BUILD_PROBE=OFF"]
+        if subprocess.run([str(c) for c in cmd]).returncode != 0:
+            raise RuntimeError(f"configuring {own} failed: {' '.join(map(str, cmd))}")
+    cmd = ["cmake", "--build", own, "--parallel", str(max(jobs, 1)), "--target"] + targets
+    if subprocess.run([str(c) for c in cmd]).returncode != 0:
+        raise RuntimeError(f"building in {own} failed: {' '.join(map(str, cmd))}")
+    return own
 
 
 def step_machine(ctx):
@@ -833,7 +872,9 @@ def self_test():
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="a seconds-long subset of every step (smoke test)")
-    ap.add_argument("--build", default=str(ROOT / "build"), help="CMake build folder with the executables")
+    ap.add_argument("--build", default=None, help="CMake build folder with the executables, used as it is (default: "
+                                                 "build/ if it has every executable the steps need, else run_all "
+                                                 "configures and builds them in build-benchmarks/)")
     ap.add_argument("--results", default=None, help="results folder (default benchmarks/results, or "
                                                    "build/run_all_quick with --quick)")
     ap.add_argument("--docs", default=None, help="the page to write (default docs/benchmarks.md; with --quick, "
@@ -847,6 +888,14 @@ def main():
     if args.self_test:
         self_test()
         return 0
+    steps = ALL_STEPS if args.steps == "all" else [] if args.steps == "none" else args.steps.split(",")
+    unknown = [x for x in steps if x not in ALL_STEPS]
+    if unknown:
+        raise ValueError(f"--steps: unknown step(s) {', '.join(unknown)} (steps: {', '.join(ALL_STEPS)})")
+    needs = {"pair_cost": "pce-bench", "accuracy": "pce-accuracy", "broad_phase": "pce-broad-phase-bench",
+             "threads": "pce-sim", "scenes": "pce-sim"}
+    if args.build is None:
+        args.build = str(default_build([needs[x] for x in steps], args.jobs))
     if args.results is None:
         args.results = str(Path(args.build) / "run_all_quick") if args.quick else str(ROOT / "benchmarks" / "results")
     if args.docs is None:
@@ -854,12 +903,6 @@ def main():
     ctx = Context(args)
     ctx.results.mkdir(parents=True, exist_ok=True)
     ctx.images.mkdir(parents=True, exist_ok=True)
-    steps = ALL_STEPS if args.steps == "all" else [] if args.steps == "none" else args.steps.split(",")
-    unknown = [x for x in steps if x not in ALL_STEPS]
-    if unknown:
-        raise ValueError(f"--steps: unknown step(s) {', '.join(unknown)} (steps: {', '.join(ALL_STEPS)})")
-    needs = {"pair_cost": "pce-bench", "accuracy": "pce-accuracy", "broad_phase": "pce-broad-phase-bench",
-             "threads": "pce-sim", "scenes": "pce-sim"}
     for x in steps:
         ctx.exe(needs[x])  # fail before running anything
     t0 = time.monotonic()
