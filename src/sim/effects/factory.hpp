@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// How effects are built from a scene: every effect file defines one `make_<name>`
-/// factory; `scene/registry.cpp` maps the scene's effect names to them. Internal.
+/// How effects are built from a scene: every effect file defines the public builder
+/// `make_<name>` (`pce/sim/effects.hpp`) and a `load_<name>` factory that reads the scene
+/// object and calls it; `scene/registry.cpp` maps the scene's effect names to the
+/// `load_<name>` factories. Internal.
 #pragma once
 
 #include "../scene/params.hpp"

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// Meshes made by `pce::sim` itself, for scenes that do not load OBJ files (contract §2:
-/// "a rectangular cloth grid of given resolution, a bundle of straight or curly strands"),
-/// and the crumpled cloths the broad-phase tests and benchmark share.
+/// Meshes made by `pce::sim` itself: the two a scene's `generator` names (`grid`, `strands`;
+/// `docs/simulation.md` §2.2) and the crumpled cloths the broad-phase tests and benchmark
+/// share (`crumpled_grid`, C++ only).
 #pragma once
 
 #include <pce/sim/mesh.hpp>

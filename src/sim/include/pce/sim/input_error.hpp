@@ -2,8 +2,8 @@
 /// @file
 /// The two error types of `pce::sim`'s input side. `InputError`: an invalid scene or mesh
 /// file, reported as one line naming the file, the place in it (a JSON path such as
-/// `effects[2].penalty.dhat`, or `line 17`) and what was expected (contract §2,
-/// `../shared/design/contracts.md`). `ArgumentError`: an invalid argument to a C++ builder
+/// `effects[2].penalty.distance`, or `line 17`) and what was expected (`docs/simulation.md`
+/// §6.3). `ArgumentError`: an invalid argument to a C++ builder
 /// (`pce/sim/effects.hpp`, `build_model`), naming the field. The scene loader calls the same
 /// builders and turns their `ArgumentError` into an `InputError` at the field's JSON path.
 /// Nothing is built or written before the input is accepted.

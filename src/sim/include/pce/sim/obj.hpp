@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// Wavefront OBJ reading and writing for `pce::sim` (contract §2: OBJ meshes, triangles from
-/// `f` elements, strands from `l` polyline elements).
+/// Wavefront OBJ reading and writing for `pce::sim`: triangles from `f` elements, strands
+/// from `l` polyline elements (`docs/simulation.md` §2.2).
 ///
 /// Read: `v x y z [w]` (w ignored), `f` with any of the `i`, `i/t`, `i//n`, `i/t/n` forms
 /// and negative (relative) indices; polygons with more than three vertices are split into a

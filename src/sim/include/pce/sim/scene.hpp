@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// Scene files (JSON, contract §2 of `../shared/design/contracts.md`, documented field by
-/// field in `docs/simulation.md`): meshes, obstacles, solver settings and, explicitly, the
+/// Scene files (JSON, documented field by field in `docs/simulation.md` §2): meshes, obstacles, solver settings and, explicitly, the
 /// effects. Only the listed effects are constructed; a scene without contact effects builds
 /// no broad phase, a scene without bending allocates no bending data.
 ///
