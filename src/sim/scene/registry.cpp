@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The effect registry: scene name → factory. The only place that lists every effect.
+// The effect registry: each scene effect name and its `load_<name>` factory (which reads the
+// scene object and calls the public builder `make_<name>`, pce/sim/effects.hpp). The scene
+// loader knows the effects only through this list.
 #include "registry.hpp"
 
 namespace pce::sim {
