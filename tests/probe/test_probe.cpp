@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Tests for the pce-probe executable (contract: design/contracts.md section 1, user doc:
-// docs/probe.md). Each test writes a JSON Lines file, runs the built probe on it through
+// Tests for the pce-probe executable (what it promises: docs/probe.md and
+// docs/conventions.md). Each test writes a JSON Lines file, runs the built probe on it through
 // popen, and checks the answers: order, bit-exact agreement with the library after the
 // text round trip, every projection and scalar name, every error status, the opt-in
 // "mollifier" field, the point kinds (9 and 6 coordinates), the opt-in "closest_feature"
@@ -78,7 +78,7 @@ ProbeRun run_probe(const std::string& input, const std::string& args = "") {
   return run;
 }
 
-/// JSON has no NaN or Inf; the probe must never print them (contracts.md §1).
+/// JSON has no NaN or Inf; the probe must never print them (docs/probe.md).
 void expect_no_nan_or_inf(const ProbeRun& run) {
   const std::regex bad(R"(\b(nan|inf|infinity)\b)", std::regex::icase);
   EXPECT_FALSE(std::regex_search(run.output, bad)) << run.output;

@@ -137,7 +137,7 @@ inline bool within(double err, double bound, double u, double factor = 16, doubl
 }
 
 /// Smallest allowed λ_min/max|λ| of a projected Hessian: −1e-12 in double and long double
-/// (the criterion), −32u (≈ −1.9e-6) in float, where one rounding of the 12×12
+/// (the tests' criterion), −32u (≈ −1.9e-6) in float, where one rounding of the 12×12
 /// entries already moves eigenvalues by ~u·‖H‖.
 inline double psd_threshold(double unit_roundoff) { return -std::max(1e-12, 32 * unit_roundoff); }
 
