@@ -195,6 +195,31 @@ TEST_P(TreeBroadPhase, NonFiniteVertex) {
   }
 }
 
+TEST_P(TreeBroadPhase, HugeOrInvalidDistance) {
+  // A query distance of 1e308 grew the boxes to ±inf (h = d/2 + 4ε(M + d)), whose NaN
+  // volumes crashed FCL's tree build (a segmentation fault from pce-sim with a contact
+  // distance of 1e308). Beyond box_rule::kTreeLimit, and for a NaN or negative distance,
+  // the query is answered by the brute force: every pair within a huge distance, none for
+  // NaN. The next ordinary query uses the tree again.
+  const pce::sim::Mesh m = crumpled(6, 3);
+  const Eigen::Matrix2Xi edges = pce::sim::unique_edges(m.triangles);
+  auto bp = make();
+  const std::size_t all_vf =
+      static_cast<std::size_t>(m.positions.cols()) * static_cast<std::size_t>(m.triangles.cols());
+  for (double d : {1e308, std::numeric_limits<double>::max(), std::numeric_limits<double>::infinity(), 1e200, 1e101}) {
+    const auto counts = expect_same(*bp, m.positions, m.triangles, edges, d, "huge distance");
+    EXPECT_EQ(counts[0], all_vf - 3 * static_cast<std::size_t>(m.triangles.cols())) << d;  // all but the corners
+    expect_same(*bp, m.positions, m.triangles, edges, 0.02, "ordinary distance again");
+  }
+  for (double d : {std::numeric_limits<double>::quiet_NaN(), -1.0}) {
+    expect_same(*bp, m.positions, m.triangles, edges, d, "NaN or negative distance");
+    expect_same(*bp, m.positions, m.triangles, edges, 0.02, "ordinary distance again");
+  }
+  // Coordinates near the limit with an ordinary distance: also the brute force's answer.
+  const Eigen::Matrix3Xd far = (m.positions.array() * 1e99).matrix();
+  expect_same(*bp, far, m.triangles, edges, 1e98, "coordinates of 1e99");
+}
+
 /// The self-contact distances a scene's `self_vertex_face` / `self_edge_edge` effects declare.
 std::set<double> self_contact_distances(const std::filesystem::path& file) {
   std::ifstream in(file);

@@ -30,24 +30,37 @@
 
 namespace pce::sim::box_rule {
 
+/// The largest M + d (M = max |x_ik|, d the query distance) whose boxes a tree may see:
+/// every grown box then lies inside [−2·1e100, 2·1e100]³, so the quantities the trees
+/// derive from boxes — FCL's volumes (extent³ ≤ 6.4e301) and centres, Bullet's extent
+/// sums — are finite. Beyond it (a distance of 1e308 grew boxes to ±∞, whose NaN volumes
+/// sent FCL's bottom-up build out of its array: a segmentation fault) the caller answers
+/// with the brute force.
+inline constexpr double kTreeLimit = 1e100;
+
 /// pad = 4 ε (M + d), M = max |x_ik|: the margin h − d/2 that makes a tree's overlap test
 /// of boxes grown by h = d/2 + pad accept every brute-force pair. Returns false (and leaves
-/// `pad` unset) when a coordinate is not finite: neither tree library survives a NaN or
-/// infinite box (FCL crashes, Bullet corrupts its heap), so the caller then answers with
-/// `brute_force_candidates` itself, whose comparisons reject such pairs.
+/// `pad` unset) when a coordinate is not finite, or when d is not a number in
+/// [0, ∞) with M + d ≤ `kTreeLimit`: neither tree library survives a NaN or infinite box
+/// (FCL crashes, Bullet corrupts its heap), so the caller then answers with
+/// `brute_force_candidates` itself, whose comparisons reject non-finite pairs and accept
+/// every pair within a huge distance.
 inline bool padding(const Eigen::Matrix3Xd& x, double distance, double& pad) {
+  if (!(distance >= 0 && distance <= kTreeLimit)) return false;  // NaN, negative, huge
   double m = 0;
   for (Eigen::Index k = 0; k < x.size(); ++k) {
     if (!std::isfinite(x.data()[k])) return false;
     m = std::max(m, std::abs(x.data()[k]));
   }
+  if (!(m + distance <= kTreeLimit)) return false;
   pad = 4 * std::numeric_limits<double>::epsilon() * (m + distance);
   return true;
 }
 
 /// What every tree query starts with: h = d/2 + pad, and whether `topology` differs from
 /// the one the trees were built for (then `built_for` takes it). Returns false, and sets
-/// nothing, when a coordinate is not finite: the caller answers with
+/// nothing, when `padding` does (a coordinate not finite, a distance not in [0, ∞) or
+/// coordinates plus distance beyond `kTreeLimit`): the caller answers with
 /// `brute_force_candidates` itself.
 template <class Matrix> bool begin_query(const Eigen::Matrix3Xd& x, double distance, const Matrix& topology,
                                          Matrix& built_for, double& h, bool& new_topology);
