@@ -615,8 +615,9 @@ def write_report(ctx, machine, cost, acc, bp, threads, scenes, total_s):
       "crumpled cloths) and `pce-sim` (every shipped scene × strategy × mode × tolerance, and a thread count "
       "sweep), writes JSON and CSV into `benchmarks/results/`, draws the plots below and rewrites this page. "
       "Figures are medians, and ratios are taken within this one run: the machine is a shared VM whose speed "
-      "drifts by 25 % between days, so compare numbers within this page, not across runs. Nothing here is "
-      "asserted by a test; the test suite runs `benchmarks/run_all --quick` only to keep the pipeline working. "
+      "drifts by 25 % between days, so compare numbers within this page, not across runs. No timing is "
+      "asserted by a test; the test suite runs `benchmarks/run_all --quick` only to keep the pipeline working, "
+      "and `benchmarks/guidance_numbers.py --check` to keep the closing advice's numbers equal to the results. "
       "How `pce-bench` works and how its numbers got where they are: [`pce-bench.md`](pce-bench.md).\n")
     A("**Machine.** %s, %s cores, %s, %s, %s, build type %s (`%s`), Eigen %s, FCL %s, Bullet %s; commit %s%s; %s; "
       "total wall time %.1f min.\n" % (machine["cpu"], machine["cores"], machine["memory"], machine["os"],
