@@ -170,6 +170,40 @@ TEST(Generators, InvalidParametersAreInputErrors) {
   EXPECT_THROW(pce::sim::strands(2, 2, 1, 1, -0.1), InputError);
 }
 
+TEST(Generators, SizesAndCountsBeyondTheLimitsAreInputErrors) {
+  // 2^20 strands of 2^16 segments: count (segments + 1) overflowed int before anything
+  // checked it; now refused before allocation (kMaxVertices).
+  EXPECT_THROW(pce::sim::strands(1 << 20, 1 << 16, 1, 1), InputError);
+  EXPECT_THROW(pce::sim::grid(1, 1, 4096, 4096), InputError);  // 4097² > 2^24 vertices
+  EXPECT_NO_THROW(pce::sim::grid(1, 1, 4095, 1));
+  EXPECT_THROW(pce::sim::grid(1e308, 1, 2, 2), InputError);
+  EXPECT_THROW(pce::sim::grid(1, 2e6, 2, 2), InputError);
+  EXPECT_THROW(pce::sim::strands(2, 2, 1e7, 1), InputError);
+  EXPECT_THROW(pce::sim::strands(2, 2, 1, 1e300), InputError);
+  EXPECT_THROW(pce::sim::strands(2, 2, 1, 1, 1e300), InputError);
+  EXPECT_NO_THROW(pce::sim::grid(pce::sim::kMaxCoordinate, 1, 1, 1));
+}
+
+TEST(Mesh, CoordinatesBeyondTheLimitAreRefused) {
+  pce::sim::Mesh m = pce::sim::grid(1, 1, 1, 1);
+  m.positions(2, 1) = pce::sim::kMaxCoordinate;
+  EXPECT_NO_THROW(pce::sim::validate(m, "m"));
+  m.positions(2, 1) = -1.5e6;
+  try {
+    pce::sim::validate(m, "scene.json: meshes[0]");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("vertex 1 at (0.5, -0.5, -1500000) is beyond |coordinate| <= 1e+06"),
+              std::string::npos)
+        << e.what();
+  }
+  // An OBJ file: refused by read_obj's validate, naming the file.
+  const auto [where, what] = obj_error("far.obj", "v 0 0 0\nv 1e300 0 0\nv 0 1 0\nf 1 2 3\n");
+  EXPECT_EQ(where, "");
+  EXPECT_NE(what.find("far.obj: vertex 1 at (1"), std::string::npos) << what;
+  EXPECT_NE(what.find(") is beyond |coordinate| <= 1e+06"), std::string::npos) << what;
+}
+
 TEST(Mesh, TransformAndValidate) {
   pce::sim::Mesh m = pce::sim::grid(1, 1, 1, 1);
   pce::sim::Transform t;

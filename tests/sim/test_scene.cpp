@@ -150,6 +150,95 @@ TEST(Scene, ContactOptionsAreChecked) {
   EXPECT_EQ(error_path(j), "effects[2].penalty.distance");
 }
 
+TEST(Scene, ContactDistanceOf1e308IsRefusedNotACrash) {
+  // twist.json with effects[5].penalty.distance = 1e308 crashed pce-sim in the broad phase
+  // (boxes grown to ±inf); the scene is now refused at that path, and a distance beyond
+  // half the model's diagonal is refused too (every pair would be a candidate).
+  const std::filesystem::path file = std::filesystem::path(PCE_SOURCE_DIR) / "examples" / "scenes" / "twist.json";
+  json j = json::parse(std::ifstream(file));
+  ASSERT_EQ(j["effects"][5]["type"], "self_vertex_face");
+  j["effects"][5]["penalty"]["distance"] = 1e308;
+  std::string msg;
+  EXPECT_EQ(error_path(j, &msg), "effects[5].penalty.distance");
+  EXPECT_EQ(msg.rfind("scene.json: effects[5].penalty.distance: expected a number > 0 and <= 1e+06", 0), 0u) << msg;
+  EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  j["effects"][5]["penalty"]["distance"] = 1.0;  // the ribbon is 0.4 × 1.6 m: half its diagonal is 0.82 m
+  EXPECT_EQ(error_path(j, &msg), "effects[5].penalty.distance");
+  EXPECT_NE(msg.find("half the diagonal 1.64924225024706"), std::string::npos) << msg;
+  j["effects"][5]["penalty"]["distance"] = 0.8;
+  EXPECT_NO_THROW(load_scene_text(j.dump(), "scene.json", PCE_TEST_TMP));
+  j["effects"][6]["penalty"]["distance"] = 1e6;
+  EXPECT_EQ(error_path(j), "effects[6].penalty.distance");
+}
+
+TEST(Scene, AbsurdNumbersAreRefusedWithTheirPath) {
+  json base = minimal();
+  base["obstacles"] = json::parse(R"([{"name": "ball", "shape": "sphere", "radius": 0.2,
+      "motion": {"velocity": [0, 0, 1]}},
+    {"name": "floor", "shape": "box", "half_extents": [1, 1, 0.1], "position": [0, 0, -1]},
+    {"name": "bar", "shape": "capsule", "radius": 0.1, "half_length": 0.5}])");
+  base["effects"].push_back(json::parse(R"({"type": "damping", "coefficient": 0.1})"));
+  base["effects"].push_back(json::parse(R"({"type": "pins", "stiffness": 1e4,
+      "groups": [{"vertices": [0], "motion": {"velocity": [0, 0, 1], "center": [0, 0, 0]}}]})"));
+  base["effects"].push_back(json::parse(R"({"type": "obstacle_contact",
+      "penalty": {"type": "cubic", "stiffness": 10, "distance": 0.01, "delta": 1e-6}})"));
+  base["effects"].push_back(json::parse(R"({"type": "bending", "stiffness": 1e-3})"));
+  base["effects"].push_back(json::parse(R"({"type": "self_vertex_face",
+      "penalty": {"type": "quadratic", "stiffness": 10, "distance": 0.01}})"));
+  ASSERT_NO_THROW(load_scene_text(base.dump(), "scene.json", PCE_TEST_TMP));
+  const double huge = 1e308, denormal = 1e-320;
+  const struct {
+    const char* pointer;  // JSON pointer of the field to set
+    json value;
+    const char* path;  // the JSON path the error must name
+  } cases[] = {
+      {"/dt", huge, "dt"},
+      {"/dt", denormal, "dt"},
+      {"/dt", 2.0, "dt"},
+      {"/meshes/0/density", huge, "meshes[0].density"},
+      {"/meshes/0/density", denormal, "meshes[0].density"},
+      {"/meshes/0/generator/width", huge, "meshes[0].generator.width"},
+      {"/meshes/0/generator/height", 2e6, "meshes[0].generator.height"},
+      {"/meshes/0/transform", json::parse(R"({"translation": [1e300, 0, 0]})"), "meshes[0].transform.translation"},
+      {"/meshes/0/transform", json::parse(R"({"scale": 1e300})"), "meshes[0].transform.scale"},
+      {"/meshes/0/transform", json::parse(R"({"scale": 1e-320})"), "meshes[0].transform.scale"},
+      {"/meshes/0/transform", json::parse(R"({"scale": 1e6, "translation": [9e5, 0, 0]})"), "meshes[0].generator"},
+      {"/meshes/0/generator",
+       json::parse(R"({"type": "strands", "count": 1048576, "segments": 65536, "length": 1, "spacing": 1})"),
+       "meshes[0].generator.type"},
+      {"/meshes/0/generator", json::parse(R"({"type": "strands", "count": 2, "segments": 2, "length": 1e300,
+         "spacing": 1})"),
+       "meshes[0].generator.length"},
+      {"/obstacles/0/radius", huge, "obstacles[0].radius"},
+      {"/obstacles/0/position", json::array({0, huge, 0}), "obstacles[0].position"},
+      {"/obstacles/0/motion/velocity", json::array({huge, 0, 0}), "obstacles[0].motion.velocity"},
+      {"/obstacles/0/motion/angular_velocity", json::array({0, 0, 1e7}), "obstacles[0].motion.angular_velocity"},
+      {"/obstacles/1/half_extents", json::array({1, huge, 1}), "obstacles[1].half_extents"},
+      {"/obstacles/2/half_length", 1e200, "obstacles[2].half_length"},
+      {"/effects/0/acceleration", json::array({0, 0, -huge}), "effects[0].acceleration"},
+      {"/effects/1/stiffness", huge, "effects[1].stiffness"},
+      {"/effects/2/coefficient", huge, "effects[2].coefficient"},
+      {"/effects/3/stiffness", 1e13, "effects[3].stiffness"},
+      {"/effects/3/groups/0/motion/velocity", json::array({0, huge, 0}), "effects[3].groups[0].motion.velocity"},
+      {"/effects/3/groups/0/motion/center", json::array({0, huge, 0}), "effects[3].groups[0].motion.center"},
+      {"/effects/4/penalty/stiffness", huge, "effects[4].penalty.stiffness"},
+      {"/effects/4/penalty/distance", huge, "effects[4].penalty.distance"},
+      {"/effects/4/penalty/delta", huge, "effects[4].penalty.delta"},
+      {"/effects/5/stiffness", huge, "effects[5].stiffness"},
+      {"/effects/6/penalty/distance", huge, "effects[6].penalty.distance"},
+      {"/effects/6/penalty/distance", 1.0, "effects[6].penalty.distance"},  // the grid is 1 × 1 m
+      {"/effects/6/penalty/stiffness", 1e300, "effects[6].penalty.stiffness"},
+  };
+  for (const auto& c : cases) {
+    json j = base;
+    j[json::json_pointer(c.pointer)] = c.value;
+    std::string msg;
+    EXPECT_EQ(error_path(j, &msg), c.path) << c.pointer << " = " << c.value.dump() << ": " << msg;
+    EXPECT_EQ(msg.rfind(std::string("scene.json: ") + c.path + ": ", 0), 0u) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+}
+
 TEST(Scene, ShippedScenesLoad) {
   const std::filesystem::path dir = std::filesystem::path(PCE_SOURCE_DIR) / "examples" / "scenes";
   int count = 0;

@@ -111,7 +111,7 @@ class Bending final : public Effect {
 }  // namespace
 
 std::unique_ptr<Effect> make_bending(const Model& model, double stiffness) {
-  const double k = args::positive("stiffness", stiffness);
+  const double k = args::stiffness("stiffness", stiffness);
   const Eigen::Matrix3Xi& T = model.triangles;
   // Every triangle edge as (min, max, triangle, corner): corner c's edge is (c, c+1) in
   // winding order, its wing the vertex c+2. Sorting groups the triangles of an edge.

@@ -44,7 +44,8 @@ class Damping final : public Effect {
 }  // namespace
 
 std::unique_ptr<Effect> make_damping(const Model& model, double coefficient) {
-  return std::make_unique<Damping>(model, args::nonnegative("coefficient", coefficient));
+  return std::make_unique<Damping>(model, args::nonnegative_at_most("coefficient", coefficient, args::kMaxDamping,
+                                                                    "the largest damping pce::sim accepts, in 1/s"));
 }
 
 std::unique_ptr<Effect> load_damping(const Params& params, const BuildContext& ctx) {

@@ -28,7 +28,8 @@ class Gravity final : public Effect {
 }  // namespace
 
 std::unique_ptr<Effect> make_gravity(const Model& model, const Eigen::Vector3d& acceleration) {
-  return std::make_unique<Gravity>(model, args::finite("acceleration", acceleration));
+  return std::make_unique<Gravity>(model, args::bounded("acceleration", acceleration, args::kMaxAcceleration,
+                                                        "the largest acceleration pce::sim accepts, in m/s²"));
 }
 
 std::unique_ptr<Effect> load_gravity(const Params& params, const BuildContext& ctx) {

@@ -158,15 +158,16 @@ class ObstacleContact final : public Effect {
 void check_obstacle(const Obstacle& o, const std::string& at) {
   switch (o.kind) {
     case ShapeKind::sphere:
-      args::positive(at + ".radius", o.radius);
+      args::length(at + ".radius", o.radius);
       break;
     case ShapeKind::box:
-      if (!(o.half_extents.allFinite() && o.half_extents.minCoeff() > 0))
+      args::position(at + ".half_extents", o.half_extents);
+      if (!(o.half_extents.minCoeff() > 0))
         throw ArgumentError(at + ".half_extents", "expected three finite numbers > 0");
       break;
     case ShapeKind::capsule:
-      args::positive(at + ".radius", o.radius);
-      args::positive(at + ".half_length", o.half_length);
+      args::length(at + ".radius", o.radius);
+      args::length(at + ".half_length", o.half_length);
       break;
     case ShapeKind::mesh:
       if (o.mesh.triangles.cols() == 0) throw ArgumentError(at + ".mesh", "a mesh obstacle needs triangles");
@@ -179,12 +180,12 @@ void check_obstacle(const Obstacle& o, const std::string& at) {
     default:
       throw ArgumentError(at + ".kind", "expected sphere, box, capsule or mesh");
   }
-  args::finite(at + ".position", o.position);
+  args::position(at + ".position", o.position);
   if (!(o.rotation.allFinite() && (o.rotation.transpose() * o.rotation - Eigen::Matrix3d::Identity()).norm() < 1e-9 &&
         o.rotation.determinant() > 0))
     throw ArgumentError(at + ".rotation", "expected a rotation matrix (orthonormal, determinant 1)");
-  args::finite(at + ".motion.velocity", o.motion.velocity);
-  args::finite(at + ".motion.angular_velocity", o.motion.angular_velocity);
+  args::speed(at + ".motion.velocity", o.motion.velocity);
+  args::speed(at + ".motion.angular_velocity", o.motion.angular_velocity);
   args::nonnegative(at + ".motion.start", o.motion.start);
   if (!(o.motion.stop >= o.motion.start)) throw ArgumentError(at + ".motion.stop", "expected stop >= start");
 }

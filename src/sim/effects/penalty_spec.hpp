@@ -20,15 +20,40 @@
 namespace pce::sim {
 
 /// Throws ArgumentError (fields `<prefix>stiffness`, …) unless `s` is a valid penalty.
+/// Limits: the stiffness ≤ `args::kMaxStiffness` (in J/m², J/m³ for the cubic), the
+/// activation distance ≤ `kMaxCoordinate` (a self-contact query grows boxes by 2d, and
+/// 1e308 overflowed them), δ ≤ `kMaxCoordinate`² (a squared length).
 inline void check_penalty(const ContactPenalty& s, const std::string& prefix) {
-  args::positive(prefix + "stiffness", s.stiffness);
-  args::positive(prefix + "distance", s.distance);
-  args::nonnegative(prefix + "delta", s.delta);
+  args::stiffness(prefix + "stiffness", s.stiffness);
+  args::length(prefix + "distance", s.distance);
+  args::nonnegative_at_most(prefix + "delta", s.delta, kMaxCoordinate * kMaxCoordinate,
+                            "the square of the largest length pce::sim accepts, in m²");
   if (s.kind != ContactPenalty::Kind::cubic && s.delta != 0)
     throw ArgumentError(prefix + "delta", "only the cubic penalty has a delta");
   if (s.kind != ContactPenalty::Kind::quadratic && s.kind != ContactPenalty::Kind::cubic &&
       s.kind != ContactPenalty::Kind::log_barrier)
     throw ArgumentError(prefix + "type", "expected quadratic, cubic or log_barrier");
+}
+
+/// The largest self-contact activation distance, as a fraction of the diagonal of the
+/// model's rest bounding box: a self-contact query grows every box by 2d, so at d = ½·diagonal
+/// every pair of the model is a candidate at every step — contact is no longer a thin
+/// layer but an all-pairs force, and the candidate lists grow as n².
+inline constexpr double kMaxContactDistanceFraction = 0.5;
+
+/// Throws ArgumentError (`<prefix>distance`) unless `s.distance` ≤
+/// `kMaxContactDistanceFraction` × the diagonal of `model`'s rest bounding box (the check a
+/// self-contact effect needs beyond `check_penalty`).
+inline void check_penalty_for_model(const ContactPenalty& s, const Model& model, const std::string& prefix) {
+  if (model.rest.cols() == 0) return;
+  const double diagonal = (model.rest.rowwise().maxCoeff() - model.rest.rowwise().minCoeff()).norm();
+  if (!(s.distance <= kMaxContactDistanceFraction * diagonal))
+    throw ArgumentError(prefix + "distance",
+                        "expected a number <= " + args::text(kMaxContactDistanceFraction * diagonal) +
+                            " (half the diagonal " + args::text(diagonal) +
+                            " m of the model's rest bounding box: beyond, every pair is a "
+                            "contact candidate at every step), got " +
+                            args::text(s.distance));
 }
 
 inline ContactPenalty parse_penalty(const Params& p) {

@@ -103,7 +103,7 @@ std::vector<int> vertices_in_box(const Model& model, const Eigen::Vector3d& lo, 
 }
 
 std::unique_ptr<Effect> make_pins(const Model& model, std::vector<PinGroup> groups, double stiffness) {
-  const double k = args::positive("stiffness", stiffness);
+  const double k = args::stiffness("stiffness", stiffness);
   if (groups.empty()) throw ArgumentError("groups", "expected at least one pin group");
   std::vector<Group> run;
   for (std::size_t gi = 0; gi < groups.size(); ++gi) {
@@ -123,15 +123,15 @@ std::unique_ptr<Effect> make_pins(const Model& model, std::vector<PinGroup> grou
     group.release_frame = g.release_frame;
     if (g.motion) {
       const Motion& m = *g.motion;
-      args::finite(at + ".motion.velocity", m.velocity);
-      args::finite(at + ".motion.angular_velocity", m.angular_velocity);
+      args::speed(at + ".motion.velocity", m.velocity);
+      args::speed(at + ".motion.angular_velocity", m.angular_velocity);
       args::nonnegative(at + ".motion.start", m.start);
       if (!(m.stop >= m.start)) throw ArgumentError(at + ".motion.stop", "expected stop >= start");
       group.motion = m;
       group.moving = true;
       Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
       for (int i : group.vertices) centroid += model.rest.col(i);
-      group.centre = g.centre ? args::finite(at + ".motion.center", *g.centre)
+      group.centre = g.centre ? args::position(at + ".motion.center", *g.centre)
                               : Eigen::Vector3d(centroid / static_cast<double>(group.vertices.size()));
     }
     run.push_back(std::move(group));
@@ -176,7 +176,7 @@ std::unique_ptr<Effect> load_pins(const Params& params, const BuildContext& ctx)
       const Params m = g.object("motion");
       m.only({"velocity", "angular_velocity", "center", "start", "stop"});
       group.motion = parse_motion(m);
-      if (m.has("center")) group.centre = m.vec3("center");
+      if (m.has("center")) group.centre = m.vec3("center");  // checked by make_pins (motion.center)
     }
     groups.push_back(std::move(group));
   }

@@ -114,7 +114,7 @@ class StrandBending final : public Effect {
 }  // namespace
 
 std::unique_ptr<Effect> make_strand_bending(const Model& model, double stiffness) {
-  const double k = args::positive("stiffness", stiffness);
+  const double k = args::stiffness("stiffness", stiffness);
   const Eigen::Matrix2Xi& S = model.segments;
   // A joint at every vertex shared by exactly two segments (strand ends and branch points
   // carry none).

@@ -63,7 +63,7 @@ class StrandStretching final : public Effect {
 }  // namespace
 
 std::unique_ptr<Effect> make_strand_stretching(const Model& model, double stiffness) {
-  const double k = args::positive("stiffness", stiffness);
+  const double k = args::stiffness("stiffness", stiffness);
   std::vector<Spring> springs;
   springs.reserve(static_cast<std::size_t>(model.segments.cols()));
   for (Eigen::Index j = 0; j < model.segments.cols(); ++j) {

@@ -138,7 +138,7 @@ class Stretching final : public Effect {
 }  // namespace
 
 std::unique_ptr<Effect> make_stretching(const Model& model, double stiffness) {
-  const double mu = args::positive("stiffness", stiffness);
+  const double mu = args::stiffness("stiffness", stiffness);
   std::vector<RestTriangle> triangles;
   triangles.reserve(static_cast<std::size_t>(model.triangles.cols()));
   for (Eigen::Index k = 0; k < model.triangles.cols(); ++k) {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <random>
+#include <sstream>
 #include <string>
 
 namespace pce::sim {
@@ -12,13 +13,21 @@ namespace {
 void require(bool ok, const char* generator, const std::string& what) {
   if (!ok) throw InputError(generator, "", what);
 }
+std::string limit(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
 }  // namespace
 
 Mesh grid(double width, double height, int nx, int ny) {
-  require(std::isfinite(width) && width > 0 && std::isfinite(height) && height > 0, "grid",
-          "width and height must be finite and positive");
+  require(std::isfinite(width) && width > 0 && width <= kMaxCoordinate && std::isfinite(height) && height > 0 &&
+              height <= kMaxCoordinate,
+          "grid", "width and height must be > 0 and <= " + limit(kMaxCoordinate) + " (m)");
   require(nx >= 1 && ny >= 1 && nx <= 4096 && ny <= 4096, "grid",
           "the resolution must be between 1 and 4096 quads per side");
+  require((static_cast<long>(nx) + 1) * (static_cast<long>(ny) + 1) <= kMaxVertices, "grid",
+          "(nx + 1)(ny + 1) vertices must be at most " + std::to_string(kMaxVertices));
   Mesh m;
   m.positions.resize(3, (nx + 1) * (ny + 1));
   for (int j = 0; j <= ny; ++j)
@@ -45,9 +54,14 @@ Mesh grid(double width, double height, int nx, int ny) {
 Mesh strands(int count, int segments, double length, double spacing, double curl) {
   require(count >= 1 && count <= 1 << 20, "strands", "the strand count must be between 1 and 2^20");
   require(segments >= 1 && segments <= 1 << 16, "strands", "the segment count must be between 1 and 2^16");
-  require(std::isfinite(length) && length > 0 && std::isfinite(spacing) && spacing > 0, "strands",
-          "length and spacing must be finite and positive");
-  require(std::isfinite(curl) && curl >= 0, "strands", "curl must be finite and non-negative");
+  // count (segments + 1) in 64 bits: 2^20 strands of 2^16 segments would overflow int.
+  require(static_cast<long>(count) * (static_cast<long>(segments) + 1) <= kMaxVertices, "strands",
+          "count (segments + 1) vertices must be at most " + std::to_string(kMaxVertices));
+  require(std::isfinite(length) && length > 0 && length <= kMaxCoordinate && std::isfinite(spacing) && spacing > 0 &&
+              spacing <= kMaxCoordinate,
+          "strands", "length and spacing must be > 0 and <= " + limit(kMaxCoordinate) + " (m)");
+  require(std::isfinite(curl) && curl >= 0 && curl <= kMaxCoordinate, "strands",
+          "curl must be >= 0 and <= " + limit(kMaxCoordinate) + " (m)");
   const int side = static_cast<int>(std::ceil(std::sqrt(double(count))));
   const double pi = std::acos(-1.0);
   Mesh m;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -49,9 +50,22 @@ template <int N> void check_elements(const Eigen::Matrix<int, N, Eigen::Dynamic>
 void validate(const Mesh& mesh, const std::string& source) {
   const Eigen::Index n = mesh.vertex_count();
   if (n == 0) throw InputError(source, "", "the mesh has no vertices");
-  for (Eigen::Index v = 0; v < n; ++v)
+  if (n > kMaxVertices)
+    throw InputError(source, "",
+                     "the mesh has " + std::to_string(n) + " vertices, more than " + std::to_string(kMaxVertices));
+  for (Eigen::Index v = 0; v < n; ++v) {
     if (!mesh.positions.col(v).allFinite())
       throw InputError(source, "", "vertex " + std::to_string(v) + " has a non-finite coordinate");
+    if (!(mesh.positions.col(v).cwiseAbs().maxCoeff() <= kMaxCoordinate)) {
+      std::ostringstream limit, s;
+      limit << kMaxCoordinate;
+      s.precision(17);
+      s << "vertex " << v << " at (" << mesh.positions(0, v) << ", " << mesh.positions(1, v) << ", "
+        << mesh.positions(2, v) << ") is beyond |coordinate| <= " << limit.str()
+        << " (the largest coordinate pce::sim accepts, in m)";
+      throw InputError(source, "", s.str());
+    }
+  }
   check_elements<3>(mesh.triangles, n, "triangle", source);
   check_elements<2>(mesh.segments, n, "segment", source);
 }

@@ -7,9 +7,23 @@
 
 #include <cmath>
 #include <set>
+#include <sstream>
 #include <string>
 
 namespace pce::sim {
+
+namespace {
+void check_density(const std::string& field, double v) {
+  if (!(std::isfinite(v) && v >= kMinDensity && v <= kMaxDensity)) {
+    std::ostringstream s;
+    s << "expected a number in [" << kMinDensity << ", " << kMaxDensity
+      << "] (the densities pce::sim accepts, kg/m² or kg/m), got ";
+    s.precision(17);
+    s << v;
+    throw ArgumentError(field, s.str());
+  }
+}
+}  // namespace
 
 Model build_model(const std::vector<ModelMesh>& meshes) {
   if (meshes.empty()) throw ArgumentError("meshes", "expected at least one mesh");
@@ -25,10 +39,10 @@ Model build_model(const std::vector<ModelMesh>& meshes) {
     } catch (const InputError& e) {
       throw ArgumentError(at, e.what());
     }
-    if (!(std::isfinite(s.density) && s.density > 0))
-      throw ArgumentError(at + ".density", "expected a finite number > 0");
-    if (!(std::isfinite(s.linear_density) && s.linear_density > 0))
-      throw ArgumentError(at + ".linear_density", "expected a finite number > 0");
+    check_density(at + ".density", s.density);
+    check_density(at + ".linear_density", s.linear_density);
+    if (nv + s.mesh.vertex_count() > kMaxVertices)
+      throw ArgumentError(at, "the model would have more than " + std::to_string(kMaxVertices) + " vertices");
     nv += static_cast<int>(s.mesh.vertex_count());
     nt += static_cast<int>(s.mesh.triangles.cols());
     ns += static_cast<int>(s.mesh.segments.cols());

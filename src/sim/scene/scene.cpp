@@ -3,6 +3,7 @@
 // anything is built, and building never writes files.
 #include <pce/sim/scene.hpp>
 
+#include "../effects/arguments.hpp"
 #include "params.hpp"
 #include "registry.hpp"
 
@@ -22,20 +23,46 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+/// The scene's time step dt (s): from a microsecond (beyond any vibration a stiffness
+/// ≤ 1e12 on a mass a density ≥ 1e-9 gives needs to resolve) to one second (a frame of a
+/// slow-motion sequence; a step's free fall g·dt² stays ≤ kMaxCoordinate). Keeps M/dt²,
+/// v = Δx/dt and the time frames·dt (≤ 1e7 s) finite and normal.
+constexpr double kMinDt = 1e-6, kMaxDt = 1.0;
+/// A transform's uniform scale: [1e-6, 1e6] (a mesh in µm to one in Mm); the transformed
+/// coordinates are then checked against `kMaxCoordinate` by `validate`.
+constexpr double kMinScale = 1e-6, kMaxScale = 1e6;
+
+/// The number at `key` (finite, `fallback` when absent) passed through a builder's check
+/// `check(field, value)` (`args::length`, …): its error names `key`'s JSON path.
+template <class Check>
+double checked(const Params& p, const std::string& key, Check check, std::optional<double> fallback = std::nullopt) {
+  const double v = p.number(key, fallback);
+  return p.build([&] { return check(key, v); });
+}
+
+/// The 3-vector at `key` passed through `check(field, value)` (`args::position`, …).
+template <class Check> Eigen::Vector3d checked_vec3(const Params& p, const std::string& key, Check check,
+                                                    std::optional<Eigen::Vector3d> fallback = std::nullopt) {
+  const Eigen::Vector3d v = p.vec3(key, fallback);
+  return p.build([&] { return Eigen::Vector3d(check(key, v)); });
+}
+
 Eigen::Matrix3d parse_rotation(const Params& p) {
   p.only({"axis", "degrees"});
   const Eigen::Vector3d axis = p.vec3("axis");
-  if (!(axis.norm() > 0)) p.fail("axis", "expected a non-zero axis");
-  const double degrees = p.number("degrees");
-  return Eigen::AngleAxisd(degrees * kPi / 180.0, axis.normalized()).toRotationMatrix();
+  const double largest = axis.cwiseAbs().maxCoeff();
+  if (!(largest > 0)) p.fail("axis", "expected a non-zero axis");
+  const double degrees = p.number("degrees");  // any finite angle: only its sine and cosine are used
+  // Scaled by the largest component first: a tiny axis (1e-200) would underflow its norm.
+  return Eigen::AngleAxisd(degrees * kPi / 180.0, (axis / largest).normalized()).toRotationMatrix();
 }
 
 }  // namespace
 
 Motion parse_motion(const Params& m) {
   Motion motion;
-  motion.velocity = m.vec3("velocity", Eigen::Vector3d::Zero());
-  motion.angular_velocity = m.vec3("angular_velocity", Eigen::Vector3d::Zero());
+  motion.velocity = checked_vec3(m, "velocity", args::speed, Eigen::Vector3d::Zero());
+  motion.angular_velocity = checked_vec3(m, "angular_velocity", args::speed, Eigen::Vector3d::Zero());
   motion.start = m.nonnegative("start", 0.0);
   motion.stop = m.has("stop") ? m.nonnegative("stop") : std::numeric_limits<double>::infinity();
   if (motion.stop < motion.start) m.fail("stop", "expected stop >= start");
@@ -47,9 +74,12 @@ namespace {
 Transform parse_transform(const Params& p) {
   p.only({"translation", "rotation", "scale"});
   Transform t;
-  t.translation = p.vec3("translation", Eigen::Vector3d::Zero());
+  t.translation = checked_vec3(p, "translation", args::position, Eigen::Vector3d::Zero());
   if (p.has("rotation")) t.rotation = parse_rotation(p.object("rotation"));
-  t.scale = p.positive("scale", 1.0);
+  t.scale = p.number("scale", 1.0);
+  if (!(t.scale >= kMinScale && t.scale <= kMaxScale))
+    p.fail("scale", "expected a number in [" + args::limit_text(kMinScale) + ", " + args::limit_text(kMaxScale) +
+                        "] (the scales pce::sim accepts), got " + args::text(t.scale));
   return t;
 }
 
@@ -70,13 +100,22 @@ Mesh parse_generator(const Params& g) {
   try {  // the generators check their own limits too; their errors are named by this field
     if (type == "grid") {
       g.only({"type", "width", "height", "nx", "ny"});
-      return grid(g.positive("width"), g.positive("height"), static_cast<int>(g.integer("nx", std::nullopt, 1, 4096)),
-                  static_cast<int>(g.integer("ny", std::nullopt, 1, 4096)));
+      const double width = checked(g, "width", args::length), height = checked(g, "height", args::length);
+      const int nx = static_cast<int>(g.integer("nx", std::nullopt, 1, 4096));
+      const int ny = static_cast<int>(g.integer("ny", std::nullopt, 1, 4096));
+      return grid(width, height, nx, ny);
     }
     g.only({"type", "count", "segments", "length", "spacing", "curl"});
-    return strands(static_cast<int>(g.integer("count", std::nullopt, 1, 1L << 20)),
-                   static_cast<int>(g.integer("segments", std::nullopt, 1, 1L << 16)), g.positive("length"),
-                   g.positive("spacing"), g.nonnegative("curl", 0.0));
+    const int count = static_cast<int>(g.integer("count", std::nullopt, 1, 1L << 20));
+    const int segments = static_cast<int>(g.integer("segments", std::nullopt, 1, 1L << 16));
+    const double length = checked(g, "length", args::length), spacing = checked(g, "spacing", args::length);
+    const double curl = checked(
+        g, "curl",
+        [](const std::string& f, double v) {
+          return args::nonnegative_at_most(f, v, kMaxCoordinate, "the largest length pce::sim accepts, in m");
+        },
+        0.0);
+    return strands(count, segments, length, spacing, curl);
   } catch (const InputError& e) {
     if (e.file() == g.file()) throw;  // already names the scene field
     g.fail("type", e.what());
@@ -107,17 +146,17 @@ Obstacle parse_obstacle(const Params& p, const std::filesystem::path& base) {
   if (shape == "sphere") {
     p.only({"name", "shape", "radius", "position", "rotation", "motion"});
     o.kind = ShapeKind::sphere;
-    o.radius = p.positive("radius");
+    o.radius = checked(p, "radius", args::length);
   } else if (shape == "box") {
     p.only({"name", "shape", "half_extents", "position", "rotation", "motion"});
     o.kind = ShapeKind::box;
-    o.half_extents = p.vec3("half_extents");
+    o.half_extents = checked_vec3(p, "half_extents", args::position);
     if (!(o.half_extents.minCoeff() > 0)) p.fail("half_extents", "expected three numbers > 0");
   } else if (shape == "capsule") {
     p.only({"name", "shape", "radius", "half_length", "position", "rotation", "motion"});
     o.kind = ShapeKind::capsule;
-    o.radius = p.positive("radius");
-    o.half_length = p.positive("half_length");
+    o.radius = checked(p, "radius", args::length);
+    o.half_length = checked(p, "half_length", args::length);
   } else {
     p.only({"name", "shape", "file", "transform", "position", "rotation", "motion"});
     o.kind = ShapeKind::mesh;
@@ -130,7 +169,7 @@ Obstacle parse_obstacle(const Params& p, const std::filesystem::path& base) {
     }
     if (o.mesh.triangles.cols() == 0) p.fail("file", "a mesh obstacle needs triangles");
   }
-  o.position = p.vec3("position", Eigen::Vector3d::Zero());
+  o.position = checked_vec3(p, "position", args::position, Eigen::Vector3d::Zero());
   if (p.has("rotation")) o.rotation = parse_rotation(p.object("rotation"));
   if (p.has("motion")) {
     const Params m = p.object("motion");
@@ -155,7 +194,10 @@ std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::strin
       {"description", "dt", "frames", "solver", "meshes", "obstacles", "effects", "output_every", "view_direction"});
   auto scene = std::make_unique<Scene>();
   Simulation& sim = scene->simulation;
-  sim.solver.dt = root.positive("dt");
+  sim.solver.dt = root.number("dt");
+  if (!(sim.solver.dt >= kMinDt && sim.solver.dt <= kMaxDt))
+    root.fail("dt", "expected a number in [" + args::limit_text(kMinDt) + ", " + args::limit_text(kMaxDt) +
+                        "] (the time steps pce::sim accepts, in s), got " + args::text(sim.solver.dt));
   sim.frames = static_cast<int>(root.integer("frames", std::nullopt, 1, 10000000));
   scene->output_every = static_cast<int>(root.integer("output_every", 1L, 1, 10000000));
   if (root.has("view_direction")) {

@@ -44,21 +44,30 @@ struct Model {
   int vertex_count() const { return static_cast<int>(rest.cols()); }
 };
 
+/// Densities (areal kg/m², linear kg/m) a model accepts: [1e-9, 1e6]. Graphene, the
+/// thinnest sheet there is, weighs 7.6e-7 kg/m²; a metre of osmium 2.3e4 kg/m². The lower
+/// bound keeps every vertex mass (and so M/h²) normal and far from 0, so a force the
+/// elastic Hessian does not see cannot push a vertex by an overflowing F h²/m.
+inline constexpr double kMinDensity = 1e-9;
+/// The upper bound of `kMinDensity`'s range.
+inline constexpr double kMaxDensity = 1e6;
+
 /// One deformable mesh of a model and its material (a scene's `meshes[k]`).
 struct ModelMesh {
   /// Its name (unique in the model; pin groups and errors use it).
   std::string name{};
   /// Positions and elements (checked by `validate`).
   Mesh mesh{};
-  double density = 0.1;           ///< areal density of the triangles (kg/m²) > 0
-  double linear_density = 0.005;  ///< linear density of the segments (kg/m) > 0
+  double density = 0.1;           ///< areal density of the triangles (kg/m²), in [1e-9, 1e6]
+  double linear_density = 0.005;  ///< linear density of the segments (kg/m), in [1e-9, 1e6]
 };
 
 /// The model of `meshes`, concatenated in order: global vertex indices, the unique triangle
 /// edges followed by the segments as `edges`, and lumped masses (each triangle gives each
 /// corner density·area/3, each segment each end linear_density·length/2). Throws
 /// `ArgumentError` naming `meshes[k]` (or one of its fields) for an invalid mesh, an empty
-/// or duplicate name, a density that is not finite and > 0, or a vertex left without mass.
+/// or duplicate name, a density outside [`kMinDensity`, `kMaxDensity`], more than
+/// `kMaxVertices` vertices in all, or a vertex left without mass.
 Model build_model(const std::vector<ModelMesh>& meshes);
 
 /// What every effect may read when a time step begins.
