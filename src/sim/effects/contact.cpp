@@ -31,6 +31,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <iterator>
 #include <limits>
 
@@ -63,14 +65,7 @@ struct PairHessian {
 template <bool VF> class SelfContact final : public Effect {
  public:
   SelfContact(const ContactSettings& spec, const Model& model)
-      : spec_(spec), model_(&model), broad_phase_(make_broad_phase(spec.broad_phase)) {
-    if (spec_.exclude_rest_neighbours) {
-      mesh_of_.resize(static_cast<std::size_t>(model_->vertex_count()));
-      for (std::size_t m = 0; m < model_->meshes.size(); ++m)
-        for (int i = 0; i < model_->meshes[m].vertex_count; ++i)
-          mesh_of_[static_cast<std::size_t>(model_->meshes[m].first_vertex + i)] = static_cast<int>(m);
-    }
-  }
+      : spec_(spec), model_(&model), broad_phase_(make_broad_phase(spec.broad_phase)) {}
 
   const char* name() const override { return VF ? "self_vertex_face" : "self_edge_edge"; }
 
@@ -238,6 +233,53 @@ template <bool VF> class SelfContact final : public Effect {
     c["scatter_ms"] = stats_.scatter_ms;
   }
 
+  /// The tracked pairs with their sides and declarations: what the next begin_step keeps
+  /// (query() merges the fresh candidates with them). Per pair: two int32 indices, the side
+  /// and the declaration as int8; native byte order.
+  std::string save_state() const override {
+    std::string out;
+    const std::uint64_t count = pairs_.size();
+    out.append(reinterpret_cast<const char*>(&count), sizeof count);
+    for (std::size_t k = 0; k < pairs_.size(); ++k) {
+      const std::int32_t ab[2] = {pairs_[k][0], pairs_[k][1]};
+      const signed char flags[2] = {sides_[k], static_cast<signed char>(declared_[k])};
+      out.append(reinterpret_cast<const char*>(ab), sizeof ab);
+      out.append(reinterpret_cast<const char*>(flags), sizeof flags);
+    }
+    return out;
+  }
+
+  void load_state(const std::string& state) override {
+    constexpr std::size_t record = 2 * sizeof(std::int32_t) + 2;
+    std::uint64_t count = 0;
+    if (state.size() < sizeof count) throw std::invalid_argument(std::string(name()) + ": truncated state");
+    std::memcpy(&count, state.data(), sizeof count);
+    if (count > (state.size() - sizeof count) / record || state.size() != sizeof count + count * record)
+      throw std::invalid_argument(std::string(name()) + ": the state's size does not match its pair count");
+    const long first_max = VF ? model_->vertex_count() : model_->edges.cols();
+    const long second_max = VF ? model_->triangles.cols() : model_->edges.cols();
+    std::vector<std::array<int, 2>> pairs(count);
+    std::vector<signed char> sides(count);
+    std::vector<char> declared(count);
+    const char* p = state.data() + sizeof count;
+    for (std::size_t k = 0; k < count; ++k, p += record) {
+      std::int32_t ab[2];
+      signed char flags[2];
+      std::memcpy(ab, p, sizeof ab);
+      std::memcpy(flags, p + sizeof ab, sizeof flags);
+      if (ab[0] < 0 || ab[0] >= first_max || ab[1] < 0 || ab[1] >= second_max || flags[0] < -1 || flags[0] > 1 ||
+          flags[1] < 0 || flags[1] > 1 || (k > 0 && !(pairs[k - 1] < std::array<int, 2>{ab[0], ab[1]})))
+        throw std::invalid_argument(std::string(name()) + ": pair " + std::to_string(k) +
+                                    " of the saved state does not fit this model");
+      pairs[k] = {ab[0], ab[1]};
+      sides[k] = flags[0];
+      declared[k] = flags[1];
+    }
+    pairs_ = std::move(pairs);
+    sides_ = std::move(sides);
+    declared_ = std::move(declared);
+  }
+
  private:
   using Kind = std::conditional_t<VF, VertexFace, EdgeEdge>;
   static constexpr int first_side_count() { return VF ? 1 : 2; }
@@ -351,22 +393,10 @@ template <bool VF> class SelfContact final : public Effect {
 
   void query() {
     const auto t0 = Clock::now();
-    if (!mesh_of_.empty() && !excluded_ready_) find_rest_exclusions();  // once, before the trees move to query_at_
     std::vector<std::array<int, 2>> fresh;
     const auto t_tree = Clock::now();
     query_pairs(query_at_, fresh);
     stats_.tree_ms += ms_since(t_tree);
-    if (!mesh_of_.empty()) {
-      // Pairs of one mesh closer than the query radius (2d) in the rest shape (a sheet's
-      // neighbours a few edges apart) are never candidates: they would dominate the
-      // candidate set and cannot fold onto each other without bending the cloth at the
-      // scale of its edges. The set is fixed, so it is found once; each query then drops
-      // it in one merge pass (both lists are sorted).
-      std::vector<std::array<int, 2>> kept;
-      kept.reserve(fresh.size());
-      std::set_difference(fresh.begin(), fresh.end(), excluded_.begin(), excluded_.end(), std::back_inserter(kept));
-      fresh = std::move(kept);
-    }
     // Pairs already tracked keep their side and their declaration (until the next
     // update_pattern); new pairs get their side from xⁿ. Both lists are sorted: one merge
     // pass.
@@ -387,33 +417,6 @@ template <bool VF> class SelfContact final : public Effect {
     stats_.queries += 1;
     ++instrumentation().broad_phase_queries;
     stats_.broad_phase_ms += ms_since(t0);
-  }
-
-  /// The same-mesh pairs whose rest distance (closest features) is below the query radius
-  /// r, or not defined: a rest-shape query of radius r (every pair closer than r is one of
-  /// its candidates) filtered by the exact distance. Once per effect (the broad phase
-  /// refits its trees to the rest shape once, and back at the next query).
-  void find_rest_exclusions() {
-    std::vector<std::array<int, 2>> rest_pairs;
-    query_pairs(model_->rest, rest_pairs);
-    const double r = spec_.penalty.distance + margin();
-    const long n = static_cast<long>(rest_pairs.size());
-    std::vector<char> excluded(rest_pairs.size(), 0);
-#pragma omp parallel for schedule(static)
-    for (long k = 0; k < n; ++k) {
-      const auto v = vertices(rest_pairs[static_cast<std::size_t>(k)]);
-      if (mesh_of_[static_cast<std::size_t>(v[0])] != mesh_of_[static_cast<std::size_t>(v[VF ? 1 : 2])]) continue;
-      const Vec12<double> rest = gather(model_->rest, v);
-      if (box_gap(rest) >= r) continue;  // at least r apart: not excluded
-      ClosestFeatureEnergy<double> ce;
-      const QuadraticPenalty probe{1.0, 0.0};
-      const Status st = closest_feature_energy<Kind>(rest, UnsignedLength{}, probe, ce);
-      excluded[static_cast<std::size_t>(k)] = st != Status::ok || ce.length < r;
-    }
-    excluded_.clear();
-    for (std::size_t k = 0; k < rest_pairs.size(); ++k)
-      if (excluded[k]) excluded_.push_back(rest_pairs[k]);
-    excluded_ready_ = true;
   }
 
   template <class Penalty> void evaluate_pair(const Eigen::Matrix3Xd& x, long k, const Penalty& penalty,
@@ -527,14 +530,11 @@ template <bool VF> class SelfContact final : public Effect {
   ContactSettings spec_;
   const Model* model_;
   std::unique_ptr<BroadPhase> broad_phase_;
-  std::vector<std::array<int, 2>> excluded_;  ///< same-mesh pairs closer than r at rest, sorted
-  bool excluded_ready_ = false;
   const Eigen::Matrix3Xd* x_start_ = nullptr;
   Eigen::Matrix3Xd query_at_;
   std::vector<double> gaps_;  ///< M×M (upper part): gap between meshes' boxes at query_at_
   std::vector<std::array<int, 2>> pairs_;
-  std::vector<int> mesh_of_;  ///< mesh index per vertex (only with exclude_rest_neighbours)
-  double margin_ = 0;         ///< this step's candidate margin m
+  double margin_ = 0;  ///< this step's candidate margin m
   std::vector<signed char> sides_;
   std::vector<char> declared_, near_;          ///< per candidate: in the pattern; active at the last update_pattern
   std::vector<std::vector<PairOut>> actives_;  ///< per thread, active pairs only
@@ -543,12 +543,15 @@ template <bool VF> class SelfContact final : public Effect {
 };
 
 ContactSettings parse_contact(const Params& p, const BuildContext& ctx) {
-  p.only({"type", "penalty", "length", "hessian", "closest_features", "exclude_rest_neighbours", "ccd"});
+  if (p.has("exclude_rest_neighbours"))
+    p.fail("exclude_rest_neighbours",
+           "this option was removed: self contact now skips only pairs that share a vertex, so a sheet cannot "
+           "fold through itself (delete the key)");
+  p.only({"type", "penalty", "length", "hessian", "closest_features", "ccd"});
   ContactSettings s;
   s.penalty = parse_penalty(p.object("penalty"));
   s.signed_length = p.choice("length", {"unsigned", "signed"}, std::string("unsigned")) == "signed";
   s.closest_features = p.boolean("closest_features", false);
-  s.exclude_rest_neighbours = p.boolean("exclude_rest_neighbours", true);
   s.ccd = p.boolean("ccd", true);
   const std::string h =
       p.choice("hessian", {"analytic", "exact", "numerical", "gauss_newton", "abs"}, std::string("analytic"));

@@ -96,8 +96,6 @@ struct ContactSettings {
   bool closest_features = false;
   /// The Hessian's PSD strategy (not `Projection::none`).
   Projection hessian = Projection::analytic;
-  /// Skip pairs that share a vertex or are one rest edge's wings.
-  bool exclude_rest_neighbours = true;
   /// Limit every Newton step so no pair can cross (always on for the barrier).
   bool ccd = true;
   /// The broad phase that finds the candidate pairs (scene `solver.broad_phase`).
