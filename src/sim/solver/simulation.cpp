@@ -117,6 +117,34 @@ void Simulation::check() const {
     if (!effects[k]) throw ArgumentError("effects[" + std::to_string(k) + "]", "expected an effect, got null");
 }
 
+void Simulation::fail_non_finite(const Eigen::Matrix3Xd& y, int frame_number, const std::string& where) {
+  const std::string head = "frame " + std::to_string(frame_number) + ", " + where + ": ";
+  const auto first_bad_column = [](const Eigen::Matrix3Xd& m) {
+    for (Eigen::Index i = 0; i < m.cols(); ++i)
+      if (!m.col(i).allFinite()) return static_cast<int>(i);
+    return -1;
+  };
+  if (const int i = first_bad_column(y); i >= 0)
+    throw SimulationError(frame_number, "", i, head + "the position of vertex " + std::to_string(i) + " is not finite");
+  // The inertia term is finite at a finite y: one of the effects is to blame. Each is
+  // evaluated alone, in scene order, and the first with a non-finite energy or gradient named.
+  Eigen::Matrix3Xd g(3, y.cols());
+  for (const auto& e : effects) {
+    g.setZero();
+    const double E = e->evaluate(y, &g, nullptr);
+    const int i = first_bad_column(g);
+    if (i >= 0)
+      throw SimulationError(frame_number, e->name(), i,
+                            head + "effect \"" + e->name() + "\" gives a non-finite gradient at vertex " +
+                                std::to_string(i) + " (energy " + std::to_string(E) + ")");
+    if (!std::isfinite(E))
+      throw SimulationError(
+          frame_number, e->name(), -1,
+          head + "effect \"" + e->name() + "\" gives a non-finite energy (" + std::to_string(E) + ")");
+  }
+  throw SimulationError(frame_number, "", -1, head + "the energy or its gradient is not finite");
+}
+
 FrameStats Simulation::step() {
   const auto t_frame = Clock::now();
   check();
@@ -190,16 +218,16 @@ FrameStats Simulation::step() {
       effect_ms[k] += ms_since(t0);
     }
     if (!std::isfinite(E) || !g.allFinite())
-      throw std::runtime_error("frame " + std::to_string(st.frame) +
-                               ": non-finite energy or gradient at Newton iteration " + std::to_string(it + 1));
+      fail_non_finite(y, st.frame, "at Newton iteration " + std::to_string(it + 1));
     // Newton direction.
     t0 = Clock::now();
     rhs = -Eigen::Map<const Eigen::VectorXd>(g.data(), g.size());
     const bool solved = ls.solve(solver.linear, rhs, dx);
     st.solve_ms += ms_since(t0);
     if (!solved || !dx.allFinite())
-      throw std::runtime_error("frame " + std::to_string(st.frame) + ": the linear solve failed at Newton iteration " +
-                               std::to_string(it + 1));
+      throw SimulationError(st.frame, "", -1,
+                            "frame " + std::to_string(st.frame) + ": the linear solve failed at Newton iteration " +
+                                std::to_string(it + 1) + (solved ? " (a non-finite direction)" : ""));
     ++st.newton_iterations;
     dxm = Eigen::Map<const Eigen::Matrix3Xd>(dx.data(), 3, n);
     st.residual = dxm.colwise().norm().maxCoeff() / (h * scale_);
@@ -242,15 +270,14 @@ FrameStats Simulation::step() {
     if (converged) break;
     if (it + 1 == cap && !solver.single_solve) st.hit_iteration_cap = true;
   }
-  if (!y.allFinite()) throw std::runtime_error("frame " + std::to_string(st.frame) + ": the state became non-finite");
+  if (!y.allFinite()) fail_non_finite(y, st.frame, "after the line search");
   // One more energy pass at the accepted state, so the energy and every counter (contact
   // counts, minimum distances) describe it rather than the last line-search trial.
   {
     const auto t0 = Clock::now();
     E_accepted = potential(y, &effect_ms);
     st.line_search_ms += ms_since(t0);
-    if (!std::isfinite(E_accepted))
-      throw std::runtime_error("frame " + std::to_string(st.frame) + ": non-finite energy at the accepted state");
+    if (!std::isfinite(E_accepted)) fail_non_finite(y, st.frame, "at the accepted state");
   }
   v = (y - x_start) / h;
   x = y;

@@ -5,7 +5,9 @@
 /// effects through this interface without knowing any of them by name; only the effects a
 /// scene declares are constructed (`pce/sim/scene.hpp`), so nothing else costs time.
 ///
-/// One virtual call per effect and Newton iteration, never per element or pair.
+/// The solver makes a few virtual calls per effect and Newton iteration (update_pattern,
+/// evaluate, max_step, still_valid, and evaluate again per line-search trial), never one per
+/// element or pair.
 #pragma once
 
 #include <pce/sim/block_hessian.hpp>
@@ -13,6 +15,7 @@
 
 #include <limits>
 #include <map>
+#include <stdexcept>
 #include <string>
 
 namespace pce::sim {
@@ -53,6 +56,16 @@ class Effect {
   virtual void refresh(const Eigen::Matrix3Xd& /*x*/) {}
   /// Counters for the frame's statistics (contact counts, minimum distance, …).
   virtual void report(EffectCounters& /*counters*/) const {}
+  /// The state this effect carries from one step to the next that `begin_step` does not
+  /// rebuild from the step context, as bytes (checkpoints, `pce/sim/checkpoint.hpp`): empty
+  /// for an effect whose every step is a function of (frame, time, xⁿ, vⁿ). Self contact
+  /// writes its tracked pairs with their settled sides and declarations.
+  virtual std::string save_state() const { return {}; }
+  /// Restores what `save_state` wrote (on an effect built from the same scene). Throws
+  /// std::invalid_argument when `state` is not something `save_state` of this effect writes.
+  virtual void load_state(const std::string& state) {
+    if (!state.empty()) throw std::invalid_argument(std::string(name()) + ": unexpected saved state");
+  }
 };
 
 }  // namespace pce::sim

@@ -20,6 +20,7 @@
 #include <pce/sim/obstacle.hpp>
 
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -40,7 +41,7 @@ struct SolverSettings {
   int threads = 0;                             ///< 0: OpenMP's default
 };
 
-/// What one frame cost and reached (`stats.json`, contract §2).
+/// What one frame cost and reached (`stats.json`, docs/simulation.md §5).
 struct FrameStats {
   /// Frame number, 1-based.
   int frame = 0;
@@ -50,7 +51,7 @@ struct FrameStats {
   int newton_iterations = 0;
   double residual = 0;           ///< max|Δx|/(h·ℓ) of the last Newton direction
   double energy = 0;             ///< incremental potential at the accepted state
-  int line_search_failures = 0;  ///< iterations whose line search found no decrease
+  int line_search_failures = 0;  ///< 1 when a line search found no decrease (which ends the step), else 0
   /// Newton mode only: `max_iterations` were used up.
   bool hit_iteration_cap = false;
   ///@{
@@ -60,6 +61,27 @@ struct FrameStats {
   ///@}
   std::vector<std::pair<std::string, double>> effect_ms;  ///< per evaluated effect, in scene order
   EffectCounters counters;                                ///< merged effect counters (contact counts, distances, …)
+};
+
+/// A step that cannot go on: the state or an effect's energy or gradient became non-finite,
+/// or the linear solve failed. `what()` is one line naming the frame (and, where one is to
+/// blame, the effect and the vertex); the simulation keeps the last accepted state.
+class SimulationError : public std::runtime_error {
+ public:
+  /// `effect` empty and `vertex` −1 when no single effect or vertex is to blame.
+  SimulationError(int frame, std::string effect, int vertex, const std::string& message)
+      : std::runtime_error(message), frame_(frame), effect_(std::move(effect)), vertex_(vertex) {}
+  /// The frame (1-based) whose step failed.
+  int frame() const { return frame_; }
+  /// The effect whose energy or gradient was not finite, or "".
+  const std::string& effect() const { return effect_; }
+  /// The first vertex with a non-finite gradient or position, or −1.
+  int vertex() const { return vertex_; }
+
+ private:
+  int frame_;
+  std::string effect_;
+  int vertex_;
 };
 
 /// A whole simulation: the model, its obstacles, the declared effects, the solver settings
@@ -93,12 +115,15 @@ class Simulation {
 
   /// Advances one time step. Throws `ArgumentError` before touching anything when the
   /// simulation is not runnable (`x` or `v` not one column per model vertex, a mass not > 0,
-  /// `solver.dt` or `solver.tolerance` not > 0, a null effect), and std::runtime_error
-  /// ("frame N: …") when the state becomes non-finite (nothing of that frame is kept).
+  /// `solver.dt` or `solver.tolerance` not > 0, a null effect), and `SimulationError`
+  /// ("frame N: …", naming the effect and vertex where one is to blame) when an energy, a
+  /// gradient or the state becomes non-finite or the linear solve fails; nothing of that
+  /// frame is kept (`x`, `v`, `frame` and `time` stay those of the last accepted step).
   FrameStats step();
 
  private:
   void check() const;
+  [[noreturn]] void fail_non_finite(const Eigen::Matrix3Xd& y, int frame, const std::string& where);
   double potential(const Eigen::Matrix3Xd& y, std::vector<double>* effect_ms);
   Eigen::VectorXd mass3_;  ///< per coordinate m/h²
   Eigen::Matrix3Xd x_tilde_;
