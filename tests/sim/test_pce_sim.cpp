@@ -1,18 +1,27 @@
 // SPDX-License-Identifier: MIT
 // pce-sim end to end: every shipped scene's short variant runs in Newton and single-solve
 // mode with finite statistics; stats.json lists exactly the declared effects; invalid input
-// exits with code 2, one line naming file and field, and writes nothing.
+// exits with code 2, one line naming file and field, and writes nothing. Run control:
+// stats.jsonl holds every completed frame, SIGINT and SIGTERM end a run after the current
+// frame with everything written, SIGKILL loses no completed frame, a resumed run ends bit for
+// bit where the uninterrupted one ends, and a checkpoint of another scene is refused.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <fcntl.h>
+#include <signal.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <chrono>
 #include <set>
+#include <thread>
+#include <vector>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -39,6 +48,68 @@ int run(const std::string& args, std::string* err = nullptr) {
 json read_json(const fs::path& p) {
   std::ifstream in(p);
   return json::parse(in);
+}
+
+/// Starts pce-sim with `args` (stderr into `err_file`) and returns its pid.
+pid_t spawn(const std::vector<std::string>& args, const fs::path& err_file) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int fd = open(err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(fd, 2);
+    const int null = open("/dev/null", O_WRONLY);
+    dup2(null, 1);
+    std::vector<char*> argv{const_cast<char*>(PCE_SIM_EXE)};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(PCE_SIM_EXE, argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+/// Complete lines in `file` (0 while it does not exist).
+long lines_in(const fs::path& file) {
+  std::ifstream in(file);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return static_cast<long>(std::count(text.begin(), text.end(), '\n'));
+}
+
+/// Waits (at most ~120 s) until `file` has `count` lines; false on time-out or if the
+/// process ended first.
+bool wait_for_lines(pid_t pid, const fs::path& file, long count) {
+  for (int i = 0; i < 12000; ++i) {
+    if (lines_in(file) >= count) return true;
+    int status = 0;
+    if (waitpid(pid, &status, WNOHANG) == pid) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
+std::vector<json> read_jsonl(const fs::path& p) {
+  std::vector<json> records;
+  std::ifstream in(p);
+  std::string line;
+  while (std::getline(in, line)) records.push_back(json::parse(line));
+  return records;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+/// A record without its timings (wall-clock numbers differ between runs) and without the
+/// count of symbolic analyses (a resumed run's solver starts without one).
+json physics_of(json r) {
+  for (const char* key :
+       {"wall_ms", "broad_phase_ms", "pair_ms", "assembly_ms", "solve_ms", "line_search_ms", "effects"})
+    r.erase(key);
+  json counters = json::object();
+  for (auto it = r["counters"].begin(); it != r["counters"].end(); ++it)
+    if (it.key().find("_ms") == std::string::npos && it.key() != "analyses") counters[it.key()] = it.value();
+  r["counters"] = counters;
+  return r;
 }
 
 }  // namespace
@@ -103,4 +174,133 @@ TEST(PceSim, MissingSceneFile) {
   std::string err;
   EXPECT_EQ(run((fs::path(PCE_TEST_TMP) / "no_such_scene.json").string(), &err), 2);
   EXPECT_NE(err.find("no_such_scene.json: cannot open"), std::string::npos) << err;
+}
+
+TEST(PceSim, StatsJsonlHoldsEveryFrameAsStatsJsonDoes) {
+  const fs::path out = fs::path(PCE_TEST_TMP) / "jsonl_twist";
+  fs::remove_all(out);
+  std::string err;
+  ASSERT_EQ(run((kScenes / "twist.json").string() + " --frames 3 --out " + out.string(), &err), 0) << err;
+  const json stats = read_json(out / "stats.json");
+  const std::vector<json> lines = read_jsonl(out / "stats.jsonl");
+  ASSERT_EQ(lines.size(), 3u);
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    EXPECT_EQ(lines[k], stats[k]);
+    EXPECT_EQ(lines[k]["new_intersections"].get<long>(), 0);
+  }
+}
+
+/// A run of the twist scene long enough to be stopped: 200 frames, every frame written.
+std::vector<std::string> long_twist(const fs::path& out) {
+  return {(kScenes / "twist.json").string(), "--frames", "200", "--out", out.string(), "--threads", "1"};
+}
+
+class StopSignal : public ::testing::TestWithParam<int> {};
+
+TEST_P(StopSignal, EndsAfterTheCurrentFrameWithEverythingWritten) {
+  const int signal_number = GetParam();
+  const fs::path out = fs::path(PCE_TEST_TMP) / ("stopped_" + std::to_string(signal_number));
+  fs::remove_all(out);
+  const pid_t pid = spawn(long_twist(out), fs::path(PCE_TEST_TMP) / "stopped.err");
+  ASSERT_TRUE(wait_for_lines(pid, out / "stats.jsonl", 2));
+  kill(pid, signal_number);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 128 + signal_number);
+  const json summary = read_json(out / "summary.json");
+  const int done = summary["frames_done"].get<int>();
+  EXPECT_GE(done, 2);
+  EXPECT_LT(done, 200);
+  EXPECT_EQ(summary["stopped_by"], signal_number == SIGINT ? "SIGINT" : "SIGTERM");
+  const json stats = read_json(out / "stats.json");
+  const std::vector<json> lines = read_jsonl(out / "stats.jsonl");
+  ASSERT_EQ(stats.size(), static_cast<std::size_t>(done));
+  ASSERT_EQ(lines.size(), static_cast<std::size_t>(done));
+  for (int f = 1; f <= done; ++f) EXPECT_EQ(lines[static_cast<std::size_t>(f - 1)]["frame"].get<int>(), f);
+  char obj[32];
+  std::snprintf(obj, sizeof obj, "frame_%04d.obj", done);
+  EXPECT_TRUE(fs::exists(out / obj)) << obj;  // the last frame, whatever output_every says
+  EXPECT_TRUE(fs::exists(out / "last_frame.png"));
+  char name[40];
+  std::snprintf(name, sizeof name, "checkpoint_%04d.pcecp", done);
+  EXPECT_TRUE(fs::exists(out / name));
+}
+
+INSTANTIATE_TEST_SUITE_P(Signals, StopSignal, ::testing::Values(SIGINT, SIGTERM),
+                         [](const auto& info) { return info.param == SIGINT ? "SIGINT" : "SIGTERM"; });
+
+TEST(PceSim, KilledRunKeepsEveryCompletedFrame) {
+  const fs::path out = fs::path(PCE_TEST_TMP) / "killed";
+  fs::remove_all(out);
+  const pid_t pid = spawn(long_twist(out), fs::path(PCE_TEST_TMP) / "killed.err");
+  ASSERT_TRUE(wait_for_lines(pid, out / "stats.jsonl", 3));
+  kill(pid, SIGKILL);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFSIGNALED(status));
+  const long complete = lines_in(out / "stats.jsonl");  // a record is complete once its newline is written
+  ASSERT_GE(complete, 3);
+  const std::vector<json> lines = read_jsonl(out / "stats.jsonl");
+  const long every = read_json(kScenes / "twist.json")["output_every"].get<long>();
+  for (long f = 1; f <= complete; ++f) {
+    EXPECT_EQ(lines[static_cast<std::size_t>(f - 1)]["frame"].get<long>(), f);
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04ld.obj", f);
+    if (f % every == 0) {
+      EXPECT_TRUE(fs::exists(out / name)) << name;
+    }
+  }
+}
+
+TEST(PceSim, ResumedRunEndsBitForBitWhereTheUninterruptedRunEnds) {
+  // The crumpling drop: edge-edge contact from frame 2, signed vertex-face contact from
+  // frame 9, so the checkpoint at frame 4 carries tracked pairs and the resumed part settles
+  // sides.
+  const fs::path scene = kScenes / "crumple.json";
+  const fs::path whole = fs::path(PCE_TEST_TMP) / "resume_whole", parts = fs::path(PCE_TEST_TMP) / "resume_parts";
+  fs::remove_all(whole);
+  fs::remove_all(parts);
+  std::string err;
+  const std::string common = scene.string() + " --no-frames --checkpoint-every 4 --out ";
+  ASSERT_EQ(run(common + whole.string() + " --frames 12", &err), 0) << err;
+  ASSERT_EQ(run(common + parts.string() + " --frames 8", &err), 0) << err;
+  fs::remove(parts / "checkpoint_0008.pcecp");  // resume from frame 4, not the last frame
+  ASSERT_EQ(run(scene.string() + " --no-frames --checkpoint-every 4 --frames 12 --resume " + parts.string(), &err), 0)
+      << err;
+  EXPECT_NE(err.find("resumed at frame 4"), std::string::npos) << err;
+  EXPECT_EQ(read_text(whole / "frame_0012.obj"), read_text(parts / "frame_0012.obj"));
+  EXPECT_EQ(read_text(whole / "checkpoint_0012.pcecp"), read_text(parts / "checkpoint_0012.pcecp"));
+  const std::vector<json> a = read_jsonl(whole / "stats.jsonl"), b = read_jsonl(parts / "stats.jsonl");
+  ASSERT_EQ(a.size(), 12u);
+  ASSERT_EQ(b.size(), 12u);
+  for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(physics_of(a[k]), physics_of(b[k])) << "frame " << k + 1;
+  long vertex_face = 0, edge_edge = 0;
+  for (const auto& r : a) {
+    vertex_face += r["contacts"]["vertex_face"].get<long>();
+    edge_edge += r["contacts"]["edge_edge"].get<long>();
+  }
+  EXPECT_GT(vertex_face, 0);  // the comparison covers both kinds of self contact
+  EXPECT_GT(edge_edge, 0);
+}
+
+TEST(PceSim, CheckpointOfAnotherSceneOrCorruptIsRefused) {
+  const fs::path out = fs::path(PCE_TEST_TMP) / "refuse_ckpt";
+  fs::remove_all(out);
+  std::string err;
+  ASSERT_EQ(run((kScenes / "twist.json").string() + " --frames 2 --checkpoint-every 2 --out " + out.string(), &err), 0)
+      << err;
+  EXPECT_EQ(run((kScenes / "twist.json").string() + " --frames 4 --hessian exact --resume " + out.string(), &err), 2);
+  EXPECT_NE(err.find("checkpoint_0002.pcecp: written for another scene"), std::string::npos) << err;
+  EXPECT_EQ(run((kScenes / "drape.json").string() + " --frames 4 --resume " + out.string(), &err), 2);
+  EXPECT_NE(err.find("written for another scene"), std::string::npos) << err;
+  std::string bytes = read_text(out / "checkpoint_0002.pcecp");
+  std::ofstream(out / "checkpoint_0002.pcecp", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  EXPECT_EQ(run((kScenes / "twist.json").string() + " --frames 4 --resume " + out.string(), &err), 2);
+  EXPECT_NE(err.find("truncated or corrupted"), std::string::npos) << err;
+  bytes[8] = 9;  // the format version
+  std::ofstream(out / "checkpoint_0002.pcecp", std::ios::binary) << bytes;
+  EXPECT_EQ(run((kScenes / "twist.json").string() + " --frames 4 --resume " + out.string(), &err), 2);
+  EXPECT_NE(err.find("checkpoint format version 9"), std::string::npos) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
 }

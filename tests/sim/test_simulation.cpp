@@ -92,13 +92,60 @@ TEST(Simulation, WithoutBendingNoBendingDataIsAllocated) {
   EXPECT_EQ(instrumentation().bending_hinges_allocated, hinges + 6 * 6 * 3 - 6 * 2);  // interior edges of a 6×6 grid
 }
 
-TEST(Simulation, NonFiniteStateIsAnErrorNamingTheFrame) {
+TEST(Simulation, NonFiniteStateIsAnErrorNamingTheFrameAndVertex) {
   auto s = load(cloth(json::parse(R"([{"type": "gravity"}])")));
   s->simulation.x(0, 3) = std::numeric_limits<double>::quiet_NaN();
   try {
     s->simulation.step();
     ADD_FAILURE() << "no error";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("frame 1:"), std::string::npos) << e.what();
+  } catch (const SimulationError& e) {
+    EXPECT_EQ(e.frame(), 1);
+    EXPECT_EQ(e.vertex(), 3);
+    EXPECT_NE(std::string(e.what()).find("frame 1, at Newton iteration 1: the position of vertex 3"), std::string::npos)
+        << e.what();
   }
+}
+
+namespace {
+/// An energy that is fine until `bad_frame`, then gives a NaN gradient at `vertex`.
+class BreaksAtFrame final : public Effect {
+ public:
+  BreaksAtFrame(int bad_frame, int vertex) : bad_frame_(bad_frame), vertex_(vertex) {}
+  const char* name() const override { return "breaks_at_frame"; }
+  void begin_step(const StepContext& ctx) override { frame_ = ctx.frame; }
+  void declare(Pattern& /*pattern*/) const override {}
+  double evaluate(const Eigen::Matrix3Xd& /*x*/, Eigen::Matrix3Xd* gradient, BlockHessian* /*hessian*/) override {
+    if (gradient && frame_ >= bad_frame_) (*gradient)(1, vertex_) += std::numeric_limits<double>::quiet_NaN();
+    return 0.0;
+  }
+
+ private:
+  int bad_frame_, vertex_, frame_ = 0;
+};
+}  // namespace
+
+TEST(Simulation, NonFiniteGradientNamesTheFrameTheEffectAndTheVertexAndKeepsTheLastState) {
+  auto s = load(cloth(json::parse(R"([{"type": "gravity"}, {"type": "stretching", "stiffness": 20}])")));
+  Simulation& sim = s->simulation;
+  sim.effects.push_back(std::make_unique<BreaksAtFrame>(3, 7));
+  sim.step();
+  sim.step();
+  const Eigen::Matrix3Xd x = sim.x, v = sim.v;
+  try {
+    sim.step();
+    ADD_FAILURE() << "no error";
+  } catch (const SimulationError& e) {
+    EXPECT_EQ(e.frame(), 3);
+    EXPECT_EQ(e.effect(), "breaks_at_frame");
+    EXPECT_EQ(e.vertex(), 7);
+    const std::string what = e.what();
+    EXPECT_NE(what.find("frame 3, at Newton iteration 1: effect \"breaks_at_frame\" gives a non-finite gradient at "
+                        "vertex 7"),
+              std::string::npos)
+        << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+  EXPECT_EQ(sim.frame, 2);  // the failed step changed nothing
+  EXPECT_TRUE((sim.x.array() == x.array()).all());
+  EXPECT_TRUE((sim.v.array() == v.array()).all());
 }

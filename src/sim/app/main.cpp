@@ -44,6 +44,7 @@ json frame_record(const FrameStats& s, long intersections) {
   r["energy"] = s.energy;
   r["line_search_failures"] = s.line_search_failures;
   r["hit_iteration_cap"] = s.hit_iteration_cap;
+  r["stalled"] = s.stalled;
   r["broad_phase_ms"] = s.broad_phase_ms;
   r["pair_ms"] = s.pair_ms;
   r["assembly_ms"] = s.assembly_ms;

@@ -208,10 +208,10 @@ template <bool VF> class SelfContact final : public Effect {
       }
       if (!(ma + mb > 0)) continue;
       const Vec12<double> xp = gather(x, v);
-      // The distance is at least the box gap, so a pair whose gap already allows the
+      // The distance is at least distance_lower_bound, so a pair whose bound already allows the
       // smaller of this thread's minimum and the validity bound cannot lower the result:
       // it is the same without the pair's distance.
-      if (0.9 * box_gap(xp) >= std::min(t, t_valid) * (ma + mb)) continue;
+      if (0.9 * distance_lower_bound(xp) >= std::min(t, t_valid) * (ma + mb)) continue;
       ClosestFeatureEnergy<double> ce;
       const QuadraticPenalty probe{1.0, 0.0};
       if (closest_feature_energy<Kind>(xp, UnsignedLength{}, probe, ce) != Status::ok) continue;
@@ -484,6 +484,7 @@ template <bool VF> class SelfContact final : public Effect {
   /// distance lie inside the primitives, and L = σ l is below `limit` and (signed) not
   /// deeper than the query radius.
   bool plane_active(const Vec12<double>& xp, long k, double limit, Frame<double>& f, double& sigma) const {
+    if (!may_be_plane_active(xp, std::max(limit, 2 * spec_.penalty.distance))) return false;
     if (Kind::frame(xp, f) != Status::ok || !inside(f) || !detail::foot_consistent<Kind>(xp, f)) return false;
     if constexpr (!VF) {
       const Eigen::Vector3d e0 = xp.segment<3>(3) - xp.segment<3>(0), e1 = xp.segment<3>(9) - xp.segment<3>(6);
@@ -493,6 +494,59 @@ template <bool VF> class SelfContact final : public Effect {
     sigma = side != 0 ? static_cast<double>(side) : (f.l < 0 ? -1.0 : 1.0);
     const double L = sigma * f.l;
     return L < limit && L >= -2 * spec_.penalty.distance;
+  }
+
+  /// A necessary condition for plane_active, in a few dozen flops instead of a frame: the
+  /// plane (line) distance |l| is at most `reach`, the foot of the vertex lies in the
+  /// triangle (the closest points of the lines in both segments) and, for edges, they are
+  /// not nearer parallel than plane_active allows — each with a relative slack of 1e-6
+  /// (parameters) or 1 % (the parallel test), far beyond the rounding of either
+  /// computation, so it never rejects a pair the frame would accept. Without it every
+  /// neighbour of a sheet within the query radius (most candidates: nothing is excluded
+  /// but pairs that share a vertex) cost a frame per pass.
+  static bool may_be_plane_active(const Vec12<double>& xp, double reach) {
+    constexpr double slack = 1e-6;
+    if constexpr (VF) {
+      const Eigen::Vector3d p = xp.segment<3>(0), a = xp.segment<3>(3), b = xp.segment<3>(6), c = xp.segment<3>(9);
+      const Eigen::Vector3d n = (b - a).cross(c - a);
+      const double nn = n.squaredNorm(), s = (p - a).dot(n);
+      if (!(s * s <= reach * reach * nn * (1 + slack))) return false;
+      // Unnormalised barycentric coordinates of the foot of p (each nn at its own corner).
+      const double tol = -slack * nn;
+      return (c - b).cross(p - b).dot(n) >= tol && (a - c).cross(p - c).dot(n) >= tol &&
+             (b - a).cross(p - a).dot(n) >= tol;
+    } else {
+      const Eigen::Vector3d a0 = xp.segment<3>(0), e0 = xp.segment<3>(3) - a0, b0 = xp.segment<3>(6),
+                            e1 = xp.segment<3>(9) - b0, w = b0 - a0;
+      const Eigen::Vector3d m = e0.cross(e1);
+      const double mm = m.squaredNorm();
+      if (!(mm >= 0.99 * kParallelSin2 * e0.squaredNorm() * e1.squaredNorm()) || !(mm > 0)) return false;
+      const double s = w.dot(m);
+      if (!(s * s <= reach * reach * mm * (1 + slack))) return false;
+      // Closest points of the lines: a0 + u e0 and b0 + v e1, u = ((w × e1)·m)/|m|²,
+      // v = ((w × e0)·m)/|m|².
+      const double u = w.cross(e1).dot(m), v = w.cross(e0).dot(m), tol = slack * mm;
+      return u >= -tol && u <= mm + tol && v >= -tol && v <= mm + tol;
+    }
+  }
+
+  /// A lower bound on the distance between the pair's primitives: the larger of the box gap
+  /// and the gap between their bounding spheres (centred at the mean of the primitive's
+  /// vertices, radius the farthest of them). The spheres are the sharper bound for
+  /// neighbours of one sheet, whose boxes overlap.
+  static double distance_lower_bound(const Vec12<double>& xp) {
+    constexpr int na = first_side_count();
+    Eigen::Vector3d ca = Eigen::Vector3d::Zero(), cb = Eigen::Vector3d::Zero();
+    for (int j = 0; j < 4; ++j) (j < na ? ca : cb) += xp.segment<3>(3 * j);
+    ca /= na;
+    cb /= 4 - na;
+    double ra = 0, rb = 0;
+    for (int j = 0; j < 4; ++j) {
+      double& r = j < na ? ra : rb;
+      r = std::max(r, (xp.segment<3>(3 * j) - (j < na ? ca : cb)).norm());
+    }
+    // (1 − 1e-12): the rounding of the norms must not lift the bound above the distance.
+    return std::max(box_gap(xp), ((ca - cb).norm() - ra - rb) * (1 - 1e-12));
   }
 
   /// Whether candidate k is active at x (length below d): the test evaluate() applies.
