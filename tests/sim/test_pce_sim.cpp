@@ -304,3 +304,22 @@ TEST(PceSim, CheckpointOfAnotherSceneOrCorruptIsRefused) {
   EXPECT_NE(err.find("checkpoint format version 9"), std::string::npos) << err;
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
 }
+
+TEST(PceSim, IntersectingStartIsRefusedUnlessAllowed) {
+  json scene = read_json(kScenes / "crumple.json");
+  scene["meshes"][1]["transform"]["translation"] = {0, 0, 0.1};  // the dropped sheet stands through the base
+  const fs::path file = fs::path(PCE_TEST_TMP) / "through.json", out = fs::path(PCE_TEST_TMP) / "through_out";
+  std::ofstream(file) << scene.dump();
+  fs::remove_all(out);
+  std::string err;
+  EXPECT_EQ(run(file.string() + " --frames 1 --out " + out.string(), &err), 2);
+  EXPECT_NE(err.find("through.json: the start state has "), std::string::npos) << err;
+  EXPECT_NE(err.find(" intersecting triangle pairs between meshes \"base\" and \"drop\""), std::string::npos) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_FALSE(fs::exists(out));
+  scene["allow_initial_intersections"] = true;
+  std::ofstream(file) << scene.dump();
+  EXPECT_EQ(run(file.string() + " --frames 1 --no-frames --out " + out.string(), &err), 0) << err;
+  EXPECT_NE(err.find("pce-sim: warning: "), std::string::npos) << err;
+  EXPECT_NE(err.find("(allowed by allow_initial_intersections)"), std::string::npos) << err;
+}

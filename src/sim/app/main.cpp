@@ -17,6 +17,7 @@
 #include <pce/sim/intersections.hpp>
 #include <pce/sim/render.hpp>
 #include <pce/sim/scene.hpp>
+#include <pce/sim/start_state.hpp>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -237,6 +238,21 @@ int main(int argc, char** argv) {
     return 2;
   }
   Simulation& sim = scene->simulation;
+  if (resumed_from.empty()) {
+    // The start state, before anything is written (a resumed state was checked when its run
+    // started).
+    const StartStateReport start = check_start_state(sim);
+    if (!start.refusals.empty() && !scene->allow_initial_intersections) {
+      std::string line;
+      for (const auto& r : start.refusals) line += (line.empty() ? "" : "; ") + r;
+      std::cerr << "pce-sim: " << scene_file << ": " << line
+                << " (move the meshes apart, or set \"allow_initial_intersections\": true to run it anyway)\n";
+      return 2;
+    }
+    for (const auto& r : start.refusals)
+      std::cerr << "pce-sim: warning: " << scene_file << ": " << r << " (allowed by allow_initial_intersections)\n";
+    for (const auto& w : start.warnings) std::cerr << "pce-sim: warning: " << scene_file << ": " << w << "\n";
+  }
   const std::filesystem::path dir =
       !resume_dir.empty() ? std::filesystem::path(resume_dir)
       : out_dir.empty()   ? std::filesystem::path("pce-sim-out") / std::filesystem::path(scene_file).stem()

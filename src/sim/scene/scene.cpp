@@ -190,8 +190,8 @@ std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::strin
     throw InputError(name, "", std::string("not valid JSON: ") + e.what());
   }
   const Params root(j, name, "");
-  root.only(
-      {"description", "dt", "frames", "solver", "meshes", "obstacles", "effects", "output_every", "view_direction"});
+  root.only({"description", "dt", "frames", "solver", "meshes", "obstacles", "effects", "output_every",
+             "view_direction", "allow_initial_intersections"});
   auto scene = std::make_unique<Scene>();
   Simulation& sim = scene->simulation;
   sim.solver.dt = root.number("dt");
@@ -204,6 +204,7 @@ std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::strin
     scene->view_direction = root.vec3("view_direction");
     if (!(scene->view_direction.norm() > 0)) root.fail("view_direction", "expected a non-zero direction");
   }
+  scene->allow_initial_intersections = root.boolean("allow_initial_intersections", false);
   BroadPhaseKind broad_phase = BroadPhaseKind::fcl;
   if (root.has("solver")) {
     const Params s = root.object("solver");

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// Scene files (JSON, documented field by field in `docs/simulation.md` §2): meshes, obstacles, solver settings and, explicitly, the
-/// effects. Only the listed effects are constructed; a scene without contact effects builds
-/// no broad phase, a scene without bending allocates no bending data.
+/// Scene files (JSON, documented field by field in `docs/simulation.md` §2): meshes, obstacles, solver settings and,
+/// explicitly, the effects. Only the listed effects are constructed; a scene without contact effects builds no broad
+/// phase, a scene without bending allocates no bending data.
 ///
 /// Every invalid input is reported by one `InputError` naming the file, the JSON path and
 /// what was expected (`hammock.json: effects[3].penalty.distance: expected a number > 0,
@@ -41,6 +41,9 @@ struct Scene {
   Simulation simulation;
   int output_every = 1;  ///< write every k-th frame's mesh (the last always)
   Eigen::Vector3d view_direction = Eigen::Vector3d(-1.0, -2.0, -0.9);  ///< picture camera
+  /// Scene key `allow_initial_intersections`: run a start state that `check_start_state`
+  /// refuses, with a warning (`pce/sim/start_state.hpp`).
+  bool allow_initial_intersections = false;
 };
 
 /// Parses, validates and builds `file`; throws `InputError` on any invalid input

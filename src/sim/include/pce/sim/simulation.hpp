@@ -124,8 +124,10 @@ class Simulation {
   /// frame is kept (`x`, `v`, `frame` and `time` stay those of the last accepted step).
   FrameStats step();
 
- private:
+  /// Throws `ArgumentError` when the simulation is not runnable (what `step()` checks first).
   void check() const;
+
+ private:
   [[noreturn]] void fail_non_finite(const Eigen::Matrix3Xd& y, int frame, const std::string& where);
   double potential(const Eigen::Matrix3Xd& y, std::vector<double>* effect_ms);
   Eigen::VectorXd mass3_;  ///< per coordinate m/h²
