@@ -254,26 +254,25 @@ TEST(PceSim, KilledRunKeepsEveryCompletedFrame) {
 }
 
 TEST(PceSim, ResumedRunEndsBitForBitWhereTheUninterruptedRunEnds) {
-  // The crumpling drop: edge-edge contact from frame 2, signed vertex-face contact from
-  // frame 9, so the checkpoint at frame 4 carries tracked pairs and the resumed part settles
-  // sides.
+  // The crumpling drop: contact from frame 9, so the checkpoint of frame 10 carries tracked
+  // pairs and declarations; the interrupted run went on to frame 13, whose records the
+  // resume drops.
   const fs::path scene = kScenes / "crumple.json";
   const fs::path whole = fs::path(PCE_TEST_TMP) / "resume_whole", parts = fs::path(PCE_TEST_TMP) / "resume_parts";
   fs::remove_all(whole);
   fs::remove_all(parts);
   std::string err;
-  const std::string common = scene.string() + " --no-frames --checkpoint-every 4 --out ";
-  ASSERT_EQ(run(common + whole.string() + " --frames 12", &err), 0) << err;
-  ASSERT_EQ(run(common + parts.string() + " --frames 8", &err), 0) << err;
-  fs::remove(parts / "checkpoint_0008.pcecp");  // resume from frame 4, not the last frame
-  ASSERT_EQ(run(scene.string() + " --no-frames --checkpoint-every 4 --frames 12 --resume " + parts.string(), &err), 0)
+  const std::string common = scene.string() + " --no-frames --checkpoint-every 5 --out ";
+  ASSERT_EQ(run(common + whole.string() + " --frames 15", &err), 0) << err;
+  ASSERT_EQ(run(common + parts.string() + " --frames 13", &err), 0) << err;
+  ASSERT_EQ(run(scene.string() + " --no-frames --checkpoint-every 5 --frames 15 --resume " + parts.string(), &err), 0)
       << err;
-  EXPECT_NE(err.find("resumed at frame 4"), std::string::npos) << err;
-  EXPECT_EQ(read_text(whole / "frame_0012.obj"), read_text(parts / "frame_0012.obj"));
-  EXPECT_EQ(read_text(whole / "checkpoint_0012.pcecp"), read_text(parts / "checkpoint_0012.pcecp"));
+  EXPECT_NE(err.find("resumed at frame 10"), std::string::npos) << err;
+  EXPECT_EQ(read_text(whole / "frame_0015.obj"), read_text(parts / "frame_0015.obj"));
+  EXPECT_EQ(read_text(whole / "checkpoint_0015.pcecp"), read_text(parts / "checkpoint_0015.pcecp"));
   const std::vector<json> a = read_jsonl(whole / "stats.jsonl"), b = read_jsonl(parts / "stats.jsonl");
-  ASSERT_EQ(a.size(), 12u);
-  ASSERT_EQ(b.size(), 12u);
+  ASSERT_EQ(a.size(), 15u);
+  ASSERT_EQ(b.size(), 15u);
   for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(physics_of(a[k]), physics_of(b[k])) << "frame " << k + 1;
   long vertex_face = 0, edge_edge = 0;
   for (const auto& r : a) {

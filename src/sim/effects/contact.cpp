@@ -6,8 +6,12 @@
 // r = d + m (activation distance d, margin m = d) around the inertial prediction
 // x̃ = xⁿ + h vⁿ; the candidate set then stays fixed while every vertex stays within m/2 of
 // where it was queried (checked after each Newton update, re-queried otherwise), so any pair
-// that comes within d of contact is in the set. Per Newton iteration each candidate is
-// evaluated by pce:
+// that comes within d of contact is in the set. Only pairs that share a vertex are never
+// candidates. Pairs of one mesh closer than 2d at rest (a sheet's neighbours one or two
+// rings apart) are candidates for the step bound only: no pair that does not share a
+// vertex can cross during a step, while the energy, as before, leaves out the pairs whose
+// plane-mode activity would flicker at every wrinkle. Per Newton iteration each other
+// candidate is evaluated by pce:
 //  * plane mode (the paper's): the frame of the pair; the pair is active when the closest
 //    points of the plane (line) distance lie inside the triangle (both segments) and
 //    L < d, with L = |l| (unsigned) or L = side·l (signed: the side is settled from the
@@ -65,7 +69,9 @@ struct PairHessian {
 template <bool VF> class SelfContact final : public Effect {
  public:
   SelfContact(const ContactSettings& spec, const Model& model)
-      : spec_(spec), model_(&model), broad_phase_(make_broad_phase(spec.broad_phase)) {}
+      : spec_(spec), model_(&model), broad_phase_(make_broad_phase(spec.broad_phase)) {
+    find_rest_neighbours();
+  }
 
   const char* name() const override { return VF ? "self_vertex_face" : "self_edge_edge"; }
 
@@ -154,11 +160,12 @@ template <bool VF> class SelfContact final : public Effect {
     stats_.pair_ms += ms_since(t0);
     const auto t1 = Clock::now();
     double energy = 0;
-    long active = 0;
+    long active = 0, fold_active = 0;
     double min_length = std::numeric_limits<double>::infinity();
     for (const auto& list : actives_)
       for (const PairOut& o : list) {
         ++active;
+        fold_active += step_only_[static_cast<std::size_t>(o.k)];
         energy += o.energy;
         min_length = std::min(min_length, o.length);
         if (!std::isfinite(o.energy)) continue;  // a barrier at distance 0: E = ∞, nothing to add
@@ -171,6 +178,7 @@ template <bool VF> class SelfContact final : public Effect {
         for (const PairHessian& ph : list) hessian->add<4>(vertices(pairs_[static_cast<std::size_t>(ph.k)]), ph.H);
     stats_.scatter_ms += ms_since(t1);
     stats_.active = active;
+    stats_.fold_active = fold_active;
     stats_.min_length = min_length;
     if (!std::isfinite(energy)) return std::numeric_limits<double>::infinity();
     return energy;
@@ -224,6 +232,8 @@ template <bool VF> class SelfContact final : public Effect {
     const std::string kind = VF ? "vertex_face" : "edge_edge";
     c[kind + "_candidates"] = static_cast<double>(pairs_.size());
     c[kind + "_declared"] = static_cast<double>(std::count(declared_.begin(), declared_.end(), char(1)));
+    c[kind + "_rest_neighbours"] = static_cast<double>(std::count(step_only_.begin(), step_only_.end(), char(1)));
+    c[kind + "_fold_contacts"] = static_cast<double>(stats_.fold_active);
     c[kind + "_contacts"] = static_cast<double>(stats_.active);
     c[kind + "_min_distance"] = stats_.min_length;
     c["broad_phase_ms"] = stats_.broad_phase_ms;
@@ -278,6 +288,7 @@ template <bool VF> class SelfContact final : public Effect {
     pairs_ = std::move(pairs);
     sides_ = std::move(sides);
     declared_ = std::move(declared);
+    mark_rest_neighbours();
   }
 
  private:
@@ -413,10 +424,60 @@ template <bool VF> class SelfContact final : public Effect {
     pairs_ = std::move(fresh);
     sides_ = std::move(sides);
     declared_ = std::move(declared);
+    mark_rest_neighbours();
     if (spec_.signed_length) settle_sides(*x_start_);
     stats_.queries += 1;
     ++instrumentation().broad_phase_queries;
     stats_.broad_phase_ms += ms_since(t0);
+  }
+
+  /// The same-mesh pairs whose primitives are closer than the query radius r = 2d in the
+  /// rest shape (a sheet's neighbours one or two rings apart), sorted: once per effect, by a
+  /// rest-shape query of radius r filtered by the exact distance.
+  void find_rest_neighbours() {
+    std::vector<int> mesh_of(static_cast<std::size_t>(model_->vertex_count()));
+    for (std::size_t m = 0; m < model_->meshes.size(); ++m)
+      for (int i = 0; i < model_->meshes[m].vertex_count; ++i)
+        mesh_of[static_cast<std::size_t>(model_->meshes[m].first_vertex + i)] = static_cast<int>(m);
+    const double r = 2 * spec_.penalty.distance;
+    std::vector<std::array<int, 2>> rest_pairs;
+    if constexpr (VF)
+      broad_phase_->vertex_face(model_->rest, model_->triangles, r, rest_pairs);
+    else
+      broad_phase_->edge_edge(model_->rest, model_->edges, r, rest_pairs);
+    const long n = static_cast<long>(rest_pairs.size());
+    std::vector<char> near(rest_pairs.size(), 0);
+    std::vector<double> rest_distance(rest_pairs.size(), 0.0);
+#pragma omp parallel for schedule(static)
+    for (long k = 0; k < n; ++k) {
+      const auto v = vertices(rest_pairs[static_cast<std::size_t>(k)]);
+      if (mesh_of[static_cast<std::size_t>(v[0])] != mesh_of[static_cast<std::size_t>(v[3])]) continue;
+      const Vec12<double> rest = gather(model_->rest, v);
+      if (distance_lower_bound(rest) >= r) continue;
+      ClosestFeatureEnergy<double> ce;
+      const Status st = closest_feature_energy<Kind>(rest, UnsignedLength{}, QuadraticPenalty{1.0, 0.0}, ce);
+      near[static_cast<std::size_t>(k)] = st != Status::ok || ce.length < r;
+      rest_distance[static_cast<std::size_t>(k)] = st == Status::ok ? ce.length : 0.0;
+    }
+    rest_neighbours_.clear();
+    rest_reach_.clear();
+    for (std::size_t k = 0; k < rest_pairs.size(); ++k)
+      if (near[k]) {
+        rest_neighbours_.push_back(rest_pairs[k]);
+        rest_reach_.push_back(std::min(spec_.penalty.distance, kFoldReach * rest_distance[k]));
+      }
+  }
+
+  /// step_only_[k]: candidate k is a rest neighbour (one merge pass of two sorted lists).
+  void mark_rest_neighbours() {
+    step_only_.assign(pairs_.size(), 0);
+    fold_reach_.assign(pairs_.size(), 0.0);
+    std::size_t j = 0;
+    for (std::size_t k = 0; k < pairs_.size(); ++k) {
+      while (j < rest_neighbours_.size() && rest_neighbours_[j] < pairs_[k]) ++j;
+      step_only_[k] = j < rest_neighbours_.size() && rest_neighbours_[j] == pairs_[k];
+      if (step_only_[k]) fold_reach_[k] = rest_reach_[j];
+    }
   }
 
   template <class Penalty> void evaluate_pair(const Eigen::Matrix3Xd& x, long k, const Penalty& penalty,
@@ -425,21 +486,14 @@ template <bool VF> class SelfContact final : public Effect {
     const auto v = vertices(pairs_[static_cast<std::size_t>(k)]);
     const Vec12<double> xp = gather(x, v);
     const double d = spec_.penalty.distance;
-    if (box_gap(xp) > inactive_beyond()) return;
-    if (spec_.closest_features) {
-      ClosestFeatureEnergy<double> ce;
-      const Status s = closest_feature_energy<Kind>(xp, UnsignedLength{}, penalty, ce);
-      // A barrier at distance 0 (out of its domain, or a point kind's `degenerate`, which
-      // is reported only at distance exactly 0) is infinite energy.
-      if (s == Status::out_of_domain || (s == Status::degenerate && spec_.penalty.barrier())) return fail_infinite(o);
-      if (s != Status::ok || !(ce.length < d)) return;
-      o.active = true;
-      o.length = ce.length;
-      o.energy = ce.psi.value;
-      o.g = energy_gradient(ce);
-      if (hessians) hessians->push_back({k, projected_hessian(ce, spec_.hessian)});
-      return;
+    if (step_only_[static_cast<std::size_t>(k)]) {
+      // A fold pair: the closest-feature distance against its own reach.
+      const double reach = fold_reach_[static_cast<std::size_t>(k)];
+      if (!(reach > 0) || distance_lower_bound(xp) >= reach) return;
+      return closest_pair(xp, k, with_reach(penalty, reach), reach, hessians, o);
     }
+    if (box_gap(xp) > inactive_beyond()) return;
+    if (spec_.closest_features) return closest_pair(xp, k, penalty, d, hessians, o);
     Frame<double> f;
     double sigma = 1;
     if (!plane_active(xp, k, d, f, sigma)) return;
@@ -459,6 +513,36 @@ template <bool VF> class SelfContact final : public Effect {
     if (hessians) hessians->push_back({k, projected_hessian(e, spec_.hessian)});
   }
 
+  /// Closest-feature evaluation of candidate k: active when the distance is below `limit`.
+  template <class Penalty> void closest_pair(const Vec12<double>& xp, long k, const Penalty& penalty, double limit,
+                                             std::vector<PairHessian>* hessians, PairOut& o) const {
+    ClosestFeatureEnergy<double> ce;
+    const Status s = closest_feature_energy<Kind>(xp, UnsignedLength{}, penalty, ce);
+    // A barrier at distance 0 (out of its domain, or a point kind's `degenerate`, which
+    // is reported only at distance exactly 0) is infinite energy.
+    if (s == Status::out_of_domain || (s == Status::degenerate && spec_.penalty.barrier())) return fail_infinite(o);
+    if (s != Status::ok || !(ce.length < limit)) return;
+    o.active = true;
+    o.length = ce.length;
+    o.energy = ce.psi.value;
+    o.g = energy_gradient(ce);
+    if (hessians) hessians->push_back({k, projected_hessian(ce, spec_.hessian)});
+  }
+
+  /// The effect's penalty with its activation distance replaced by `reach` (fold pairs).
+  static QuadraticPenalty with_reach(QuadraticPenalty p, double reach) {
+    p.eps = reach;
+    return p;
+  }
+  static CubicPenalty with_reach(CubicPenalty p, double reach) {
+    p.eps = reach;
+    return p;
+  }
+  static LogBarrierPenalty with_reach(LogBarrierPenalty p, double reach) {
+    p.dhat = reach;
+    return p;
+  }
+
   /// Signed length: a pair's side is fixed the first time the start of a step (a state the
   /// solver accepted) has the vertex over the face (the edges' closest points inside both)
   /// at a distance above rounding; until then it is unknown (0) and the pair is evaluated
@@ -470,7 +554,7 @@ template <bool VF> class SelfContact final : public Effect {
 #pragma omp parallel for schedule(dynamic, 256)
     for (long k = 0; k < n; ++k) {
       signed char& side = sides_[static_cast<std::size_t>(k)];
-      if (side != 0) continue;
+      if (side != 0 || step_only_[static_cast<std::size_t>(k)]) continue;
       const Vec12<double> xp = gather(x, vertices(pairs_[static_cast<std::size_t>(k)]));
       Frame<double> f;
       if (Kind::frame(xp, f) != Status::ok || !inside(f) || !detail::foot_consistent<Kind>(xp, f)) continue;
@@ -501,9 +585,7 @@ template <bool VF> class SelfContact final : public Effect {
   /// triangle (the closest points of the lines in both segments) and, for edges, they are
   /// not nearer parallel than plane_active allows — each with a relative slack of 1e-6
   /// (parameters) or 1 % (the parallel test), far beyond the rounding of either
-  /// computation, so it never rejects a pair the frame would accept. Without it every
-  /// neighbour of a sheet within the query radius (most candidates: nothing is excluded
-  /// but pairs that share a vertex) cost a frame per pass.
+  /// computation, so it never rejects a pair the frame would accept.
   static bool may_be_plane_active(const Vec12<double>& xp, double reach) {
     constexpr double slack = 1e-6;
     if constexpr (VF) {
@@ -551,10 +633,12 @@ template <bool VF> class SelfContact final : public Effect {
 
   /// Whether candidate k is active at x (length below d): the test evaluate() applies.
   bool is_active(const Eigen::Matrix3Xd& x, long k) const {
-    const double limit = spec_.penalty.distance;
     const Vec12<double> xp = gather(x, vertices(pairs_[static_cast<std::size_t>(k)]));
-    if (box_gap(xp) > inactive_beyond()) return false;
-    if (spec_.closest_features) {
+    const bool fold = step_only_[static_cast<std::size_t>(k)];
+    const double limit = fold ? fold_reach_[static_cast<std::size_t>(k)] : spec_.penalty.distance;
+    if (fold && (!(limit > 0) || distance_lower_bound(xp) >= limit)) return false;
+    if (!fold && box_gap(xp) > inactive_beyond()) return false;
+    if (fold || spec_.closest_features) {
       ClosestFeatureEnergy<double> ce;
       const QuadraticPenalty probe{1.0, 0.0};
       const Status s = closest_feature_energy<Kind>(xp, UnsignedLength{}, probe, ce);
@@ -566,6 +650,8 @@ template <bool VF> class SelfContact final : public Effect {
   }
 
   static constexpr double kParallelSin2 = 0.05 * 0.05;
+  /// A fold pair is active below this fraction of its rest distance (and below d).
+  static constexpr double kFoldReach = 0.5;
 
   static void fail_infinite(PairOut& o) {
     // A barrier evaluated at L ≤ 0: infinite energy, which the line search rejects.
@@ -577,7 +663,7 @@ template <bool VF> class SelfContact final : public Effect {
 
   struct Stats {
     double broad_phase_ms = 0, tree_ms = 0, pair_ms = 0, scatter_ms = 0, queries = 0;
-    long active = 0;
+    long active = 0, fold_active = 0;
     double min_length = std::numeric_limits<double>::infinity();
   };
 
@@ -590,6 +676,11 @@ template <bool VF> class SelfContact final : public Effect {
   std::vector<std::array<int, 2>> pairs_;
   double margin_ = 0;  ///< this step's candidate margin m
   std::vector<signed char> sides_;
+  /// Same-mesh pairs closer than 2d at rest, sorted; per candidate, whether it is one.
+  std::vector<std::array<int, 2>> rest_neighbours_;
+  std::vector<double> rest_reach_;  ///< per rest neighbour: min(d, kFoldReach · rest distance)
+  std::vector<char> step_only_;
+  std::vector<double> fold_reach_;             ///< per candidate: its rest_reach_ (fold pairs), else 0
   std::vector<char> declared_, near_;          ///< per candidate: in the pattern; active at the last update_pattern
   std::vector<std::vector<PairOut>> actives_;  ///< per thread, active pairs only
   std::vector<std::vector<PairHessian>> hessians_;  ///< per thread, active pairs only
@@ -599,8 +690,8 @@ template <bool VF> class SelfContact final : public Effect {
 ContactSettings parse_contact(const Params& p, const BuildContext& ctx) {
   if (p.has("exclude_rest_neighbours"))
     p.fail("exclude_rest_neighbours",
-           "this option was removed: self contact now skips only pairs that share a vertex, so a sheet cannot "
-           "fold through itself (delete the key)");
+           "this option was removed: pairs of one mesh closer than 2d at rest are left out of the energy and "
+           "kept in the step bound, so a sheet cannot fold through itself (delete the key)");
   p.only({"type", "penalty", "length", "hessian", "closest_features", "ccd"});
   ContactSettings s;
   s.penalty = parse_penalty(p.object("penalty"));
@@ -637,12 +728,14 @@ void check_contact(const ContactSettings& s) {
 
 std::unique_ptr<Effect> make_self_vertex_face(const Model& model, const ContactSettings& settings) {
   check_contact(settings);
+  check_penalty_for_model(settings.penalty, model, "penalty.");
   if (model.triangles.cols() == 0) throw ArgumentError("", "self_vertex_face needs a mesh with triangles");
   return std::make_unique<SelfContact<true>>(settings, model);
 }
 
 std::unique_ptr<Effect> make_self_edge_edge(const Model& model, const ContactSettings& settings) {
   check_contact(settings);
+  check_penalty_for_model(settings.penalty, model, "penalty.");
   if (model.edges.cols() < 2) throw ArgumentError("", "self_edge_edge needs at least two edges");
   return std::make_unique<SelfContact<false>>(settings, model);
 }

@@ -19,18 +19,6 @@ std::unique_ptr<Effect> load_self_vertex_face(const Params&, const BuildContext&
 std::unique_ptr<Effect> load_self_edge_edge(const Params&, const BuildContext&);
 std::unique_ptr<Effect> load_obstacle_contact(const Params&, const BuildContext&);
 
-namespace {
-/// A self-contact loader followed by the check that needs the model
-/// (`check_penalty_for_model`: the activation distance against the model's size), at
-/// `effects[k].penalty.distance`. The loader's own checks come first.
-template <EffectFactory Load> std::unique_ptr<Effect> self_contact(const Params& params, const BuildContext& ctx) {
-  std::unique_ptr<Effect> effect = Load(params, ctx);
-  const ContactPenalty penalty = parse_penalty(params.object("penalty"));
-  params.build([&] { check_penalty_for_model(penalty, *ctx.model, "penalty."); });
-  return effect;
-}
-}  // namespace
-
 const std::vector<RegisteredEffect>& effect_registry() {
   static const std::vector<RegisteredEffect> registry = {
       {"gravity", load_gravity, false},
@@ -40,8 +28,8 @@ const std::vector<RegisteredEffect>& effect_registry() {
       {"strand_bending", load_strand_bending, false},
       {"pins", load_pins, false},
       {"damping", load_damping, false},
-      {"self_vertex_face", self_contact<load_self_vertex_face>, true},
-      {"self_edge_edge", self_contact<load_self_edge_edge>, true},
+      {"self_vertex_face", load_self_vertex_face, true},
+      {"self_edge_edge", load_self_edge_edge, true},
       {"obstacle_contact", load_obstacle_contact, false},
   };
   return registry;
