@@ -45,7 +45,6 @@ json frame_record(const FrameStats& s, long intersections) {
   r["energy"] = s.energy;
   r["line_search_failures"] = s.line_search_failures;
   r["hit_iteration_cap"] = s.hit_iteration_cap;
-  r["stalled"] = s.stalled;
   r["broad_phase_ms"] = s.broad_phase_ms;
   r["pair_ms"] = s.pair_ms;
   r["assembly_ms"] = s.assembly_ms;
@@ -309,6 +308,12 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "frame %d of %d: %.1f ms, %d Newton iterations, residual %.2e, %s%ld intersecting pairs\n",
                    f, sim.frames, s.wall_ms, s.newton_iterations, s.residual,
                    s.hit_iteration_cap ? "iteration cap hit, " : "", now);
+      if (s.line_search_failures > 0 && s.newton_iterations == 1)
+        std::fprintf(stderr,
+                     "pce-sim: warning: frame %d: the line search found no decrease at the first Newton iteration, so "
+                     "the state did not move (in plane mode: a pair sits at the energy's jump, docs/simulation.md "
+                     "section 10)\n",
+                     f);
       if (fresh > 0)
         std::fprintf(stderr, "pce-sim: warning: frame %d: %ld new intersecting triangle pairs (%ld in all)%s\n", f,
                      fresh, now,

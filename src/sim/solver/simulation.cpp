@@ -272,14 +272,6 @@ FrameStats Simulation::step() {
       }
     if (changed) rebuild_pattern();
     if (converged) break;
-    // Stalled: the accepted step moved no vertex by as much as the stopping tolerance
-    // allows (α·residual < tolerance). The iterate is then as good as converged by the same
-    // rule; Newton sits at a kink of the energy (a plane-mode pair's activation boundary, a
-    // step bound) that further iterations would only creep along.
-    if (alpha * st.residual < solver.tolerance) {
-      st.stalled = true;
-      break;
-    }
     if (it + 1 == cap && !solver.single_solve) st.hit_iteration_cap = true;
   }
   if (!y.allFinite()) fail_non_finite(y, st.frame, "after the line search");

@@ -54,9 +54,6 @@ struct FrameStats {
   int line_search_failures = 0;  ///< 1 when a line search found no decrease (which ends the step), else 0
   /// Newton mode only: `max_iterations` were used up.
   bool hit_iteration_cap = false;
-  /// Newton ended because an accepted step moved every vertex by less than the tolerance
-  /// allows (α·residual < tolerance) while the full step did not (residual ≥ tolerance).
-  bool stalled = false;
   ///@{
   /// Wall-clock ms of one stage: broad-phase queries, per-pair evaluation, assembly, linear
   /// solves, line search (they overlap, `docs/simulation.md` §6.1).
