@@ -195,17 +195,24 @@ std::vector<std::string> long_twist(const fs::path& out) {
   return {(kScenes / "twist.json").string(), "--frames", "200", "--out", out.string(), "--threads", "1"};
 }
 
+/// Runs the long twist into `out`, sends `signal_number` once `records` frames are done and
+/// returns the wait status (−1 if the run ended before that or did not reach it in time).
+int signal_after(const fs::path& out, long records, int signal_number) {
+  fs::remove_all(out);
+  const pid_t pid = spawn(long_twist(out), out.string() + ".err");
+  if (!wait_for_lines(pid, out / "stats.jsonl", records)) return -1;
+  kill(pid, signal_number);
+  int status = 0;
+  return waitpid(pid, &status, 0) == pid ? status : -1;
+}
+
 class StopSignal : public ::testing::TestWithParam<int> {};
 
 TEST_P(StopSignal, EndsAfterTheCurrentFrameWithEverythingWritten) {
   const int signal_number = GetParam();
   const fs::path out = fs::path(PCE_TEST_TMP) / ("stopped_" + std::to_string(signal_number));
-  fs::remove_all(out);
-  const pid_t pid = spawn(long_twist(out), fs::path(PCE_TEST_TMP) / "stopped.err");
-  ASSERT_TRUE(wait_for_lines(pid, out / "stats.jsonl", 2));
-  kill(pid, signal_number);
-  int status = 0;
-  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  const int status = signal_after(out, 2, signal_number);
+  ASSERT_NE(status, -1);
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 128 + signal_number);
   const json summary = read_json(out / "summary.json");
@@ -232,12 +239,8 @@ INSTANTIATE_TEST_SUITE_P(Signals, StopSignal, ::testing::Values(SIGINT, SIGTERM)
 
 TEST(PceSim, KilledRunKeepsEveryCompletedFrame) {
   const fs::path out = fs::path(PCE_TEST_TMP) / "killed";
-  fs::remove_all(out);
-  const pid_t pid = spawn(long_twist(out), fs::path(PCE_TEST_TMP) / "killed.err");
-  ASSERT_TRUE(wait_for_lines(pid, out / "stats.jsonl", 3));
-  kill(pid, SIGKILL);
-  int status = 0;
-  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  const int status = signal_after(out, 3, SIGKILL);
+  ASSERT_NE(status, -1);
   ASSERT_TRUE(WIFSIGNALED(status));
   const long complete = lines_in(out / "stats.jsonl");  // a record is complete once its newline is written
   ASSERT_GE(complete, 3);
