@@ -103,8 +103,11 @@ struct ContactSettings {
 };
 
 /// Vertex-face self contact: Σ ψ(L) over candidate (vertex, triangle) pairs of the model's
-/// triangles (docs/simulation.md §4). Needs triangles; the log barrier needs
-/// `closest_features`, which needs the unsigned length.
+/// triangles (docs/simulation.md §4). Only pairs that share a vertex are never candidates;
+/// pairs of one mesh closer than 2d at rest (fold pairs) are evaluated by closest features
+/// with the activation distance min(d, half their rest distance), and every candidate is in
+/// the step bound. Needs triangles; the log barrier needs `closest_features`, which needs
+/// the unsigned length; d at most half the model's rest diagonal.
 std::unique_ptr<Effect> make_self_vertex_face(const Model& model, const ContactSettings& settings);
 
 /// Edge-edge self contact: Σ ψ(L) over candidate pairs of the model's edges (triangle edges
