@@ -7,11 +7,12 @@
 // x̃ = xⁿ + h vⁿ; the candidate set then stays fixed while every vertex stays within m/2 of
 // where it was queried (checked after each Newton update, re-queried otherwise), so any pair
 // that comes within d of contact is in the set. Only pairs that share a vertex are never
-// candidates. Pairs of one mesh closer than 2d at rest (a sheet's neighbours one or two
-// rings apart) are candidates for the step bound only: no pair that does not share a
-// vertex can cross during a step, while the energy, as before, leaves out the pairs whose
-// plane-mode activity would flicker at every wrinkle. Per Newton iteration each other
-// candidate is evaluated by pce:
+// candidates. Fold pairs, of one mesh and closer than 2d at rest (distance D₀: a sheet's
+// neighbours one or two rings apart), are evaluated by closest features with the activation
+// distance min(d, D₀/2): no force at rest or in a smooth bend, a continuous repulsion in a
+// tight fold; with every other candidate they are in the step bound, so no pair that does
+// not share a vertex can cross during a step. Per Newton iteration every other candidate is
+// evaluated by pce:
 //  * plane mode (the paper's): the frame of the pair; the pair is active when the closest
 //    points of the plane (line) distance lie inside the triangle (both segments) and
 //    L < d, with L = |l| (unsigned) or L = side·l (signed: the side is settled from the
@@ -165,7 +166,7 @@ template <bool VF> class SelfContact final : public Effect {
     for (const auto& list : actives_)
       for (const PairOut& o : list) {
         ++active;
-        fold_active += step_only_[static_cast<std::size_t>(o.k)];
+        fold_active += fold_pair_[static_cast<std::size_t>(o.k)];
         energy += o.energy;
         min_length = std::min(min_length, o.length);
         if (!std::isfinite(o.energy)) continue;  // a barrier at distance 0: E = ∞, nothing to add
@@ -232,7 +233,7 @@ template <bool VF> class SelfContact final : public Effect {
     const std::string kind = VF ? "vertex_face" : "edge_edge";
     c[kind + "_candidates"] = static_cast<double>(pairs_.size());
     c[kind + "_declared"] = static_cast<double>(std::count(declared_.begin(), declared_.end(), char(1)));
-    c[kind + "_rest_neighbours"] = static_cast<double>(std::count(step_only_.begin(), step_only_.end(), char(1)));
+    c[kind + "_rest_neighbours"] = static_cast<double>(std::count(fold_pair_.begin(), fold_pair_.end(), char(1)));
     c[kind + "_fold_contacts"] = static_cast<double>(stats_.fold_active);
     c[kind + "_contacts"] = static_cast<double>(stats_.active);
     c[kind + "_min_distance"] = stats_.min_length;
@@ -468,15 +469,15 @@ template <bool VF> class SelfContact final : public Effect {
       }
   }
 
-  /// step_only_[k]: candidate k is a rest neighbour (one merge pass of two sorted lists).
+  /// fold_pair_[k]: candidate k is a fold pair, with its reach (one merge pass of two sorted lists).
   void mark_rest_neighbours() {
-    step_only_.assign(pairs_.size(), 0);
+    fold_pair_.assign(pairs_.size(), 0);
     fold_reach_.assign(pairs_.size(), 0.0);
     std::size_t j = 0;
     for (std::size_t k = 0; k < pairs_.size(); ++k) {
       while (j < rest_neighbours_.size() && rest_neighbours_[j] < pairs_[k]) ++j;
-      step_only_[k] = j < rest_neighbours_.size() && rest_neighbours_[j] == pairs_[k];
-      if (step_only_[k]) fold_reach_[k] = rest_reach_[j];
+      fold_pair_[k] = j < rest_neighbours_.size() && rest_neighbours_[j] == pairs_[k];
+      if (fold_pair_[k]) fold_reach_[k] = rest_reach_[j];
     }
   }
 
@@ -486,7 +487,7 @@ template <bool VF> class SelfContact final : public Effect {
     const auto v = vertices(pairs_[static_cast<std::size_t>(k)]);
     const Vec12<double> xp = gather(x, v);
     const double d = spec_.penalty.distance;
-    if (step_only_[static_cast<std::size_t>(k)]) {
+    if (fold_pair_[static_cast<std::size_t>(k)]) {
       // A fold pair: the closest-feature distance against its own reach.
       const double reach = fold_reach_[static_cast<std::size_t>(k)];
       if (!(reach > 0) || distance_lower_bound(xp) >= reach) return;
@@ -554,7 +555,7 @@ template <bool VF> class SelfContact final : public Effect {
 #pragma omp parallel for schedule(dynamic, 256)
     for (long k = 0; k < n; ++k) {
       signed char& side = sides_[static_cast<std::size_t>(k)];
-      if (side != 0 || step_only_[static_cast<std::size_t>(k)]) continue;
+      if (side != 0 || fold_pair_[static_cast<std::size_t>(k)]) continue;
       const Vec12<double> xp = gather(x, vertices(pairs_[static_cast<std::size_t>(k)]));
       Frame<double> f;
       if (Kind::frame(xp, f) != Status::ok || !inside(f) || !detail::foot_consistent<Kind>(xp, f)) continue;
@@ -634,7 +635,7 @@ template <bool VF> class SelfContact final : public Effect {
   /// Whether candidate k is active at x (length below d): the test evaluate() applies.
   bool is_active(const Eigen::Matrix3Xd& x, long k) const {
     const Vec12<double> xp = gather(x, vertices(pairs_[static_cast<std::size_t>(k)]));
-    const bool fold = step_only_[static_cast<std::size_t>(k)];
+    const bool fold = fold_pair_[static_cast<std::size_t>(k)];
     const double limit = fold ? fold_reach_[static_cast<std::size_t>(k)] : spec_.penalty.distance;
     if (fold && (!(limit > 0) || distance_lower_bound(xp) >= limit)) return false;
     if (!fold && box_gap(xp) > inactive_beyond()) return false;
@@ -679,7 +680,7 @@ template <bool VF> class SelfContact final : public Effect {
   /// Same-mesh pairs closer than 2d at rest, sorted; per candidate, whether it is one.
   std::vector<std::array<int, 2>> rest_neighbours_;
   std::vector<double> rest_reach_;  ///< per rest neighbour: min(d, kFoldReach · rest distance)
-  std::vector<char> step_only_;
+  std::vector<char> fold_pair_;
   std::vector<double> fold_reach_;             ///< per candidate: its rest_reach_ (fold pairs), else 0
   std::vector<char> declared_, near_;          ///< per candidate: in the pattern; active at the last update_pattern
   std::vector<std::vector<PairOut>> actives_;  ///< per thread, active pairs only
