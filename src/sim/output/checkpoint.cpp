@@ -141,7 +141,6 @@ void read_checkpoint(const std::filesystem::path& path, Simulation& sim, std::ui
       refuse("checkpoint format version " + std::to_string(version) + ", this pce-sim reads version " +
              std::to_string(kCheckpointFormatVersion));
     if (r.get<std::uint32_t>() != kByteOrderMark) refuse("written on a machine of another byte order");
-    if (bytes.size() < sizeof(std::uint64_t)) refuse("truncated");
     const std::size_t body = bytes.size() - sizeof(std::uint64_t);
     std::uint64_t checksum = 0;
     std::memcpy(&checksum, bytes.data() + body, sizeof checksum);
