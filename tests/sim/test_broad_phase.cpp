@@ -4,12 +4,18 @@
 // same order) for vertex-face and edge-edge on crumpled cloths, overlapping sheets,
 // strands, flat grids whose pairs sit exactly on the box boundary, after the vertices move
 // (refit), after the topology changes (rebuild), with a non-finite vertex, and on the
-// initial state of every shipped scene (examples/scenes/*.json). Every test body runs for
-// both kinds (TEST_P over fcl and bullet).
+// initial state of every shipped scene (examples/scenes/*.json), and over sweeps between two
+// states (boxes over both; a sweep to the same state is the one-state query bit for bit).
+// Every test body runs for both kinds (TEST_P over fcl and bullet). SweptCandidatesCover
+// checks the guarantee a contact effect builds on: a pair that is not a candidate of the
+// sweep x0 → x1 with distance d + m stays more than d apart at every state whose vertices
+// lie within m/2 of their swept boxes on every axis.
 //
 // DISABLED_Timing (run with --gtest_also_run_disabled_tests --gtest_filter=*Timing*) prints
 // the query times of each kind and of the brute force on a crumpled 100×100 cloth; it
 // asserts nothing about speed. The full comparison is the pce-broad-phase-bench program.
+#include <pce/energy/closest_feature.hpp>
+#include <pce/penalties/quadratic.hpp>
 #include <pce/sim/broad_phase.hpp>
 #include <pce/sim/candidates.hpp>
 #include <pce/sim/generators.hpp>
@@ -337,6 +343,97 @@ TEST_P(TreeBroadPhase, DISABLED_Timing) {
               kind, first_vf, refit_vf, brute_vf_ms);
   std::printf("edge-edge:   %zu pairs; %s first (build) %.1f ms, refit %.1f ms, brute force %.1f ms\n", bee.size(),
               kind, first_ee, refit_ee, brute_ee_ms);
+}
+
+/// A crumpled cloth and a second state: every vertex moved by a smooth field (a fall, a
+/// shear and a wave), so primitives sweep across each other.
+Eigen::Matrix3Xd moved(const Eigen::Matrix3Xd& x, double amount) {
+  Eigen::Matrix3Xd y = x;
+  for (Eigen::Index v = 0; v < x.cols(); ++v) {
+    const Eigen::Vector3d p = x.col(v);
+    y.col(v) += amount * Eigen::Vector3d(0.3 * p.y(), std::sin(7 * p.x()), -1.0 + std::cos(5 * p.y()));
+  }
+  return y;
+}
+
+TEST_P(TreeBroadPhase, SweepEqualsBruteForceAndSameStateIsTheOneStateQuery) {
+  const pce::sim::Mesh m = crumpled(18, 4);
+  const Eigen::Matrix2Xi edges = pce::sim::unique_edges(m.triangles);
+  auto bp = make();
+  for (double amount : {0.0, 0.01, 0.05})
+    for (double d : {0.0, 0.01, 0.04}) {
+      const Eigen::Matrix3Xd x1 = moved(m.positions, amount);
+      Pairs vf, ee;
+      bp->vertex_face(m.positions, x1, m.triangles, d, vf);
+      bp->edge_edge(m.positions, x1, edges, d, ee);
+      const pce::sim::Candidates b = pce::sim::brute_force_candidates(m.positions, x1, m.triangles, edges, d);
+      EXPECT_TRUE(vf == b.vertex_face) << "sweep " << amount << ", distance " << d;
+      EXPECT_TRUE(ee == b.edge_edge) << "sweep " << amount << ", distance " << d;
+      // The sweep holds every pair of either end state.
+      for (const Eigen::Matrix3Xd* x : {&m.positions, &x1}) {
+        const std::set<std::array<int, 2>> all_vf(b.vertex_face.begin(), b.vertex_face.end()),
+            all_ee(b.edge_edge.begin(), b.edge_edge.end());
+        for (const auto& p : brute_vf(*x, m.triangles, d)) EXPECT_TRUE(all_vf.count(p)) << "sweep " << amount;
+        for (const auto& p : brute_ee(*x, edges, d)) EXPECT_TRUE(all_ee.count(p)) << "sweep " << amount;
+      }
+      if (amount == 0.0) {
+        EXPECT_TRUE(vf == brute_vf(m.positions, m.triangles, d));
+        EXPECT_TRUE(ee == brute_ee(m.positions, edges, d));
+      }
+    }
+  Pairs out;
+  EXPECT_THROW(pce::sim::brute_force_candidates(m.positions, m.positions.leftCols(3), m.triangles, edges, 0.1),
+               std::invalid_argument);
+  EXPECT_THROW(bp->vertex_face(m.positions, m.positions.leftCols(3), m.triangles, 0.1, out), std::invalid_argument);
+}
+
+TEST_P(TreeBroadPhase, SweptCandidatesCover) {
+  // Random states y with every vertex within m/2 of its swept box on every axis: every pair
+  // closer than d at y is a candidate of the sweep (distance d + m).
+  const pce::sim::Mesh m = crumpled(12, 9);
+  const Eigen::Matrix2Xi edges = pce::sim::unique_edges(m.triangles);
+  const double d = 0.02, margin = 0.02;
+  const Eigen::Matrix3Xd x0 = m.positions, x1 = moved(x0, 0.04);
+  auto bp = make();
+  Pairs vf, ee;
+  bp->vertex_face(x0, x1, m.triangles, d + margin, vf);
+  bp->edge_edge(x0, x1, edges, d + margin, ee);
+  const std::set<std::array<int, 2>> cvf(vf.begin(), vf.end()), cee(ee.begin(), ee.end());
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  long close_pairs = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    Eigen::Matrix3Xd y(3, x0.cols());
+    for (Eigen::Index v = 0; v < x0.cols(); ++v)
+      for (int c = 0; c < 3; ++c) {
+        const double lo = std::min(x0(c, v), x1(c, v)) - margin / 2, hi = std::max(x0(c, v), x1(c, v)) + margin / 2;
+        y(c, v) = trial % 2 ? (u(rng) < 0.5 ? lo : hi) : lo + u(rng) * (hi - lo);  // extremes or inside
+      }
+    for (const auto& p : brute_vf(y, m.triangles, d)) {  // box-close at y: measure the distance
+      const Eigen::Vector3i t = m.triangles.col(p[1]);
+      pce::Vec12<double> xp;
+      xp << y.col(p[0]), y.col(t[0]), y.col(t[1]), y.col(t[2]);
+      pce::ClosestFeatureEnergy<double> ce;
+      if (pce::closest_feature_energy<pce::VertexFace>(xp, pce::UnsignedLength{}, pce::QuadraticPenalty{1.0, 0.0},
+                                                       ce) != pce::Status::ok ||
+          ce.length >= d)
+        continue;
+      ++close_pairs;
+      EXPECT_TRUE(cvf.count(p)) << "vertex " << p[0] << ", triangle " << p[1] << " at distance " << ce.length;
+    }
+    for (const auto& p : brute_ee(y, edges, d)) {
+      pce::Vec12<double> xp;
+      xp << y.col(edges(0, p[0])), y.col(edges(1, p[0])), y.col(edges(0, p[1])), y.col(edges(1, p[1]));
+      pce::ClosestFeatureEnergy<double> ce;
+      if (pce::closest_feature_energy<pce::EdgeEdge>(xp, pce::UnsignedLength{}, pce::QuadraticPenalty{1.0, 0.0}, ce) !=
+              pce::Status::ok ||
+          ce.length >= d)
+        continue;
+      ++close_pairs;
+      EXPECT_TRUE(cee.count(p)) << "edges " << p[0] << ", " << p[1] << " at distance " << ce.length;
+    }
+  }
+  EXPECT_GT(close_pairs, 100);  // the states do bring pairs within d
 }
 
 INSTANTIATE_TEST_SUITE_P(Kinds, TreeBroadPhase, ::testing::Values(BroadPhaseKind::fcl, BroadPhaseKind::bullet),

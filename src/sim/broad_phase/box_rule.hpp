@@ -4,6 +4,11 @@
 /// exactly `brute_force_candidates`'s pairs in its order, written once (internal header,
 /// not installed).
 ///
+/// A query is over a sweep from positions x0 to x1 (x1 = x0 for a query at one state): a
+/// primitive's box is the box of its vertices at both, min and max taken over the six
+/// (vertex-face: two for the vertex) or four points. With x1 = x0 every min and max is of
+/// equal numbers, so the boxes, and the pairs, are bit for bit those of the one state.
+///
 /// The brute force accepts (v, t) when x_v lies in t's box grown by d, and (a, b) when the
 /// edges' boxes are at most d apart along every axis, each with its own floating-point
 /// expressions (`accept_vertex_face`, `accept_edge_edge` below, which
@@ -45,13 +50,15 @@ inline constexpr double kTreeLimit = 1e100;
 /// (FCL crashes, Bullet corrupts its heap), so the caller then answers with
 /// `brute_force_candidates` itself, whose comparisons reject non-finite pairs and accept
 /// every pair within a huge distance.
-inline bool padding(const Eigen::Matrix3Xd& x, double distance, double& pad) {
+inline bool padding(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, double distance, double& pad) {
   if (!(distance >= 0 && distance <= kTreeLimit)) return false;  // NaN, negative, huge
+  if (x1.cols() != x0.cols()) return false;                      // not a sweep: the brute force refuses it too
   double m = 0;
-  for (Eigen::Index k = 0; k < x.size(); ++k) {
-    if (!std::isfinite(x.data()[k])) return false;
-    m = std::max(m, std::abs(x.data()[k]));
-  }
+  for (const Eigen::Matrix3Xd* x : {&x0, &x1})
+    for (Eigen::Index k = 0; k < x->size(); ++k) {
+      if (!std::isfinite(x->data()[k])) return false;
+      m = std::max(m, std::abs(x->data()[k]));
+    }
   if (!(m + distance <= kTreeLimit)) return false;
   pad = 4 * std::numeric_limits<double>::epsilon() * (m + distance);
   return true;
@@ -62,50 +69,83 @@ inline bool padding(const Eigen::Matrix3Xd& x, double distance, double& pad) {
 /// nothing, when `padding` does (a coordinate not finite, a distance not in [0, ∞) or
 /// coordinates plus distance beyond `kTreeLimit`): the caller answers with
 /// `brute_force_candidates` itself.
-template <class Matrix> bool begin_query(const Eigen::Matrix3Xd& x, double distance, const Matrix& topology,
-                                         Matrix& built_for, double& h, bool& new_topology);
+template <class Matrix> bool begin_query(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, double distance,
+                                         const Matrix& topology, Matrix& built_for, double& h, bool& new_topology);
 
-/// The box a tree stores for vertex v: [x_v − h, x_v + h].
-inline void vertex_box(const Eigen::Matrix3Xd& x, int v, double h, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
-  lo = x.col(v).array() - h;
-  hi = x.col(v).array() + h;
+/// The box of vertex v over the sweep: [min(x0_v, x1_v), max(x0_v, x1_v)].
+inline void swept_vertex(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, int v, Eigen::Vector3d& lo,
+                         Eigen::Vector3d& hi) {
+  lo = x0.col(v).cwiseMin(x1.col(v));
+  hi = x0.col(v).cwiseMax(x1.col(v));
 }
 
-/// The box a tree stores for triangle t: [min(a, b, c) − h, max(a, b, c) + h], the corners
-/// taken in the brute force's order.
-inline void triangle_box(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& triangles, int t, double h,
-                         Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
-  const Eigen::Vector3d a = x.col(triangles(0, t)), b = x.col(triangles(1, t)), c = x.col(triangles(2, t));
-  lo = a.cwiseMin(b).cwiseMin(c).array() - h;
-  hi = a.cwiseMax(b).cwiseMax(c).array() + h;
+/// The box of triangle t over the sweep: min and max of its corners at x0 and at x1.
+inline void swept_triangle(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, const Eigen::Matrix3Xi& triangles,
+                           int t, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+  const Eigen::Vector3i tri = triangles.col(t);
+  lo = x0.col(tri[0]).cwiseMin(x0.col(tri[1])).cwiseMin(x0.col(tri[2]));
+  hi = x0.col(tri[0]).cwiseMax(x0.col(tri[1])).cwiseMax(x0.col(tri[2]));
+  lo = lo.cwiseMin(x1.col(tri[0]).cwiseMin(x1.col(tri[1])).cwiseMin(x1.col(tri[2])));
+  hi = hi.cwiseMax(x1.col(tri[0]).cwiseMax(x1.col(tri[1])).cwiseMax(x1.col(tri[2])));
 }
 
-/// The box a tree stores for edge e: [min(a, b) − h, max(a, b) + h].
-inline void edge_box(const Eigen::Matrix3Xd& x, const Eigen::Matrix2Xi& edges, int e, double h, Eigen::Vector3d& lo,
-                     Eigen::Vector3d& hi) {
-  const Eigen::Vector3d a = x.col(edges(0, e)), b = x.col(edges(1, e));
-  lo = a.cwiseMin(b).array() - h;
-  hi = a.cwiseMax(b).array() + h;
+/// The box of edge e over the sweep: min and max of its ends at x0 and at x1.
+inline void swept_edge(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, const Eigen::Matrix2Xi& edges, int e,
+                       Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+  const int a = edges(0, e), b = edges(1, e);
+  lo = x0.col(a).cwiseMin(x0.col(b)).cwiseMin(x1.col(a).cwiseMin(x1.col(b)));
+  hi = x0.col(a).cwiseMax(x0.col(b)).cwiseMax(x1.col(a).cwiseMax(x1.col(b)));
+}
+
+/// The box a tree stores for vertex v: its swept box grown by h.
+inline void vertex_box(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, int v, double h, Eigen::Vector3d& lo,
+                       Eigen::Vector3d& hi) {
+  swept_vertex(x0, x1, v, lo, hi);
+  lo.array() -= h;
+  hi.array() += h;
+}
+
+/// The box a tree stores for triangle t: its swept box grown by h.
+inline void triangle_box(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, const Eigen::Matrix3Xi& triangles,
+                         int t, double h, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+  swept_triangle(x0, x1, triangles, t, lo, hi);
+  lo.array() -= h;
+  hi.array() += h;
+}
+
+/// The box a tree stores for edge e: its swept box grown by h.
+inline void edge_box(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, const Eigen::Matrix2Xi& edges, int e,
+                     double h, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+  swept_edge(x0, x1, edges, e, lo, hi);
+  lo.array() -= h;
+  hi.array() += h;
 }
 
 /// The brute force's vertex-face rule for a pair a tree reported: v is not a corner of t
-/// and x_v ∈ [min − d, max + d] of t's corners, with `brute_force_candidates`' operations.
-inline bool accept_vertex_face(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& triangles, int v, int t,
-                               double distance) {
+/// and v's swept box meets [min − d, max + d] of t's (at one state: x_v lies in it), with
+/// `brute_force_candidates`' operations.
+inline bool accept_vertex_face(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1,
+                               const Eigen::Matrix3Xi& triangles, int v, int t, double distance) {
   const Eigen::Vector3i tri = triangles.col(t);
   if (tri[0] == v || tri[1] == v || tri[2] == v) return false;
-  const Eigen::Vector3d lo = x.col(tri[0]).cwiseMin(x.col(tri[1])).cwiseMin(x.col(tri[2])).array() - distance;
-  const Eigen::Vector3d hi = x.col(tri[0]).cwiseMax(x.col(tri[1])).cwiseMax(x.col(tri[2])).array() + distance;
-  return (x.col(v).array() >= lo.array()).all() && (x.col(v).array() <= hi.array()).all();
+  Eigen::Vector3d lo, hi, vlo, vhi;
+  swept_triangle(x0, x1, triangles, t, lo, hi);
+  swept_vertex(x0, x1, v, vlo, vhi);
+  lo.array() -= distance;
+  hi.array() += distance;
+  return (vhi.array() >= lo.array()).all() && (vlo.array() <= hi.array()).all();
 }
 
 /// The brute force's edge-edge rule for a pair a tree reported (i < j): the edges share no
-/// vertex and blo − ahi ≤ d, alo − bhi ≤ d on every axis, with the brute force's operations.
-inline bool accept_edge_edge(const Eigen::Matrix3Xd& x, const Eigen::Matrix2Xi& edges, int i, int j, double distance) {
+/// vertex and their swept boxes have blo − ahi ≤ d, alo − bhi ≤ d on every axis, with the
+/// brute force's operations.
+inline bool accept_edge_edge(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, const Eigen::Matrix2Xi& edges,
+                             int i, int j, double distance) {
   const int a0 = edges(0, i), a1 = edges(1, i), b0 = edges(0, j), b1 = edges(1, j);
   if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) return false;
-  const Eigen::Vector3d alo = x.col(a0).cwiseMin(x.col(a1)), ahi = x.col(a0).cwiseMax(x.col(a1));
-  const Eigen::Vector3d blo = x.col(b0).cwiseMin(x.col(b1)), bhi = x.col(b0).cwiseMax(x.col(b1));
+  Eigen::Vector3d alo, ahi, blo, bhi;
+  swept_edge(x0, x1, edges, i, alo, ahi);
+  swept_edge(x0, x1, edges, j, blo, bhi);
   return ((blo - ahi).array() <= distance).all() && ((alo - bhi).array() <= distance).all();
 }
 
@@ -136,10 +176,10 @@ template <class Matrix> bool same_topology(const Matrix& a, const Matrix& b) {
   return a.cols() == b.cols() && (a.array() == b.array()).all();
 }
 
-template <class Matrix> bool begin_query(const Eigen::Matrix3Xd& x, double distance, const Matrix& topology,
-                                         Matrix& built_for, double& h, bool& new_topology) {
+template <class Matrix> bool begin_query(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, double distance,
+                                         const Matrix& topology, Matrix& built_for, double& h, bool& new_topology) {
   double pad = 0;
-  if (!padding(x, distance, pad)) return false;
+  if (!padding(x0, x1, distance, pad)) return false;
   new_topology = !same_topology(topology, built_for);
   if (new_topology) built_for = topology;
   h = distance / 2 + pad;

@@ -27,13 +27,15 @@ namespace {
 /// The O(n²) reference (`brute_force_candidates`), one primitive kind at a time.
 class BruteForce final : public BroadPhase {
  public:
-  void vertex_face(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& triangles, double distance,
-                   std::vector<std::array<int, 2>>& out) override {
-    out = brute_force_candidates(x, triangles, Eigen::Matrix2Xi(2, 0), distance).vertex_face;
+  using BroadPhase::edge_edge;
+  using BroadPhase::vertex_face;
+  void vertex_face(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, const Eigen::Matrix3Xi& triangles,
+                   double distance, std::vector<std::array<int, 2>>& out) override {
+    out = brute_force_candidates(x0, x1, triangles, Eigen::Matrix2Xi(2, 0), distance).vertex_face;
   }
-  void edge_edge(const Eigen::Matrix3Xd& x, const Eigen::Matrix2Xi& edges, double distance,
+  void edge_edge(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, const Eigen::Matrix2Xi& edges, double distance,
                  std::vector<std::array<int, 2>>& out) override {
-    out = brute_force_candidates(x, Eigen::Matrix3Xi(3, 0), edges, distance).edge_edge;
+    out = brute_force_candidates(x0, x1, Eigen::Matrix3Xi(3, 0), edges, distance).edge_edge;
   }
 };
 }  // namespace

@@ -106,17 +106,18 @@ class Tree {
 /// Receives every (triangle leaf, vertex leaf) pair whose boxes overlap.
 class VertexFacePairs final : public btDbvt::ICollide {
  public:
-  VertexFacePairs(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& triangles, double distance,
-                  std::vector<std::array<int, 2>>& out)
-      : x_(x), triangles_(triangles), distance_(distance), out_(out) {}
+  VertexFacePairs(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, const Eigen::Matrix3Xi& triangles,
+                  double distance, std::vector<std::array<int, 2>>& out)
+      : x0_(x0), x1_(x1), triangles_(triangles), distance_(distance), out_(out) {}
   using btDbvt::ICollide::Process;
   void Process(const btDbvtNode* triangle, const btDbvtNode* vertex) override {
     const int t = index_of(triangle), v = index_of(vertex);
-    if (box_rule::accept_vertex_face(x_, triangles_, v, t, distance_)) out_.push_back({v, t});
+    if (box_rule::accept_vertex_face(x0_, x1_, triangles_, v, t, distance_)) out_.push_back({v, t});
   }
 
  private:
-  const Eigen::Matrix3Xd& x_;
+  const Eigen::Matrix3Xd& x0_;
+  const Eigen::Matrix3Xd& x1_;
   const Eigen::Matrix3Xi& triangles_;
   double distance_;
   std::vector<std::array<int, 2>>& out_;
@@ -125,18 +126,19 @@ class VertexFacePairs final : public btDbvt::ICollide {
 /// Receives every unordered pair of distinct edge leaves whose boxes overlap.
 class EdgeEdgePairs final : public btDbvt::ICollide {
  public:
-  EdgeEdgePairs(const Eigen::Matrix3Xd& x, const Eigen::Matrix2Xi& edges, double distance,
+  EdgeEdgePairs(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, const Eigen::Matrix2Xi& edges, double distance,
                 std::vector<std::array<int, 2>>& out)
-      : x_(x), edges_(edges), distance_(distance), out_(out) {}
+      : x0_(x0), x1_(x1), edges_(edges), distance_(distance), out_(out) {}
   using btDbvt::ICollide::Process;
   void Process(const btDbvtNode* a, const btDbvtNode* b) override {
     int i = index_of(a), j = index_of(b);
     if (i > j) std::swap(i, j);
-    if (box_rule::accept_edge_edge(x_, edges_, i, j, distance_)) out_.push_back({i, j});
+    if (box_rule::accept_edge_edge(x0_, x1_, edges_, i, j, distance_)) out_.push_back({i, j});
   }
 
  private:
-  const Eigen::Matrix3Xd& x_;
+  const Eigen::Matrix3Xd& x0_;
+  const Eigen::Matrix3Xd& x1_;
   const Eigen::Matrix2Xi& edges_;
   double distance_;
   std::vector<std::array<int, 2>>& out_;
@@ -144,41 +146,44 @@ class EdgeEdgePairs final : public btDbvt::ICollide {
 
 class BulletBroadPhase final : public BroadPhase {
  public:
-  void vertex_face(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& triangles, double distance,
-                   std::vector<std::array<int, 2>>& out) override {
+  using BroadPhase::edge_edge;
+  using BroadPhase::vertex_face;
+  void vertex_face(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, const Eigen::Matrix3Xi& triangles,
+                   double distance, std::vector<std::array<int, 2>>& out) override {
     out.clear();
-    if (x.cols() == 0 || triangles.cols() == 0) return;
+    if (x0.cols() == 0 || triangles.cols() == 0) return;
     double h = 0;
     bool new_topology = false;
-    if (!box_rule::begin_query(x, distance, triangles, vf_triangles_, h, new_topology)) {  // non-finite: the reference
-      out = brute_force_candidates(x, triangles, Eigen::Matrix2Xi(2, 0), distance).vertex_face;
+    if (!box_rule::begin_query(x0, x1, distance, triangles, vf_triangles_, h, new_topology)) {  // the reference
+      out = brute_force_candidates(x0, x1, triangles, Eigen::Matrix2Xi(2, 0), distance).vertex_face;
       return;
     }
-    const int n = static_cast<int>(x.cols()), m = static_cast<int>(triangles.cols());
+    const int n = static_cast<int>(x0.cols()), m = static_cast<int>(triangles.cols());
     vertices_.set(n, false,
-                  [&](int v, Eigen::Vector3d& lo, Eigen::Vector3d& hi) { box_rule::vertex_box(x, v, h, lo, hi); });
+                  [&](int v, Eigen::Vector3d& lo, Eigen::Vector3d& hi) { box_rule::vertex_box(x0, x1, v, h, lo, hi); });
     triangles_.set(m, new_topology, [&](int t, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
-      box_rule::triangle_box(x, triangles, t, h, lo, hi);
+      box_rule::triangle_box(x0, x1, triangles, t, h, lo, hi);
     });
-    VertexFacePairs pairs(x, triangles, distance, out);
+    VertexFacePairs pairs(x0, x1, triangles, distance, out);
     triangles_.tree().collideTTpersistentStack(triangles_.root(), vertices_.root(), pairs);
     box_rule::sort_pairs(out, n, scratch_, start_);
   }
 
-  void edge_edge(const Eigen::Matrix3Xd& x, const Eigen::Matrix2Xi& edges, double distance,
+  void edge_edge(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, const Eigen::Matrix2Xi& edges, double distance,
                  std::vector<std::array<int, 2>>& out) override {
     out.clear();
     if (edges.cols() < 2) return;
     double h = 0;
     bool new_topology = false;
-    if (!box_rule::begin_query(x, distance, edges, ee_edges_, h, new_topology)) {
-      out = brute_force_candidates(x, Eigen::Matrix3Xi(3, 0), edges, distance).edge_edge;
+    if (!box_rule::begin_query(x0, x1, distance, edges, ee_edges_, h, new_topology)) {
+      out = brute_force_candidates(x0, x1, Eigen::Matrix3Xi(3, 0), edges, distance).edge_edge;
       return;
     }
     const int m = static_cast<int>(edges.cols());
-    edges_.set(m, new_topology,
-               [&](int e, Eigen::Vector3d& lo, Eigen::Vector3d& hi) { box_rule::edge_box(x, edges, e, h, lo, hi); });
-    EdgeEdgePairs pairs(x, edges, distance, out);
+    edges_.set(m, new_topology, [&](int e, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+      box_rule::edge_box(x0, x1, edges, e, h, lo, hi);
+    });
+    EdgeEdgePairs pairs(x0, x1, edges, distance, out);
     edges_.tree().collideTTpersistentStack(edges_.root(), edges_.root(), pairs);
     box_rule::sort_pairs(out, m, scratch_, start_);
   }

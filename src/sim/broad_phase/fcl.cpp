@@ -93,14 +93,16 @@ class Tree {
 };
 
 struct VertexFaceQuery {
-  const Eigen::Matrix3Xd* x;
+  const Eigen::Matrix3Xd* x0;
+  const Eigen::Matrix3Xd* x1;
   const Eigen::Matrix3Xi* triangles;
   double distance;
   std::vector<std::array<int, 2>>* out;
 };
 
 struct EdgeEdgeQuery {
-  const Eigen::Matrix3Xd* x;
+  const Eigen::Matrix3Xd* x0;
+  const Eigen::Matrix3Xd* x1;
   const Eigen::Matrix2Xi* edges;
   double distance;
   std::vector<std::array<int, 2>>* out;
@@ -110,7 +112,7 @@ struct EdgeEdgeQuery {
 bool vertex_face_pair(fcl::CollisionObject<double>* a, fcl::CollisionObject<double>* b, void* data) {
   const auto& q = *static_cast<VertexFaceQuery*>(data);
   const int t = static_cast<Primitive*>(a)->index(), v = static_cast<Primitive*>(b)->index();
-  if (box_rule::accept_vertex_face(*q.x, *q.triangles, v, t, q.distance)) q.out->push_back({v, t});
+  if (box_rule::accept_vertex_face(*q.x0, *q.x1, *q.triangles, v, t, q.distance)) q.out->push_back({v, t});
   return false;  // never stop early
 }
 
@@ -119,60 +121,62 @@ bool edge_edge_pair(fcl::CollisionObject<double>* a, fcl::CollisionObject<double
   const auto& q = *static_cast<EdgeEdgeQuery*>(data);
   int i = static_cast<Primitive*>(a)->index(), j = static_cast<Primitive*>(b)->index();
   if (i > j) std::swap(i, j);
-  if (box_rule::accept_edge_edge(*q.x, *q.edges, i, j, q.distance)) q.out->push_back({i, j});
+  if (box_rule::accept_edge_edge(*q.x0, *q.x1, *q.edges, i, j, q.distance)) q.out->push_back({i, j});
   return false;
 }
 
 class FclBroadPhase final : public BroadPhase {
  public:
-  void vertex_face(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& triangles, double distance,
-                   std::vector<std::array<int, 2>>& out) override {
+  using BroadPhase::edge_edge;
+  using BroadPhase::vertex_face;
+  void vertex_face(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, const Eigen::Matrix3Xi& triangles,
+                   double distance, std::vector<std::array<int, 2>>& out) override {
     out.clear();
-    if (x.cols() == 0 || triangles.cols() == 0) return;
+    if (x0.cols() == 0 || triangles.cols() == 0) return;
     double h = 0;
     bool new_topology = false;
-    if (!box_rule::begin_query(x, distance, triangles, vf_triangles_, h, new_topology)) {  // non-finite: the reference
-      out = brute_force_candidates(x, triangles, Eigen::Matrix2Xi(2, 0), distance).vertex_face;
+    if (!box_rule::begin_query(x0, x1, distance, triangles, vf_triangles_, h, new_topology)) {  // the reference
+      out = brute_force_candidates(x0, x1, triangles, Eigen::Matrix2Xi(2, 0), distance).vertex_face;
       return;
     }
-    const int n = static_cast<int>(x.cols()), m = static_cast<int>(triangles.cols());
+    const int n = static_cast<int>(x0.cols()), m = static_cast<int>(triangles.cols());
     vertices_.resize(n, new_topology);
     triangles_.resize(m, new_topology);
     Eigen::Vector3d lo, hi;
     for (int v = 0; v < n; ++v) {
-      box_rule::vertex_box(x, v, h, lo, hi);
+      box_rule::vertex_box(x0, x1, v, h, lo, hi);
       vertices_.object(v).set_box(lo, hi);
     }
     for (int t = 0; t < m; ++t) {
-      box_rule::triangle_box(x, triangles, t, h, lo, hi);
+      box_rule::triangle_box(x0, x1, triangles, t, h, lo, hi);
       triangles_.object(t).set_box(lo, hi);
     }
     vertices_.commit();
     triangles_.commit();
-    VertexFaceQuery q{&x, &triangles, distance, &out};
+    VertexFaceQuery q{&x0, &x1, &triangles, distance, &out};
     triangles_.manager()->collide(vertices_.manager(), &q, vertex_face_pair);
     box_rule::sort_pairs(out, n, scratch_, start_);
   }
 
-  void edge_edge(const Eigen::Matrix3Xd& x, const Eigen::Matrix2Xi& edges, double distance,
+  void edge_edge(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, const Eigen::Matrix2Xi& edges, double distance,
                  std::vector<std::array<int, 2>>& out) override {
     out.clear();
     if (edges.cols() < 2) return;
     double h = 0;
     bool new_topology = false;
-    if (!box_rule::begin_query(x, distance, edges, ee_edges_, h, new_topology)) {
-      out = brute_force_candidates(x, Eigen::Matrix3Xi(3, 0), edges, distance).edge_edge;
+    if (!box_rule::begin_query(x0, x1, distance, edges, ee_edges_, h, new_topology)) {
+      out = brute_force_candidates(x0, x1, Eigen::Matrix3Xi(3, 0), edges, distance).edge_edge;
       return;
     }
     const int m = static_cast<int>(edges.cols());
     edges_.resize(m, new_topology);
     Eigen::Vector3d lo, hi;
     for (int e = 0; e < m; ++e) {
-      box_rule::edge_box(x, edges, e, h, lo, hi);
+      box_rule::edge_box(x0, x1, edges, e, h, lo, hi);
       edges_.object(e).set_box(lo, hi);
     }
     edges_.commit();
-    EdgeEdgeQuery q{&x, &edges, distance, &out};
+    EdgeEdgeQuery q{&x0, &x1, &edges, distance, &out};
     edges_.manager()->collide(&q, edge_edge_pair);
     box_rule::sort_pairs(out, m, scratch_, start_);
   }

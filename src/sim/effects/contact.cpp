@@ -71,6 +71,10 @@ template <bool VF> class SelfContact final : public Effect {
  public:
   SelfContact(const ContactSettings& spec, const Model& model)
       : spec_(spec), model_(&model), broad_phase_(make_broad_phase(spec.broad_phase)) {
+    mesh_of_.resize(static_cast<std::size_t>(model_->vertex_count()));
+    for (std::size_t m = 0; m < model_->meshes.size(); ++m)
+      for (int i = 0; i < model_->meshes[m].vertex_count; ++i)
+        mesh_of_[static_cast<std::size_t>(model_->meshes[m].first_vertex + i)] = static_cast<int>(m);
     find_rest_neighbours();
   }
 
@@ -78,33 +82,43 @@ template <bool VF> class SelfContact final : public Effect {
 
   void begin_step(const StepContext& ctx) override {
     x_start_ = ctx.x_start;
-    // Candidates around the inertial prediction x̃ = xⁿ + h vⁿ, where Newton ends in most
-    // steps, when that set is valid where Newton starts (still_valid at xⁿ); otherwise
-    // around xⁿ, and the step filter and re-queries follow the iterates. Margin m = d.
+    // One query over the sweep from xⁿ to the inertial prediction x̃ = xⁿ + h vⁿ: the
+    // iterates of most steps stay within (or within m/2 of) the boxes that sweep spans, so
+    // the set serves the whole step. Margin m = d.
     margin_ = spec_.penalty.distance;
-    set_query_point(*ctx.x_start + ctx.dt * *ctx.v_start);
-    if (!still_valid(*ctx.x_start)) set_query_point(*ctx.x_start);
+    set_query_point(*ctx.x_start, *ctx.x_start + ctx.dt * *ctx.v_start);
+    target_.resize(3, 0);
+    validity_bound_ = false;
     stats_ = {};
     query();
   }
 
-  /// Validity of the candidate set (docs/simulation.md §4.2). A pair that is not a
-  /// candidate was, where the query was made, more than r = d + m apart and at least the
-  /// gap G_AB between its two meshes' boxes; it stays more than d apart while the pair's
-  /// relative drift is below the budget max(m, G_AB − d) (m within one mesh). With D the
-  /// drift from the query positions, c_A a mesh's mean drift and s_A = max_{i∈A}|Dᵢ − c_A|,
-  /// a pair of meshes A, B drifts relatively by at most
-  ///     rel_AB(D) = s_A + s_B + |c_A − c_B|   (2 s_A within one mesh),
-  /// which ignores common translations, so a sheet falling alone or away from the others
-  /// keeps its set. max_step never lets rel pass the budget; the set is queried again once
-  /// rel passes half of it, so every Newton step has at least half a budget of relative
-  /// motion to use (waiting for the whole budget left steps of ~0 and stalled Newton).
+  /// Validity of the candidate set (docs/simulation.md §4.2): every pair that is not a
+  /// candidate stays more than d apart while either of two conditions holds.
+  ///  (A) Sweep: the query grew each primitive's box over the sweep x0 → x1 by r = d + m,
+  ///      so a non-candidate pair is more than r apart along some axis there; while every
+  ///      vertex stays within m/2 of its own swept box on every axis (sweep_use ≤ 1), each
+  ///      primitive's box grows by at most m/2, and the pair stays more than d apart.
+  ///  (B) Relative drift: at x0 a non-candidate pair was more than r apart and at least the
+  ///      gap G_AB between its two meshes' boxes; it stays more than d apart while its
+  ///      relative drift is below the budget max(m, G_AB − d) (m within one mesh). With D
+  ///      the drift from x0, c_A a mesh's mean drift and s_A = max_{i∈A}|Dᵢ − c_A|, a pair
+  ///      of meshes A, B drifts relatively by at most
+  ///          rel_AB(D) = s_A + s_B + |c_A − c_B|   (2 s_A within one mesh),
+  ///      which ignores common translations (a sheet falling alone keeps its set).
+  /// With a step bound (barrier or `ccd`), max_step never lets both conditions fail, and the
+  /// set is queried again only after a step that the validity limit cut short (the bound
+  /// bound), sweeping from there to that step's Newton target. Without one, a query follows
+  /// once both conditions have used half their budget.
   bool still_valid(const Eigen::Matrix3Xd& x) override {
-    return validity_use(mesh_drift(x - query_at_), nullptr) <= 0.5;
+    if (validity_bound_) return false;
+    const double limit = spec_.penalty.barrier() || spec_.ccd ? 1.0 : 0.5;
+    return sweep_use(x) <= limit || validity_use(mesh_drift(x - query_at_), nullptr) <= limit;
   }
 
   void refresh(const Eigen::Matrix3Xd& x) override {
-    set_query_point(x);
+    set_query_point(x, target_.cols() == x.cols() ? target_ : x);
+    validity_bound_ = false;
     query();
   }
 
@@ -120,6 +134,7 @@ template <bool VF> class SelfContact final : public Effect {
     // active ones made L 4.9 M non-zeros and each factorisation 0.5 s.
     const long n = static_cast<long>(pairs_.size());
     if (near_.size() < pairs_.size()) near_.resize(pairs_.size());
+    measure_drift(x);
 #pragma omp parallel for schedule(static)
     for (long k = 0; k < n; ++k) near_[static_cast<std::size_t>(k)] = is_active(x, k);
     bool changed = false;
@@ -135,6 +150,7 @@ template <bool VF> class SelfContact final : public Effect {
     const auto threads = static_cast<std::size_t>(omp_get_max_threads());
     hessians_.resize(threads);
     actives_.resize(threads);
+    measure_drift(x);
     visit_penalty(spec_.penalty, [&](const auto& penalty) {
 #pragma omp parallel
       {
@@ -199,12 +215,29 @@ template <bool VF> class SelfContact final : public Effect {
     // meshes. (Bounding the candidates alone let a landing sheet cross faces that were not
     // candidates.)
     const MeshDrift step = mesh_drift(dx);
-    double t = 1.0;
-    validity_use(mesh_drift(x - query_at_), &step, &t);
-    const double t_valid = t;  // (inside the loop, t is a thread's own minimum, which starts at +∞)
+    double t_drift = 1.0;
+    const bool drift_valid = validity_use(mesh_drift(x - query_at_), &step, &t_drift) <= 1;
+    const double t_valid = std::max(drift_valid ? t_drift : 0.0, sweep_step(x, dx));
+    target_ = x + dx;
+    double t = t_valid;  // (inside the loop, t is a thread's own minimum, which starts at +∞)
+    // Pairs whose distance provably stays above what t_valid allows are skipped before
+    // their vertices are read: with lb the lower bound at the query point, the distance at
+    // x is at least lb − rel_AB(x − query point), and a step moves the pair's two
+    // primitives relative to p̄ by at most ma + mb ≤ 2 W_AB (step_reach), so its own limit
+    // 0.9 · distance/(ma + mb) is at least t_valid (1e-9: beyond rounding).
+    measure_drift(x);
+    const std::vector<double> reach = step_reach(step);
+    const bool filter = query_lb_.size() == pairs_.size();
     const long n = static_cast<long>(pairs_.size());
 #pragma omp parallel for schedule(static) reduction(min : t)
     for (long k = 0; k < n; ++k) {
+      if (filter) {
+        const auto uk = static_cast<std::size_t>(k);
+        const int mp = mesh_pair_[uk];
+        if (0.9 * (query_lb_[uk] - drift_rel_[static_cast<std::size_t>(mp)]) >=
+            t_valid * 2 * reach[static_cast<std::size_t>(mp)] * (1 + 1e-9))
+          continue;
+      }
       const auto v = vertices(pairs_[static_cast<std::size_t>(k)]);
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
       for (int j = 0; j < 4; ++j) mean += dx.col(v[static_cast<std::size_t>(j)]);
@@ -216,6 +249,10 @@ template <bool VF> class SelfContact final : public Effect {
         m = std::max(m, d);
       }
       if (!(ma + mb > 0)) continue;
+      // The same test with the query's bound less the pair's drift since (no vertex read).
+      if (filter && 0.9 * (query_lb_[static_cast<std::size_t>(k)] - pair_drift(v)) >=
+                        std::min(t, t_valid) * (ma + mb) * (1 + 1e-9))
+        continue;
       const Vec12<double> xp = gather(x, v);
       // The distance is at least distance_lower_bound, so a pair whose bound already allows the
       // smaller of this thread's minimum and the validity bound cannot lower the result:
@@ -226,6 +263,7 @@ template <bool VF> class SelfContact final : public Effect {
       if (closest_feature_energy<Kind>(xp, UnsignedLength{}, probe, ce) != Status::ok) continue;
       t = std::min(t, 0.9 * ce.length / (ma + mb));
     }
+    validity_bound_ = t_valid < 1 && t >= t_valid;
     return std::max(t, 0.0);
   }
 
@@ -290,6 +328,7 @@ template <bool VF> class SelfContact final : public Effect {
     sides_ = std::move(sides);
     declared_ = std::move(declared);
     mark_rest_neighbours();
+    query_lb_.clear();  // no filter until the next query measures the bounds
   }
 
  private:
@@ -373,9 +412,42 @@ template <bool VF> class SelfContact final : public Effect {
       }
     return use;
   }
-  /// Makes x the query positions and measures the gaps between the meshes' boxes there.
-  void set_query_point(const Eigen::Matrix3Xd& x) {
+  /// Half the margin, the room each vertex has beyond its swept box (condition A), less a
+  /// relative 1e-6 for the rounding of positions and steps.
+  double sweep_room() const { return 0.5 * margin() * (1 - 1e-6); }
+
+  /// max over vertices and axes of (how far xᵢ lies outside its swept box) / sweep_room():
+  /// condition A holds while this is ≤ 1.
+  double sweep_use(const Eigen::Matrix3Xd& x) const {
+    const double outside = (sweep_lo_ - x).cwiseMax(x - sweep_hi_).maxCoeff();
+    return std::max(outside, 0.0) / sweep_room();
+  }
+
+  /// The largest t ∈ [0, 1] for which x + t dx keeps every vertex within sweep_room() of its
+  /// swept box on every axis (condition A along the step); 0 when x itself does not.
+  double sweep_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) const {
+    if (sweep_use(x) > 1) return 0.0;
+    const double room = sweep_room();
+    double t = 1.0;
+    for (Eigen::Index i = 0; i < x.cols(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        const double d = dx(c, i);
+        if (d > 0)
+          t = std::min(t, (sweep_hi_(c, i) + room - x(c, i)) / d);
+        else if (d < 0)
+          t = std::min(t, (sweep_lo_(c, i) - room - x(c, i)) / d);
+      }
+    return std::max(t, 0.0);
+  }
+
+  /// Makes the sweep x0 → x1 the next query's (x0 = x1: a query at one state), keeps each
+  /// vertex's swept box (condition A) and measures the gaps between the meshes' boxes at x0
+  /// (condition B).
+  void set_query_point(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& x1) {
     query_at_ = x;
+    query_to_ = x1;
+    sweep_lo_ = x.cwiseMin(x1);
+    sweep_hi_ = x.cwiseMax(x1);
     const std::size_t M = model_->meshes.size();
     std::vector<Eigen::AlignedBox3d> boxes(M);
     for (std::size_t a = 0; a < M; ++a) {
@@ -398,9 +470,9 @@ template <bool VF> class SelfContact final : public Effect {
   void query_pairs(const Eigen::Matrix3Xd& x, std::vector<std::array<int, 2>>& out) {
     const double r = spec_.penalty.distance + margin();
     if constexpr (VF)
-      broad_phase_->vertex_face(x, model_->triangles, r, out);
+      broad_phase_->vertex_face(x, query_to_, model_->triangles, r, out);
     else
-      broad_phase_->edge_edge(x, model_->edges, r, out);
+      broad_phase_->edge_edge(x, query_to_, model_->edges, r, out);
   }
 
   void query() {
@@ -426,6 +498,7 @@ template <bool VF> class SelfContact final : public Effect {
     sides_ = std::move(sides);
     declared_ = std::move(declared);
     mark_rest_neighbours();
+    bound_at_query();
     if (spec_.signed_length) settle_sides(*x_start_);
     stats_.queries += 1;
     ++instrumentation().broad_phase_queries;
@@ -484,6 +557,7 @@ template <bool VF> class SelfContact final : public Effect {
   template <class Penalty> void evaluate_pair(const Eigen::Matrix3Xd& x, long k, const Penalty& penalty,
                                               std::vector<PairHessian>* hessians, PairOut& o) const {
     o.active = false;
+    if (cannot_be_active(k)) return;
     const auto v = vertices(pairs_[static_cast<std::size_t>(k)]);
     const Vec12<double> xp = gather(x, v);
     const double d = spec_.penalty.distance;
@@ -632,8 +706,78 @@ template <bool VF> class SelfContact final : public Effect {
     return std::max(box_gap(xp), ((ca - cb).norm() - ra - rb) * (1 - 1e-12));
   }
 
+  /// Per candidate, at the query point: the distance lower bound and the index a·M + b
+  /// (a ≤ b) of its two primitives' meshes; what cannot_be_active and max_step's filter read.
+  void bound_at_query() {
+    const long n = static_cast<long>(pairs_.size());
+    const int M = static_cast<int>(model_->meshes.size());
+    query_lb_.resize(pairs_.size());
+    mesh_pair_.resize(pairs_.size());
+#pragma omp parallel for schedule(static)
+    for (long k = 0; k < n; ++k) {
+      const auto uk = static_cast<std::size_t>(k);
+      const auto v = vertices(pairs_[uk]);
+      query_lb_[uk] = distance_lower_bound(gather(query_at_, v));
+      const int a = mesh_of_[static_cast<std::size_t>(v[0])], b = mesh_of_[static_cast<std::size_t>(v[3])];
+      mesh_pair_[uk] = std::min(a, b) * M + std::max(a, b);
+    }
+  }
+
+  /// drift_rel_[a·M + b] = rel_AB(x − query point) (validity_use's measure): no pair of
+  /// meshes A, B has moved relatively by more since the query, so a candidate's distance at
+  /// x is at least its query_lb_ minus this. Called once per pass, before the pair loop.
+  void measure_drift(const Eigen::Matrix3Xd& x) {
+    drift_ = x - query_at_;
+    const MeshDrift m = mesh_drift(drift_);
+    const std::size_t M = m.s.size();
+    drift_rel_.assign(M * M, 0.0);
+    for (std::size_t a = 0; a < M; ++a)
+      for (std::size_t b = a; b < M; ++b) drift_rel_[a * M + b] = relative(m, a, b);
+  }
+
+  /// Per pair of meshes, W_AB = max(2 s_A, 2 s_B, rel_AB(step)): no two vertices of a pair of
+  /// primitives in A and B move by more than W_AB relative to each other, so neither moves
+  /// by more than W_AB relative to their mean p̄ (max_step's ma, mb).
+  std::vector<double> step_reach(const MeshDrift& step) const {
+    const std::size_t M = step.s.size();
+    std::vector<double> w(M * M, 0.0);
+    for (std::size_t a = 0; a < M; ++a)
+      for (std::size_t b = a; b < M; ++b) w[a * M + b] = std::max({2 * step.s[a], 2 * step.s[b], relative(step, a, b)});
+    return w;
+  }
+
+  /// The largest drift of the pair's vertices relative to each other since the query:
+  /// max over i of the first primitive and j of the second of |Dᵢ − Dⱼ| (D = drift_). The
+  /// distance between the primitives has changed by at most this since the query.
+  double pair_drift(const std::array<int, 4>& v) const {
+    constexpr int na = first_side_count();
+    double worst = 0;
+    for (int i = 0; i < na; ++i)
+      for (int j = na; j < 4; ++j)
+        worst = std::max(
+            worst,
+            (drift_.col(v[static_cast<std::size_t>(i)]) - drift_.col(v[static_cast<std::size_t>(j)])).squaredNorm());
+    return std::sqrt(worst);
+  }
+
+  /// True when candidate k provably is inactive at the x of the last measure_drift: its
+  /// lower bound at the query point, less how far its primitives can have closed in since
+  /// (first the relative drift of its two meshes, one comparison; then the pair's own,
+  /// pair_drift), is at least its activation limit (fold reach, else inactive_beyond), each
+  /// with a relative slack of 1e-9, far beyond rounding. Every pass tests this first: a
+  /// few flops instead of a frame or a distance, for every candidate that has not closed in
+  /// (on the hammock, nearly all of them, fold pairs included).
+  bool cannot_be_active(long k) const {
+    const auto uk = static_cast<std::size_t>(k);
+    if (query_lb_.size() != pairs_.size()) return false;
+    const double room = query_lb_[uk] - (fold_pair_[uk] ? fold_reach_[uk] : inactive_beyond()) * (1 + 1e-9);
+    if (room >= drift_rel_[static_cast<std::size_t>(mesh_pair_[uk])] * (1 + 1e-9)) return true;
+    return room > 0 && room >= pair_drift(vertices(pairs_[uk])) * (1 + 1e-9);
+  }
+
   /// Whether candidate k is active at x (length below d): the test evaluate() applies.
   bool is_active(const Eigen::Matrix3Xd& x, long k) const {
+    if (cannot_be_active(k)) return false;
     const Vec12<double> xp = gather(x, vertices(pairs_[static_cast<std::size_t>(k)]));
     const bool fold = fold_pair_[static_cast<std::size_t>(k)];
     const double limit = fold ? fold_reach_[static_cast<std::size_t>(k)] : spec_.penalty.distance;
@@ -672,8 +816,11 @@ template <bool VF> class SelfContact final : public Effect {
   const Model* model_;
   std::unique_ptr<BroadPhase> broad_phase_;
   const Eigen::Matrix3Xd* x_start_ = nullptr;
-  Eigen::Matrix3Xd query_at_;
-  std::vector<double> gaps_;  ///< M×M (upper part): gap between meshes' boxes at query_at_
+  Eigen::Matrix3Xd query_at_, query_to_;  ///< the last query's sweep x0 → x1
+  Eigen::Matrix3Xd sweep_lo_, sweep_hi_;  ///< per vertex: its box over the sweep (condition A)
+  Eigen::Matrix3Xd target_;               ///< x + dx of the last max_step: where a re-query sweeps to
+  bool validity_bound_ = false;           ///< the last max_step's result was the validity limit
+  std::vector<double> gaps_;              ///< M×M (upper part): gap between meshes' boxes at query_at_
   std::vector<std::array<int, 2>> pairs_;
   double margin_ = 0;  ///< this step's candidate margin m
   std::vector<signed char> sides_;
@@ -683,6 +830,11 @@ template <bool VF> class SelfContact final : public Effect {
   std::vector<char> fold_pair_;
   std::vector<double> fold_reach_;             ///< per candidate: its rest_reach_ (fold pairs), else 0
   std::vector<char> declared_, near_;          ///< per candidate: in the pattern; active at the last update_pattern
+  std::vector<int> mesh_of_;                   ///< per vertex: its mesh
+  std::vector<double> query_lb_;               ///< per candidate: distance lower bound at query_at_
+  std::vector<int> mesh_pair_;                 ///< per candidate: a·M + b of its meshes (a ≤ b)
+  Eigen::Matrix3Xd drift_;                     ///< x − query_at_ of the last measure_drift
+  std::vector<double> drift_rel_;              ///< rel_AB(drift_), indexed a·M + b
   std::vector<std::vector<PairOut>> actives_;  ///< per thread, active pairs only
   std::vector<std::vector<PairHessian>> hessians_;  ///< per thread, active pairs only
   Stats stats_;

@@ -33,12 +33,24 @@ std::optional<BroadPhaseKind> broad_phase_kind(const std::string& name);
 class BroadPhase {
  public:
   virtual ~BroadPhase() = default;
-  /// (vertex, triangle) pairs, vertex not in the triangle, sorted.
-  virtual void vertex_face(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& triangles, double distance,
-                           std::vector<std::array<int, 2>>& out) = 0;
-  /// (edge a, edge b) pairs with a < b sharing no vertex, sorted.
-  virtual void edge_edge(const Eigen::Matrix3Xd& x, const Eigen::Matrix2Xi& edges, double distance,
-                         std::vector<std::array<int, 2>>& out) = 0;
+  /// (vertex, triangle) pairs over the sweep from `x0` to `x1` (boxes over both states,
+  /// `pce/sim/candidates.hpp`), vertex not in the triangle, sorted. Throws
+  /// std::invalid_argument when `x0` and `x1` differ in column count.
+  virtual void vertex_face(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, const Eigen::Matrix3Xi& triangles,
+                           double distance, std::vector<std::array<int, 2>>& out) = 0;
+  /// (edge a, edge b) pairs over the sweep from `x0` to `x1`, a < b sharing no vertex, sorted.
+  virtual void edge_edge(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, const Eigen::Matrix2Xi& edges,
+                         double distance, std::vector<std::array<int, 2>>& out) = 0;
+  /// (vertex, triangle) pairs at one state `x`.
+  void vertex_face(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& triangles, double distance,
+                   std::vector<std::array<int, 2>>& out) {
+    vertex_face(x, x, triangles, distance, out);
+  }
+  /// (edge a, edge b) pairs at one state `x`.
+  void edge_edge(const Eigen::Matrix3Xd& x, const Eigen::Matrix2Xi& edges, double distance,
+                 std::vector<std::array<int, 2>>& out) {
+    edge_edge(x, x, edges, distance, out);
+  }
 };
 
 /// A new broad phase of the given kind, with an empty acceleration structure.

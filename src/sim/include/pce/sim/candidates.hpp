@@ -6,6 +6,11 @@
 /// candidate (the narrow phase, pce's pair energies, decides the rest). Pairs that share a
 /// vertex (a vertex and its own triangle, adjacent edges) are excluded.
 ///
+/// A query may also be over a sweep from positions x0 to x1: each primitive's box is then the
+/// box of its vertices at both states, so the candidates cover every pair that comes within
+/// the distance anywhere the primitives' vertices stay inside their swept boxes (a contact
+/// effect sweeps from the start of a time step to its inertial prediction).
+///
 /// `brute_force_candidates` tests every pair: O(n²), the reference the accelerated broad
 /// phases must reproduce exactly (same sets, same order).
 #pragma once
@@ -29,5 +34,12 @@ struct Candidates {
 /// `distance` apart along every axis.
 Candidates brute_force_candidates(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xi& triangles,
                                   const Eigen::Matrix2Xi& edges, double distance);
+
+/// The same over the sweep from `x0` to `x1` (see the file comment): (v, t) when v's box
+/// over both states meets t's grown by `distance`; (a, b) when the edges' boxes over both
+/// states are at most `distance` apart along every axis. `x0` and `x1` equal give exactly the
+/// pairs of one state. Throws std::invalid_argument when their column counts differ.
+Candidates brute_force_candidates(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1,
+                                  const Eigen::Matrix3Xi& triangles, const Eigen::Matrix2Xi& edges, double distance);
 
 }  // namespace pce::sim
