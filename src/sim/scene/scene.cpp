@@ -212,8 +212,12 @@ std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::strin
     sim.solver.single_solve = s.choice("mode", {"newton", "single_solve"}, std::string("newton")) == "single_solve";
     sim.solver.tolerance = s.positive("tolerance", sim.solver.tolerance);
     sim.solver.max_iterations = static_cast<int>(s.integer("max_iterations", 50L, 1, 100000));
-    const std::string ls = s.choice("linear_solver", {"direct", "ldlt", "cg"}, std::string("direct"));
-    sim.solver.linear = ls == "cg" ? LinearSolver::cg : ls == "ldlt" ? LinearSolver::ldlt : LinearSolver::direct;
+    const std::string ls =
+        s.choice("linear_solver", {"factor_reuse", "direct", "ldlt", "cg"}, std::string("factor_reuse"));
+    sim.solver.linear = ls == "cg"       ? LinearSolver::cg
+                        : ls == "ldlt"   ? LinearSolver::ldlt
+                        : ls == "direct" ? LinearSolver::direct
+                                         : LinearSolver::factor_reuse;
     sim.solver.threads = static_cast<int>(s.integer("threads", 0L, 0, 1024));
     broad_phase = *broad_phase_kind(s.choice("broad_phase", {"fcl", "bullet", "brute"}, std::string("fcl")));
   }

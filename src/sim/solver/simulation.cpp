@@ -10,6 +10,7 @@
 #endif
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -23,24 +24,46 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 using SpMat = Eigen::SparseMatrix<double>;
+
+/// factor_reuse's back-off. A CG failure costs the whole CG cap and then a factorisation
+/// anyway. After one failure CG is tried again at the next solve (with the factor just
+/// made, which is usually a good preconditioner); after the second failure in a row the next
+/// solve refactors without trying CG, after the third the next 2, then 4, … up to this
+/// many; a CG success resets the count. Where the kept factor is a poor preconditioner (in
+/// contact the Hessian changes a lot from one Newton iteration to the next) this bounds the
+/// CG work spent in vain to about one attempt per this many solves; where it is a good one
+/// (free fall) CG is tried every time. The rule counts solves, not time, so runs are
+/// reproducible.
+constexpr int kMaxReuseBackoff = 16;
 }  // namespace
 
 /// The linear solver and the global Hessian, kept between steps (no allocation per
 /// iteration once the pattern is built).
 struct Simulation::LinearState {
   BlockHessian H;
+  /// The factor object's symbolic analysis is that of H's current pattern (cleared when the
+  /// pattern changes; `factor` analyses again before it factorises).
   bool analyzed = false;
 #ifdef PCE_SIM_HAVE_CHOLMOD
   Eigen::CholmodDecomposition<SpMat, Eigen::Upper> cholmod;
 #endif
   Eigen::SimplicialLDLT<SpMat, Eigen::Upper> ldlt;
   Eigen::ConjugateGradient<SpMat, Eigen::Upper> cg;
+  /// The factor object that holds a complete numerical factor (of some earlier H, maybe of
+  /// another pattern), or null: what factor_reuse may precondition with.
+  const void* factored = nullptr;
   double analyze_ms = 0, factorize_ms = 0;  ///< this step's symbolic and numeric factorisation time
   int analyses = 0;                         ///< symbolic analyses this step
+  int factorizations = 0;                   ///< numerical factorisations this step
+  int cg_iterations = 0;                    ///< conjugate-gradient iterations this step (factor_reuse, cg)
+  Eigen::VectorXd r, z, p, q;               ///< factor_reuse's CG vectors
+  int reuse_failures = 0;                   ///< factor_reuse: CG failures since the last CG success
+  int reuse_skip = 0;                       ///< factor_reuse: solves still to refactor without trying CG
 
   /// Symbolic analysis when the pattern changed, then the numerical factorisation, each
   /// timed; false when the factorisation fails.
   template <class Factorization> bool factor(Factorization& f, const SpMat& A) {
+    factored = nullptr;
     if (!analyzed) {
       const auto t0 = Clock::now();
       f.analyzePattern(A);
@@ -51,18 +74,86 @@ struct Simulation::LinearState {
     const auto t0 = Clock::now();
     f.factorize(A);
     factorize_ms += ms_since(t0);
+    ++factorizations;
+    if (f.info() != Eigen::Success) return false;
+    factored = &f;
+    return true;
+  }
+
+  /// factor_reuse: solves H dx = rhs by conjugate gradients preconditioned by `f`, the
+  /// factor of an earlier H (one forward and back substitution per iteration), from dx = 0.
+  /// True when ‖rhs − H dx‖ ≤ `eta` ‖rhs‖ within `max_iterations` and dx is a descent
+  /// direction (rhsᵀdx > 0, rhs = −g); false when it is not, or when pᵀHp or rᵀz is not > 0
+  /// (the preconditioned operator is not SPD along the search direction, or a value is not
+  /// finite). The loop is written out rather than Eigen's ConjugateGradient with an
+  /// adapter preconditioner class pointing at the factor: twenty lines in which every exit
+  /// (converged, breakdown, cap) is explicit and counted, where Eigen's loop reports only
+  /// success or no convergence and does not stop at pᵀHp ≤ 0.
+  template <class Factorization> bool preconditioned_cg(const Factorization& f, const SpMat& A,
+                                                        const Eigen::VectorXd& rhs, double eta, int max_iterations,
+                                                        Eigen::VectorXd& dx) {
+    const double target = eta * rhs.norm();
+    dx.setZero(rhs.size());
+    if (rhs.norm() == 0) return true;
+    r = rhs;
+    z = f.solve(r);
+    p = z;
+    double rz = r.dot(z);
+    for (int k = 0; k < max_iterations; ++k) {
+      q.noalias() = A.selfadjointView<Eigen::Upper>() * p;
+      const double pq = p.dot(q);
+      if (!(pq > 0) || !(rz > 0)) return false;
+      const double alpha = rz / pq;
+      dx += alpha * p;
+      r -= alpha * q;
+      ++cg_iterations;
+      if (r.norm() <= target) return rhs.dot(dx) > 0;
+      z = f.solve(r);
+      const double rz_next = r.dot(z);
+      p = z + (rz_next / rz) * p;
+      rz = rz_next;
+    }
+    return false;
+  }
+
+  /// factor_reuse with the factor object `f`: CG preconditioned by the kept factor; when
+  /// there is none, or CG does not converge, a new factorisation of the current H, whose
+  /// solve is the exact direction. After repeated CG failures the next `reuse_skip` solves
+  /// refactor without trying CG (the back-off, see kMaxReuseBackoff). False when the
+  /// factorisation or its solve fails.
+  template <class Factorization> bool reuse_solve(Factorization& f, const SpMat& A, const Eigen::VectorXd& rhs,
+                                                  double eta, int max_iterations, Eigen::VectorXd& dx) {
+    if (factored == &f && reuse_skip == 0) {
+      if (preconditioned_cg(f, A, rhs, eta, max_iterations, dx)) {
+        reuse_failures = 0;
+        return true;
+      }
+      ++reuse_failures;
+      if (reuse_failures >= 2) reuse_skip = std::min(1 << std::min(reuse_failures - 2, 30), kMaxReuseBackoff);
+    } else if (reuse_skip > 0) {
+      --reuse_skip;
+    }
+    if (!factor(f, A)) return false;
+    dx = f.solve(rhs);
     return f.info() == Eigen::Success;
   }
 
   /// Solves H dx = rhs; false when the factorisation or the iteration fails.
-  bool solve(LinearSolver kind, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx) {
+  bool solve(const SolverSettings& settings, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx) {
     const SpMat& A = H.matrix();
-    switch (kind) {
+    switch (settings.linear) {
+      case LinearSolver::factor_reuse:
+#ifdef PCE_SIM_HAVE_CHOLMOD
+        return reuse_solve(cholmod, A, rhs, settings.reuse_tolerance, settings.reuse_max_cg_iterations, dx);
+#else
+        return reuse_solve(ldlt, A, rhs, settings.reuse_tolerance, settings.reuse_max_cg_iterations, dx);
+#endif
       case LinearSolver::cg:
         cg.setTolerance(1e-8);
         cg.setMaxIterations(static_cast<Eigen::Index>(4 * rhs.size()));
         cg.compute(A);
         dx = cg.solve(rhs);
+        cg_iterations += static_cast<int>(cg.iterations());
         return cg.info() == Eigen::Success;
       case LinearSolver::direct:
 #ifdef PCE_SIM_HAVE_CHOLMOD
@@ -113,6 +204,9 @@ void Simulation::check() const {
   if (!(std::isfinite(solver.tolerance) && solver.tolerance > 0))
     throw ArgumentError("solver.tolerance", "expected a finite number > 0");
   if (solver.max_iterations < 1) throw ArgumentError("solver.max_iterations", "expected at least 1");
+  if (!(std::isfinite(solver.reuse_tolerance) && solver.reuse_tolerance > 0))
+    throw ArgumentError("solver.reuse_tolerance", "expected a finite number > 0");
+  if (solver.reuse_max_cg_iterations < 0) throw ArgumentError("solver.reuse_max_cg_iterations", "expected at least 0");
   for (std::size_t k = 0; k < effects.size(); ++k)
     if (!effects[k]) throw ArgumentError("effects[" + std::to_string(k) + "]", "expected an effect, got null");
 }
@@ -153,7 +247,7 @@ FrameStats Simulation::step() {
   static const bool trace_ = std::getenv("PCE_SIM_TRACE") != nullptr;  // one line per Newton iteration on stderr
   LinearState& ls = *linear_;
   ls.analyze_ms = ls.factorize_ms = 0;
-  ls.analyses = 0;
+  ls.analyses = ls.factorizations = ls.cg_iterations = 0;
   const int n = model.vertex_count();
   const double h = solver.dt;
   FrameStats st;
@@ -222,7 +316,7 @@ FrameStats Simulation::step() {
     // Newton direction.
     t0 = Clock::now();
     rhs = -Eigen::Map<const Eigen::VectorXd>(g.data(), g.size());
-    const bool solved = ls.solve(solver.linear, rhs, dx);
+    const bool solved = ls.solve(solver, rhs, dx);
     st.solve_ms += ms_since(t0);
     if (!solved || !dx.allFinite())
       throw SimulationError(st.frame, "", -1,
@@ -255,8 +349,9 @@ FrameStats Simulation::step() {
     }
     st.line_search_ms += ms_since(t0);
     if (trace_)
-      std::fprintf(stderr, "  it %d E %.9g slope %.3g alpha %.3g residual %.3g accepted %d\n", it, E, slope, alpha,
-                   st.residual, accepted);
+      std::fprintf(
+          stderr, "  it %d E %.9g slope %.3g alpha %.3g residual %.3g accepted %d factorizations %d cg_iterations %d\n",
+          it, E, slope, alpha, st.residual, accepted, ls.factorizations, ls.cg_iterations);
     if (!accepted) {
       ++st.line_search_failures;
       break;
@@ -315,6 +410,8 @@ FrameStats Simulation::step() {
   st.counters["analyze_ms"] = ls.analyze_ms;
   st.counters["factorize_ms"] = ls.factorize_ms;
   st.counters["analyses"] = ls.analyses;
+  st.counters["factorizations"] = ls.factorizations;
+  st.counters["cg_iterations"] = ls.cg_iterations;
   st.wall_ms = ms_since(t_frame);
   return st;
 }

@@ -7,11 +7,12 @@
 ///     xⁿ⁺¹ = argmin_x  Σᵢ mᵢ/(2h²) |xᵢ − x̃ᵢ|² + Σ_effects E(x),   x̃ = xⁿ + h vⁿ,
 ///
 /// minimised by projected Newton: each effect adds its energy, gradient and PSD Hessian,
-/// the Newton direction solves H Δx = −g (CHOLMOD or Eigen's LDLᵀ, or conjugate
-/// gradients), a backtracking line search (Armijo) that no effect's `max_step` lets a
-/// barrier cross, until the scale-aware residual max|Δx|/(h·ℓ) < tolerance (ℓ the rest
-/// bounding-box diagonal: a velocity in model sizes per second) or the iteration cap. The
-/// paper's cheap mode takes a single Newton step per time step.
+/// the Newton direction solves H Δx = −g (by default conjugate gradients preconditioned by
+/// a kept Cholesky factor; or a factorisation every iteration, CHOLMOD or Eigen's LDLᵀ; or
+/// plain conjugate gradients), a backtracking line search (Armijo) that no effect's
+/// `max_step` lets a barrier cross, until the scale-aware residual max|Δx|/(h·ℓ) <
+/// tolerance (ℓ the rest bounding-box diagonal: a velocity in model sizes per second) or the
+/// iteration cap. The paper's cheap mode takes a single Newton step per time step.
 #pragma once
 
 #include <pce/sim/broad_phase.hpp>
@@ -27,18 +28,26 @@
 namespace pce::sim {
 
 /// How the Newton system H Δx = −g is solved (scene key `solver.linear_solver`):
-/// `direct` (CHOLMOD when built with it, else Eigen's LDLᵀ), `ldlt` (Eigen's sparse LDLᵀ)
-/// or `cg` (conjugate gradients).
-enum class LinearSolver { direct, ldlt, cg };
+/// `factor_reuse` (the default: conjugate gradients preconditioned by the last Cholesky
+/// factor, kept across iterations and steps, refactored when they do not converge fast),
+/// `direct` (a new factorisation every iteration, CHOLMOD when built with it, else Eigen's
+/// LDLᵀ: the reference), `ldlt` (Eigen's sparse LDLᵀ every iteration) or `cg` (conjugate
+/// gradients, diagonal preconditioner).
+enum class LinearSolver { factor_reuse, direct, ldlt, cg };
 
 /// The scene's `solver` block: step size, Newton's stopping rule, linear solver, threads.
 struct SolverSettings {
-  double dt = 1.0 / 40.0;                      ///< time step (s), one per frame
-  int max_iterations = 50;                     ///< Newton iteration cap per step
-  double tolerance = 1e-2;                     ///< on max|Δx|/(h·ℓ), 1/s
-  bool single_solve = false;                   ///< one linearised solve per step (the paper's mode)
-  LinearSolver linear = LinearSolver::direct;  ///< direct: CHOLMOD when built with it, else LDLᵀ
-  int threads = 0;                             ///< 0: OpenMP's default
+  double dt = 1.0 / 40.0;                            ///< time step (s), one per frame
+  int max_iterations = 50;                           ///< Newton iteration cap per step
+  double tolerance = 1e-2;                           ///< on max|Δx|/(h·ℓ), 1/s
+  bool single_solve = false;                         ///< one linearised solve per step (the paper's mode)
+  LinearSolver linear = LinearSolver::factor_reuse;  ///< factor_reuse: the kept factor preconditions CG
+  /// factor_reuse: CG stops at ‖H Δx + g‖ ≤ η ‖g‖, this η (not a scene key).
+  double reuse_tolerance = 1e-2;
+  /// factor_reuse: CG iterations before it gives up and refactors (not a scene key; 0
+  /// refactors every iteration: the directions, and so the run, of `direct`).
+  int reuse_max_cg_iterations = 10;
+  int threads = 0;  ///< 0: OpenMP's default
 };
 
 /// What one frame cost and reached (`stats.json`, docs/simulation.md §5).
@@ -60,7 +69,9 @@ struct FrameStats {
   double broad_phase_ms = 0, pair_ms = 0, assembly_ms = 0, solve_ms = 0, line_search_ms = 0;
   ///@}
   std::vector<std::pair<std::string, double>> effect_ms;  ///< per evaluated effect, in scene order
-  EffectCounters counters;                                ///< merged effect counters (contact counts, distances, …)
+  /// Merged effect counters (contact counts, distances, …) and the linear solver's
+  /// (`factorizations`, `cg_iterations`, `analyses`, `analyze_ms`, `factorize_ms`).
+  EffectCounters counters;
 };
 
 /// A step that cannot go on: the state or an effect's energy or gradient became non-finite,
