@@ -2,8 +2,8 @@
 // The factor_reuse linear solver (CG preconditioned by a kept Cholesky factor): it reaches
 // the state the reference `direct` solver reaches, in contact; it factorises less often than
 // Newton iterates; a CG that never converges falls back to direct's solve exactly; a loose
-// CG tolerance still converges; and the scene key accepts it, defaults to it and names a
-// wrong value's file and JSON path.
+// CG tolerance still converges; and the scene key accepts it (the default stays `direct`)
+// and names a wrong value's file and JSON path.
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/scene.hpp>
 
@@ -133,14 +133,14 @@ TEST(LinearSolver, LooseCgToleranceStillConverges) {
   EXPECT_LT((r.x - d.x).cwiseAbs().maxCoeff(), 1e-6);
 }
 
-TEST(LinearSolver, SceneKeyAcceptsFactorReuseDefaultsToItAndNamesAWrongValue) {
+TEST(LinearSolver, SceneKeyAcceptsFactorReuseDefaultsToDirectAndNamesAWrongValue) {
   json j = drop("factor_reuse", 1e-2);
   EXPECT_EQ(load(j)->simulation.solver.linear, LinearSolver::factor_reuse);
   j["solver"].erase("linear_solver");
-  EXPECT_EQ(load(j)->simulation.solver.linear, LinearSolver::factor_reuse);
+  EXPECT_EQ(load(j)->simulation.solver.linear, LinearSolver::direct);
   j.erase("solver");
-  EXPECT_EQ(load(j)->simulation.solver.linear, LinearSolver::factor_reuse);
-  EXPECT_EQ(SolverSettings{}.linear, LinearSolver::factor_reuse);
+  EXPECT_EQ(load(j)->simulation.solver.linear, LinearSolver::direct);
+  EXPECT_EQ(SolverSettings{}.linear, LinearSolver::direct);
   j = drop("direct", 1e-2);
   EXPECT_EQ(load(j)->simulation.solver.linear, LinearSolver::direct);
   j["solver"]["linear_solver"] = "factor-reuse";
@@ -151,7 +151,7 @@ TEST(LinearSolver, SceneKeyAcceptsFactorReuseDefaultsToItAndNamesAWrongValue) {
     EXPECT_EQ(e.file(), "scene.json");
     EXPECT_EQ(e.where(), "solver.linear_solver");
     EXPECT_NE(
-        std::string(e.what()).find(R"(expected one of "factor_reuse", "direct", "ldlt", "cg", got "factor-reuse")"),
+        std::string(e.what()).find(R"(expected one of "direct", "factor_reuse", "ldlt", "cg", got "factor-reuse")"),
         std::string::npos)
         << e.what();
   }

@@ -259,13 +259,8 @@ TEST(PceSim, KilledRunKeepsEveryCompletedFrame) {
 TEST(PceSim, ResumedRunEndsBitForBitWhereTheUninterruptedRunEnds) {
   // The crumpling drop: contact from frame 9, so the checkpoint of frame 10 carries tracked
   // pairs and declarations; the interrupted run went on to frame 13, whose records the
-  // resume drops. With the "direct" linear solver: the default factor_reuse keeps a
-  // Cholesky factor across steps that the checkpoint does not hold, so its resumed run
-  // differs a little (docs/simulation.md §6.4).
-  json crumple = read_json(kScenes / "crumple.json");
-  crumple["solver"]["linear_solver"] = "direct";
-  const fs::path scene = fs::path(PCE_TEST_TMP) / "crumple_direct.json";
-  std::ofstream(scene) << crumple.dump(2);
+  // resume drops.
+  const fs::path scene = kScenes / "crumple.json";
   const fs::path whole = fs::path(PCE_TEST_TMP) / "resume_whole", parts = fs::path(PCE_TEST_TMP) / "resume_parts";
   fs::remove_all(whole);
   fs::remove_all(parts);

@@ -70,6 +70,11 @@ json frame_record(const FrameStats& s, long intersections) {
   json counters = json::object();
   for (const auto& [k, v] : s.counters) counters[k] = std::isfinite(v) ? json(v) : json(nullptr);
   r["counters"] = counters;
+  json iterations = json::array();
+  for (const NewtonIteration& it : s.iterations)
+    iterations.push_back(
+        {{"residual", it.residual}, {"step_limit", it.step_limit}, {"limited_by", it.limited_by}, {"alpha", it.alpha}});
+  r["iterations"] = iterations;
   return r;
 }
 

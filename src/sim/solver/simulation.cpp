@@ -330,7 +330,14 @@ FrameStats Simulation::step() {
     // Backtracking line search from the largest step every effect allows.
     t0 = Clock::now();
     double alpha = 1.0;
-    for (auto& e : effects) alpha = std::min(alpha, e->max_step(y, dxm));
+    NewtonIteration record;
+    record.residual = st.residual;
+    for (auto& e : effects)
+      if (const double t = e->max_step(y, dxm); t < alpha) {
+        alpha = t;
+        record.limited_by = e->name();
+      }
+    record.step_limit = alpha;
     const double slope = -rhs.dot(dx);  // gᵀΔx < 0 for a descent direction
     bool accepted = false;
     // Trial steps whose largest vertex motion is below a hundredth of the stopping
@@ -348,6 +355,8 @@ FrameStats Simulation::step() {
       }
     }
     st.line_search_ms += ms_since(t0);
+    record.alpha = accepted ? alpha : 0.0;
+    st.iterations.push_back(record);
     if (trace_)
       std::fprintf(
           stderr, "  it %d E %.9g slope %.3g alpha %.3g residual %.3g accepted %d factorizations %d cg_iterations %d\n",

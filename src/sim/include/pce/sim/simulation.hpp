@@ -7,9 +7,9 @@
 ///     xⁿ⁺¹ = argmin_x  Σᵢ mᵢ/(2h²) |xᵢ − x̃ᵢ|² + Σ_effects E(x),   x̃ = xⁿ + h vⁿ,
 ///
 /// minimised by projected Newton: each effect adds its energy, gradient and PSD Hessian,
-/// the Newton direction solves H Δx = −g (by default conjugate gradients preconditioned by
-/// a kept Cholesky factor; or a factorisation every iteration, CHOLMOD or Eigen's LDLᵀ; or
-/// plain conjugate gradients), a backtracking line search (Armijo) that no effect's
+/// the Newton direction solves H Δx = −g (by default a factorisation every iteration,
+/// CHOLMOD or Eigen's LDLᵀ; or conjugate gradients preconditioned by a kept Cholesky
+/// factor; or plain conjugate gradients), a backtracking line search (Armijo) that no effect's
 /// `max_step` lets a barrier cross, until the scale-aware residual max|Δx|/(h·ℓ) <
 /// tolerance (ℓ the rest bounding-box diagonal: a velocity in model sizes per second) or the
 /// iteration cap. The paper's cheap mode takes a single Newton step per time step.
@@ -28,26 +28,35 @@
 namespace pce::sim {
 
 /// How the Newton system H Δx = −g is solved (scene key `solver.linear_solver`):
-/// `factor_reuse` (the default: conjugate gradients preconditioned by the last Cholesky
-/// factor, kept across iterations and steps, refactored when they do not converge fast),
-/// `direct` (a new factorisation every iteration, CHOLMOD when built with it, else Eigen's
-/// LDLᵀ: the reference), `ldlt` (Eigen's sparse LDLᵀ every iteration) or `cg` (conjugate
-/// gradients, diagonal preconditioner).
+/// `direct` (the default: a new factorisation every iteration, CHOLMOD when built with it,
+/// else Eigen's LDLᵀ), `factor_reuse` (conjugate gradients preconditioned by the last
+/// Cholesky factor, kept across iterations and steps, refactored when they do not converge
+/// fast; the kept factor is not in a checkpoint, so a resumed run differs slightly), `ldlt` (Eigen's sparse LDLᵀ every
+/// iteration) or `cg` (conjugate gradients, diagonal preconditioner).
 enum class LinearSolver { factor_reuse, direct, ldlt, cg };
 
 /// The scene's `solver` block: step size, Newton's stopping rule, linear solver, threads.
 struct SolverSettings {
-  double dt = 1.0 / 40.0;                            ///< time step (s), one per frame
-  int max_iterations = 50;                           ///< Newton iteration cap per step
-  double tolerance = 1e-2;                           ///< on max|Δx|/(h·ℓ), 1/s
-  bool single_solve = false;                         ///< one linearised solve per step (the paper's mode)
-  LinearSolver linear = LinearSolver::factor_reuse;  ///< factor_reuse: the kept factor preconditions CG
+  double dt = 1.0 / 40.0;                      ///< time step (s), one per frame
+  int max_iterations = 50;                     ///< Newton iteration cap per step
+  double tolerance = 1e-2;                     ///< on max|Δx|/(h·ℓ), 1/s
+  bool single_solve = false;                   ///< one linearised solve per step (the paper's mode)
+  LinearSolver linear = LinearSolver::direct;  ///< direct: CHOLMOD when built with it, else LDLᵀ
   /// factor_reuse: CG stops at ‖H Δx + g‖ ≤ η ‖g‖, this η (not a scene key).
   double reuse_tolerance = 1e-2;
   /// factor_reuse: CG iterations before it gives up and refactors (not a scene key; 0
   /// refactors every iteration: the directions, and so the run, of `direct`).
   int reuse_max_cg_iterations = 10;
   int threads = 0;  ///< 0: OpenMP's default
+};
+
+/// One Newton iteration of a step, for diagnosing slow convergence (`stats.json`'s
+/// `iterations`): how far the direction went and what cut it short.
+struct NewtonIteration {
+  double residual = 0;          ///< max|Δx|/(h·ℓ) of this iteration's direction
+  double step_limit = 1;        ///< the largest fraction of Δx every effect's `max_step` allowed
+  const char* limited_by = "";  ///< the effect whose max_step set step_limit ("" when it is 1)
+  double alpha = 0;             ///< the accepted fraction after backtracking (0: the line search failed)
 };
 
 /// What one frame cost and reached (`stats.json`, docs/simulation.md §5).
@@ -69,6 +78,7 @@ struct FrameStats {
   double broad_phase_ms = 0, pair_ms = 0, assembly_ms = 0, solve_ms = 0, line_search_ms = 0;
   ///@}
   std::vector<std::pair<std::string, double>> effect_ms;  ///< per evaluated effect, in scene order
+  std::vector<NewtonIteration> iterations;                ///< per Newton iteration, in order
   /// Merged effect counters (contact counts, distances, …) and the linear solver's
   /// (`factorizations`, `cg_iterations`, `analyses`, `analyze_ms`, `factorize_ms`).
   EffectCounters counters;
