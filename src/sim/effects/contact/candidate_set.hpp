@@ -1,0 +1,403 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// The candidate set of one self-contact effect (internal; docs/simulation.md §4.2): the
+/// broad-phase query over a sweep, the fold pairs, the validity of the set and its
+/// re-queries, and the per-pass filter that drops candidates which provably cannot be
+/// active. It knows nothing of energies: the effect classifies and evaluates the pairs
+/// (`effects/contact.cpp`).
+///
+/// Validity: every pair that is not a candidate stays more than d apart while either of two
+/// conditions holds.
+///  (A) Sweep: the query grew each primitive's box over the sweep x0 → x1 by r = d + m, so a
+///      non-candidate pair is more than r apart along some axis there; while every vertex
+///      stays within m/2 of its own swept box on every axis (sweep_use ≤ 1), each
+///      primitive's box grows by at most m/2, and the pair stays more than d apart.
+///  (B) Relative drift: at x0 a non-candidate pair was more than r apart and at least the
+///      gap G_AB between its two meshes' boxes; it stays more than d apart while its
+///      relative drift is below the budget max(m, G_AB − d) (m within one mesh). With D the
+///      drift from x0, c_A a mesh's mean drift and s_A = max_{i∈A}|Dᵢ − c_A|, a pair of
+///      meshes A, B drifts relatively by at most
+///          rel_AB(D) = s_A + s_B + |c_A − c_B|   (2 s_A within one mesh),
+///      which ignores common translations (a sheet falling alone keeps its set).
+/// With a step bound (a barrier or `ccd`), `step_limit` never lets both conditions fail, and
+/// the set is queried again only after a step that this limit cut short, sweeping from there
+/// to that step's Newton target. Without one, a query follows once both conditions have used
+/// half their budget.
+#pragma once
+
+#include "pair_geometry.hpp"
+
+#include <pce/energy/closest_feature.hpp>
+#include <pce/penalties/quadratic.hpp>
+#include <pce/sim/broad_phase.hpp>
+#include <pce/sim/instrumentation.hpp>
+
+#include <omp.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <type_traits>
+#include <vector>
+
+namespace pce::sim::contact {
+
+template <bool VF> class CandidateSet {
+  using Geometry = PairGeometry<VF>;
+  using Clock = std::chrono::steady_clock;
+  static double ms_since(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  }
+
+ public:
+  using Pair = std::array<int, 2>;
+
+  /// What the queries of one time step cost.
+  struct QueryStats {
+    double broad_phase_ms = 0, tree_ms = 0;
+    int queries = 0;
+  };
+
+  /// `distance` d, the activation distance; `bounded`: the effect bounds its steps
+  /// (validity is then kept by step_limit, and re-queries wait until the limit binds).
+  CandidateSet(const Model& model, BroadPhaseKind kind, double distance, bool bounded)
+      : model_(&model), broad_phase_(make_broad_phase(kind)), distance_(distance), bounded_(bounded) {
+    mesh_of_.resize(static_cast<std::size_t>(model.vertex_count()));
+    for (std::size_t m = 0; m < model.meshes.size(); ++m)
+      for (int i = 0; i < model.meshes[m].vertex_count; ++i)
+        mesh_of_[static_cast<std::size_t>(model.meshes[m].first_vertex + i)] = static_cast<int>(m);
+    find_fold_pairs();
+  }
+
+  /// Fold pairs are active below this fraction of their rest distance (and below d).
+  static constexpr double kFoldReach = 0.5;
+
+  std::size_t size() const { return pairs_.size(); }
+  const std::vector<Pair>& pairs() const { return pairs_; }
+  std::array<int, 4> vertices(std::size_t k) const { return Geometry::vertices(*model_, pairs_[k]); }
+  /// Candidate k is a fold pair (one mesh, closer than 2d at rest); its activation distance.
+  bool fold_pair(std::size_t k) const { return fold_pair_[k] != 0; }
+  double fold_reach(std::size_t k) const { return fold_reach_[k]; }
+  /// Fold pairs among the candidates.
+  long fold_pairs() const { return static_cast<long>(std::count(fold_pair_.begin(), fold_pair_.end(), char(1))); }
+  const QueryStats& stats() const { return stats_; }
+
+  /// Starts a time step: one query over the sweep x0 → x1 (the effect sweeps from xⁿ to the
+  /// inertial prediction). `previous[k]` is the index the new candidate k had before, or −1.
+  void begin_step(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, std::vector<long>& previous) {
+    margin_ = distance_;
+    stats_ = {};
+    target_.resize(3, 0);
+    validity_bound_ = false;
+    query(x0, x1, previous);
+  }
+
+  /// Whether the set still covers every pair within d at x (see the file comment).
+  bool still_valid(const Eigen::Matrix3Xd& x) const {
+    if (validity_bound_) return false;
+    const double limit = bounded_ ? 1.0 : 0.5;
+    return sweep_use(x) <= limit || validity_use(mesh_drift(x - query_at_), nullptr) <= limit;
+  }
+
+  /// Queries again at x, over the sweep to the last step's Newton target.
+  void refresh(const Eigen::Matrix3Xd& x, std::vector<long>& previous) {
+    const Eigen::Matrix3Xd to = target_.cols() == x.cols() ? target_ : x;
+    validity_bound_ = false;
+    query(x, to, previous);
+  }
+
+  /// The largest t ∈ [0, 1] for which x + t dx keeps the set valid (the larger of the two
+  /// conditions' limits, each where it holds at x); measures the drift (as measure_drift)
+  /// and the step's reach (step_reach) for the step filter, and keeps x + dx as the target of
+  /// a re-query.
+  double step_limit(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) {
+    const MeshDrift step = mesh_drift(dx);
+    double t_drift = 1.0;
+    const bool drift_valid = validity_use(mesh_drift(x - query_at_), &step, &t_drift) <= 1;
+    const double t_valid = std::max(drift_valid ? t_drift : 0.0, sweep_step(x, dx));
+    target_ = x + dx;
+    measure_drift(x);
+    step_reach_ = step_reach(step);
+    return t_valid;
+  }
+
+  /// Records the step limit's outcome: `t_valid` from step_limit, `t` the limit the effect
+  /// returned; when the validity limit was the one that bound, the next still_valid says no.
+  void record_step(double t_valid, double t) { validity_bound_ = t_valid < 1 && t >= t_valid; }
+
+  /// drift_rel_[a·M + b] = rel_AB(x − query point) (validity_use's measure) and drift_ =
+  /// x − query point: no pair of meshes A, B has moved relatively by more since the query,
+  /// so a candidate's distance at x is at least its bound at the query minus this. Called
+  /// once per pass, before the pair loop.
+  void measure_drift(const Eigen::Matrix3Xd& x) {
+    drift_ = x - query_at_;
+    const MeshDrift m = mesh_drift(drift_);
+    const std::size_t M = m.s.size();
+    drift_rel_.assign(M * M, 0.0);
+    for (std::size_t a = 0; a < M; ++a)
+      for (std::size_t b = a; b < M; ++b) drift_rel_[a * M + b] = relative(m, a, b);
+  }
+
+  /// The largest drift of the pair's vertices relative to each other since the query: max
+  /// over i of the first primitive and j of the second of |Dᵢ − Dⱼ| (D = x − query point of
+  /// the last measure_drift). The distance between the primitives has changed by at most
+  /// this since the query.
+  double pair_drift(const std::array<int, 4>& v) const {
+    constexpr int na = Geometry::first_side_count();
+    double worst = 0;
+    for (int i = 0; i < na; ++i)
+      for (int j = na; j < 4; ++j)
+        worst = std::max(
+            worst,
+            (drift_.col(v[static_cast<std::size_t>(i)]) - drift_.col(v[static_cast<std::size_t>(j)])).squaredNorm());
+    return std::sqrt(worst);
+  }
+
+  /// True when candidate k provably is farther than `limit` apart at the x of the last
+  /// measure_drift: its lower bound at the query point, less how far its primitives can have
+  /// closed in since (first the relative drift of its two meshes, one comparison; then the
+  /// pair's own, pair_drift), is at least `limit`, each with a relative slack of 1e-9, far
+  /// beyond rounding. A few flops instead of a frame or a distance, for every candidate that
+  /// has not closed in (on the hammock, nearly all of them, fold pairs included).
+  bool beyond(std::size_t k, double limit) const {
+    if (query_lb_.size() != pairs_.size()) return false;
+    const double room = query_lb_[k] - limit * (1 + 1e-9);
+    if (room >= drift_rel_[static_cast<std::size_t>(mesh_pair_[k])] * (1 + 1e-9)) return true;
+    return room > 0 && room >= pair_drift(vertices(k)) * (1 + 1e-9);
+  }
+
+  /// Step filter, meshes only: candidate k cannot limit a step below `t_valid` (from the
+  /// last step_limit): with lb its bound at the query, its distance at x is at least
+  /// lb − rel_AB, and the step moves its primitives relative to their mean p̄ by at most
+  /// ma + mb ≤ 2 W_AB (step_reach), so its own limit 0.9 · distance/(ma + mb) ≥ t_valid.
+  bool cannot_limit(std::size_t k, double t_valid) const {
+    if (query_lb_.size() != pairs_.size()) return false;
+    const auto mp = static_cast<std::size_t>(mesh_pair_[k]);
+    return 0.9 * (query_lb_[k] - drift_rel_[mp]) >= t_valid * 2 * step_reach_[mp] * (1 + 1e-9);
+  }
+
+  /// Step filter, the pair's own drift: candidate k with vertices v, whose primitives the
+  /// step moves by ma + mb relative to their mean, cannot lower `t` (no vertex position read).
+  bool cannot_lower(std::size_t k, const std::array<int, 4>& v, double motion, double t) const {
+    return query_lb_.size() == pairs_.size() && 0.9 * (query_lb_[k] - pair_drift(v)) >= t * motion * (1 + 1e-9);
+  }
+
+  /// Replaces the candidates with `pairs` (sorted; a checkpoint's), the fold pairs marked;
+  /// the filter waits for the next query's bounds.
+  void restore(std::vector<Pair> pairs) {
+    pairs_ = std::move(pairs);
+    mark_fold_pairs();
+    query_lb_.clear();
+  }
+
+  /// The query's start state (the effect settles signed sides there).
+  const Eigen::Matrix3Xd& query_point() const { return query_at_; }
+
+ private:
+  /// Per mesh: the mean c_A of D's columns and s_A = max_{i∈A} |Dᵢ − c_A|.
+  struct MeshDrift {
+    std::vector<Eigen::Vector3d> c;
+    std::vector<double> s;
+  };
+  MeshDrift mesh_drift(const Eigen::Matrix3Xd& D) const {
+    MeshDrift m;
+    for (const MeshRange& r : model_->meshes) {
+      const auto block = D.middleCols(r.first_vertex, r.vertex_count);
+      const Eigen::Vector3d c = block.rowwise().mean();
+      m.c.push_back(c);
+      m.s.push_back((block.colwise() - c).colwise().norm().maxCoeff());
+    }
+    return m;
+  }
+  static double relative(const MeshDrift& m, std::size_t a, std::size_t b) {
+    return a == b ? 2 * m.s[a] : m.s[a] + m.s[b] + (m.c[a] - m.c[b]).norm();
+  }
+  /// Per pair of meshes, W_AB = max(2 s_A, 2 s_B, rel_AB(step)): no two vertices of a pair of
+  /// primitives in A and B move by more than W_AB relative to each other, so neither moves
+  /// by more than W_AB relative to their mean p̄ (the step bound's ma, mb).
+  static std::vector<double> step_reach(const MeshDrift& step) {
+    const std::size_t M = step.s.size();
+    std::vector<double> w(M * M, 0.0);
+    for (std::size_t a = 0; a < M; ++a)
+      for (std::size_t b = a; b < M; ++b) w[a * M + b] = std::max({2 * step.s[a], 2 * step.s[b], relative(step, a, b)});
+    return w;
+  }
+  /// max over mesh pairs of rel_AB(D)/budget_AB (≤ 1: condition B holds). With `step`, also
+  /// lowers *t to the largest fraction of `step` that keeps every rel within its budget.
+  double validity_use(const MeshDrift& now, const MeshDrift* step, double* t = nullptr) const {
+    double use = 0;
+    const std::size_t M = now.s.size();
+    for (std::size_t a = 0; a < M; ++a)
+      for (std::size_t b = a; b < M; ++b) {
+        const double budget = std::max(margin_, gaps_[a * M + b] - distance_);
+        const double rel = relative(now, a, b);
+        use = std::max(use, rel / budget);
+        if (step && t) {
+          const double moving = relative(*step, a, b);
+          if (moving > 0) *t = std::min(*t, std::max(0.0, budget - rel) / moving);
+        }
+      }
+    return use;
+  }
+
+  /// Half the margin, the room each vertex has beyond its swept box (condition A), less a
+  /// relative 1e-6 for the rounding of positions and steps.
+  double sweep_room() const { return 0.5 * margin_ * (1 - 1e-6); }
+
+  /// max over vertices and axes of (how far xᵢ lies outside its swept box) / sweep_room():
+  /// condition A holds while this is ≤ 1.
+  double sweep_use(const Eigen::Matrix3Xd& x) const {
+    const double outside = (sweep_lo_ - x).cwiseMax(x - sweep_hi_).maxCoeff();
+    return std::max(outside, 0.0) / sweep_room();
+  }
+
+  /// The largest t ∈ [0, 1] for which x + t dx keeps every vertex within sweep_room() of its
+  /// swept box on every axis (condition A along the step); 0 when x itself does not.
+  double sweep_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) const {
+    if (sweep_use(x) > 1) return 0.0;
+    const double room = sweep_room();
+    double t = 1.0;
+    for (Eigen::Index i = 0; i < x.cols(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        const double d = dx(c, i);
+        if (d > 0)
+          t = std::min(t, (sweep_hi_(c, i) + room - x(c, i)) / d);
+        else if (d < 0)
+          t = std::min(t, (sweep_lo_(c, i) - room - x(c, i)) / d);
+      }
+    return std::max(t, 0.0);
+  }
+
+  /// The query over the sweep x0 → x1 (x0 = x1: at one state): the candidates, each vertex's
+  /// swept box (condition A), the gaps between the meshes' boxes at x0 (condition B), and
+  /// every candidate's distance bound at x0 (the filter).
+  void query(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, std::vector<long>& previous) {
+    const auto t0 = Clock::now();
+    query_at_ = x0;
+    query_to_ = x1;
+    sweep_lo_ = x0.cwiseMin(x1);
+    sweep_hi_ = x0.cwiseMax(x1);
+    const std::size_t M = model_->meshes.size();
+    std::vector<Eigen::AlignedBox3d> boxes(M);
+    for (std::size_t a = 0; a < M; ++a) {
+      const MeshRange& r = model_->meshes[a];
+      const auto block = x0.middleCols(r.first_vertex, r.vertex_count);
+      boxes[a] = Eigen::AlignedBox3d(block.rowwise().minCoeff(), block.rowwise().maxCoeff());
+    }
+    gaps_.assign(M * M, 0.0);
+    for (std::size_t a = 0; a < M; ++a)
+      for (std::size_t b = a + 1; b < M; ++b) gaps_[a * M + b] = std::sqrt(boxes[a].squaredExteriorDistance(boxes[b]));
+
+    std::vector<Pair> fresh;
+    const auto t_tree = Clock::now();
+    const double r = distance_ + margin_;
+    if constexpr (VF)
+      broad_phase_->vertex_face(query_at_, query_to_, model_->triangles, r, fresh);
+    else
+      broad_phase_->edge_edge(query_at_, query_to_, model_->edges, r, fresh);
+    stats_.tree_ms += ms_since(t_tree);
+    // Both lists are sorted: one merge pass finds where each fresh pair was.
+    previous.assign(fresh.size(), -1);
+    std::size_t old = 0;
+    for (std::size_t k = 0; k < fresh.size(); ++k) {
+      while (old < pairs_.size() && pairs_[old] < fresh[k]) ++old;
+      if (old < pairs_.size() && pairs_[old] == fresh[k]) previous[k] = static_cast<long>(old);
+    }
+    pairs_ = std::move(fresh);
+    mark_fold_pairs();
+    bound_at_query();
+    stats_.queries += 1;
+    ++instrumentation().broad_phase_queries;
+    stats_.broad_phase_ms += ms_since(t0);
+  }
+
+  /// Per candidate, at the query point: the distance lower bound and the index a·M + b
+  /// (a ≤ b) of its two primitives' meshes; what beyond and the step filter read.
+  void bound_at_query() {
+    const long n = static_cast<long>(pairs_.size());
+    const int M = static_cast<int>(model_->meshes.size());
+    query_lb_.resize(pairs_.size());
+    mesh_pair_.resize(pairs_.size());
+#pragma omp parallel for schedule(static)
+    for (long k = 0; k < n; ++k) {
+      const auto uk = static_cast<std::size_t>(k);
+      const auto v = vertices(uk);
+      query_lb_[uk] = Geometry::distance_lower_bound(Geometry::gather(query_at_, v));
+      const int a = mesh_of_[static_cast<std::size_t>(v[0])], b = mesh_of_[static_cast<std::size_t>(v[3])];
+      mesh_pair_[uk] = std::min(a, b) * M + std::max(a, b);
+    }
+  }
+
+  /// The same-mesh pairs whose primitives are closer than 2d in the rest shape (a sheet's
+  /// neighbours one or two rings apart), sorted, with their reach min(d, kFoldReach · D₀):
+  /// once per effect, by a rest-shape query of radius 2d filtered by the exact distance D₀.
+  void find_fold_pairs() {
+    const double r = 2 * distance_;
+    std::vector<Pair> rest_pairs;
+    if constexpr (VF)
+      broad_phase_->vertex_face(model_->rest, model_->triangles, r, rest_pairs);
+    else
+      broad_phase_->edge_edge(model_->rest, model_->edges, r, rest_pairs);
+    const long n = static_cast<long>(rest_pairs.size());
+    std::vector<char> near(rest_pairs.size(), 0);
+    std::vector<double> rest_distance(rest_pairs.size(), 0.0);
+#pragma omp parallel for schedule(static)
+    for (long k = 0; k < n; ++k) {
+      const auto v = Geometry::vertices(*model_, rest_pairs[static_cast<std::size_t>(k)]);
+      if (mesh_of_[static_cast<std::size_t>(v[0])] != mesh_of_[static_cast<std::size_t>(v[3])]) continue;
+      const Vec12<double> rest = Geometry::gather(model_->rest, v);
+      if (Geometry::distance_lower_bound(rest) >= r) continue;
+      using Kind = std::conditional_t<VF, VertexFace, EdgeEdge>;
+      ClosestFeatureEnergy<double> ce;
+      const Status st = closest_feature_energy<Kind>(rest, UnsignedLength{}, QuadraticPenalty{1.0, 0.0}, ce);
+      near[static_cast<std::size_t>(k)] = st != Status::ok || ce.length < r;
+      rest_distance[static_cast<std::size_t>(k)] = st == Status::ok ? ce.length : 0.0;
+    }
+    folds_.clear();
+    fold_reaches_.clear();
+    for (std::size_t k = 0; k < rest_pairs.size(); ++k)
+      if (near[k]) {
+        folds_.push_back(rest_pairs[k]);
+        fold_reaches_.push_back(std::min(distance_, kFoldReach * rest_distance[k]));
+      }
+  }
+
+  /// fold_pair_[k]: candidate k is a fold pair, with its reach (one merge pass of two sorted lists).
+  void mark_fold_pairs() {
+    fold_pair_.assign(pairs_.size(), 0);
+    fold_reach_.assign(pairs_.size(), 0.0);
+    std::size_t j = 0;
+    for (std::size_t k = 0; k < pairs_.size(); ++k) {
+      while (j < folds_.size() && folds_[j] < pairs_[k]) ++j;
+      fold_pair_[k] = j < folds_.size() && folds_[j] == pairs_[k];
+      if (fold_pair_[k]) fold_reach_[k] = fold_reaches_[j];
+    }
+  }
+
+  const Model* model_;
+  std::unique_ptr<BroadPhase> broad_phase_;
+  double distance_;                       ///< d
+  double margin_;                         ///< this step's margin m (= d)
+  bool bounded_;                          ///< the effect bounds its steps (validity kept by step_limit)
+  std::vector<int> mesh_of_;              ///< per vertex: its mesh
+  std::vector<Pair> pairs_;               ///< the candidates, sorted
+  std::vector<Pair> folds_;               ///< same-mesh pairs closer than 2d at rest, sorted
+  std::vector<double> fold_reaches_;      ///< per entry of folds_: min(d, kFoldReach · rest distance)
+  std::vector<char> fold_pair_;           ///< per candidate: it is a fold pair
+  std::vector<double> fold_reach_;        ///< per candidate: its fold reach, else 0
+  Eigen::Matrix3Xd query_at_, query_to_;  ///< the last query's sweep x0 → x1
+  Eigen::Matrix3Xd sweep_lo_, sweep_hi_;  ///< per vertex: its box over the sweep (condition A)
+  std::vector<double> gaps_;              ///< M×M (upper part): gap between meshes' boxes at x0
+  Eigen::Matrix3Xd target_;               ///< x + dx of the last step_limit: where a re-query sweeps to
+  bool validity_bound_ = false;           ///< the last step's limit was the validity limit
+  std::vector<double> query_lb_;          ///< per candidate: distance lower bound at x0
+  std::vector<int> mesh_pair_;            ///< per candidate: a·M + b of its meshes (a ≤ b)
+  Eigen::Matrix3Xd drift_;                ///< x − x0 of the last measure_drift
+  std::vector<double> drift_rel_;         ///< rel_AB(drift_), indexed a·M + b
+  std::vector<double> step_reach_;        ///< W_AB of the last step_limit, indexed a·M + b
+  QueryStats stats_;
+};
+
+}  // namespace pce::sim::contact
