@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Self contact effects: gradients against central differences, PSD Hessians for every
-// strategy, signed sides recorded at entry and kept while tracked, barrier step limits.
+// strategy, signed sides recorded at entry and kept while tracked, barrier step limits, a
+// landing sheet covered by one query over its sweep, and trajectories independent of the
+// thread count.
 #include <pce/energy/closest_feature.hpp>
 #include <pce/penalties/quadratic.hpp>
 #include <pce/sim/candidates.hpp>
@@ -289,6 +291,62 @@ TEST(Contact, StepNeverCarriesAVertexThroughAFaceThatWasNotACandidate) {
         far->simulation.effects[0]->max_step(far->simulation.x, lift_b(far->simulation.x, -0.2) - far->simulation.x),
         1.0);
   }
+}
+
+TEST(Contact, LandingSheetIsCoveredByOneQueryOverItsSweep) {
+  // Sheet b starts 0.1 above sheet a, beyond the query radius 2d = 0.04, and falls 0.09 in
+  // this step: its inertial prediction x̃ is 0.01 above a. The step's one query sweeps
+  // from xⁿ to x̃, so b's pairs with a are candidates from the start and a Newton step to x̃
+  // is neither cut by the validity limit (every vertex moves along its swept box) nor by
+  // the candidates' bound (0.9 of 0.1 ≥ 0.09). A query at xⁿ alone had no pair of the two
+  // sheets and cut that step to (0.1 − d)/0.09 ≈ 0.89.
+  for (const char* type : {"self_vertex_face", "self_edge_edge"}) {
+    SCOPED_TRACE(type);
+    auto s = two_sheets(contact(type, "unsigned", "analytic", true), 0.1);
+    Effect& e = *s->simulation.effects[0];
+    const Eigen::Matrix3Xd x = s->simulation.x;
+    const double dt = 0.01;
+    Eigen::Matrix3Xd v = (lift_b(x, -0.09) - x) / dt;
+    StepContext ctx;
+    ctx.frame = 1;
+    ctx.time = dt;
+    ctx.dt = dt;
+    ctx.model = &s->simulation.model;
+    ctx.x_start = &x;
+    ctx.v_start = &v;
+    e.begin_step(ctx);
+    EffectCounters falling;
+    e.report(falling);
+    const Eigen::Matrix3Xd still = Eigen::Matrix3Xd::Zero(3, x.cols());
+    ctx.v_start = &still;
+    auto resting = two_sheets(contact(type, "unsigned", "analytic", true), 0.1);
+    resting->simulation.effects[0]->begin_step(ctx);
+    EffectCounters apart;
+    resting->simulation.effects[0]->report(apart);
+    const std::string kind = std::string(type) == "self_vertex_face" ? "vertex_face" : "edge_edge";
+    EXPECT_GT(falling.at(kind + "_candidates"), apart.at(kind + "_candidates"));  // the sweep reaches a
+    EXPECT_EQ(e.max_step(x, lift_b(x, -0.09) - x), 1.0);
+    EXPECT_TRUE(e.still_valid(lift_b(x, -0.09)));  // no second query
+  }
+}
+
+TEST(Contact, ThreadCountDoesNotChangeTheTrajectory) {
+  // crumple.json (contact from frame ~9, closest features, fold pairs) with one and with two
+  // threads: per-pair results are merged in candidate order and the step bound is a minimum,
+  // so every frame is bit for bit the same.
+  const auto path = std::filesystem::path(PCE_SOURCE_DIR) / "examples" / "scenes" / "crumple.json";
+  auto one = load_scene(path), two = load_scene(path);
+  one->simulation.solver.threads = 1;
+  two->simulation.solver.threads = 2;
+  long contacts = 0;
+  for (int f = 1; f <= 13; ++f) {
+    const FrameStats a = one->simulation.step();
+    const FrameStats b = two->simulation.step();
+    ASSERT_EQ(one->simulation.x, two->simulation.x) << "frame " << f;
+    ASSERT_EQ(a.newton_iterations, b.newton_iterations) << "frame " << f;
+    contacts += static_cast<long>(a.counters.at("vertex_face_contacts") + a.counters.at("edge_edge_contacts"));
+  }
+  EXPECT_GT(contacts, 100);  // the frames compared include contact
 }
 
 TEST(Contact, StepBoundEqualsTheBoundOverEveryCandidate) {
