@@ -6,7 +6,7 @@
 // effect adds (BlockHessian throws otherwise), and one InputError per kind of bad parameter
 // naming its JSON path. DISABLED_Timing is the microbenchmark (run with
 // --gtest_also_run_disabled_tests --gtest_filter=*Timing*).
-#include "effects/elastic.hpp"
+#include "scene/effect_loaders.hpp"
 
 #include <pce/sim/generators.hpp>
 #include <pce/sim/input_error.hpp>

@@ -7,7 +7,7 @@
 // meshes lie on the surface and face outward; the obstacle_contact effect's gradient
 // matches finite differences, its Hessian is PSD, the barrier's domain is kept; bad scene
 // input names its JSON path.
-#include "effects/factory.hpp"
+#include "scene/effect_loaders.hpp"
 
 #include <pce/sim/fcl_distance.hpp>
 #include <pce/sim/obstacle.hpp>
@@ -20,11 +20,6 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
-
-namespace pce::sim {
-std::unique_ptr<Effect> load_obstacle_contact(const Params& params,
-                                              const BuildContext& ctx);  // effects/obstacle_contact.cpp
-}  // namespace pce::sim
 
 namespace {
 

@@ -16,7 +16,8 @@
 // 2 k w (θ − θ₀) ∇²θ, which vanishes at the rest angle.
 #include <pce/sim/instrumentation.hpp>
 #include "arguments.hpp"
-#include "elastic.hpp"
+
+#include <pce/sim/effects.hpp>
 
 #include <algorithm>
 #include <array>
@@ -153,12 +154,6 @@ std::unique_ptr<Effect> make_bending(const Model& model, double stiffness) {
   }
   instrumentation().bending_hinges_allocated += static_cast<long>(hinges.size());
   return std::make_unique<Bending>(std::move(hinges));
-}
-
-std::unique_ptr<Effect> load_bending(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "stiffness"});
-  const double k = params.positive("stiffness");
-  return params.build([&] { return make_bending(*ctx.model, k); });
 }
 
 }  // namespace pce::sim

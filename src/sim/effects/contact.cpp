@@ -26,7 +26,6 @@
 // parallel (OpenMP) into per-thread buffers and scattered serially into the block Hessian.
 #include "contact/candidate_set.hpp"
 #include "contact/pair_geometry.hpp"
-#include "factory.hpp"
 #include "penalty_spec.hpp"
 
 #include <pce/energy/closest_feature.hpp>
@@ -490,28 +489,6 @@ template <bool VF> class SelfContact final : public Effect {
   ContactStats stats_;
 };
 
-ContactSettings parse_contact(const Params& p, const BuildContext& ctx) {
-  if (p.has("exclude_rest_neighbours"))
-    p.fail("exclude_rest_neighbours",
-           "this option was removed: pairs of one mesh closer than 2d at rest are left out of the energy and "
-           "kept in the step bound, so a sheet cannot fold through itself (delete the key)");
-  p.only({"type", "penalty", "length", "hessian", "closest_features", "ccd"});
-  ContactSettings s;
-  s.penalty = parse_penalty(p.object("penalty"));
-  s.signed_length = p.choice("length", {"unsigned", "signed"}, std::string("unsigned")) == "signed";
-  s.closest_features = p.boolean("closest_features", false);
-  s.ccd = p.boolean("ccd", true);
-  const std::string h =
-      p.choice("hessian", {"analytic", "exact", "numerical", "gauss_newton", "abs"}, std::string("analytic"));
-  s.hessian = h == "exact"          ? Projection::exact
-              : h == "numerical"    ? Projection::numerical
-              : h == "gauss_newton" ? Projection::gauss_newton
-              : h == "abs"          ? Projection::abs
-                                    : Projection::analytic;
-  s.broad_phase = ctx.broad_phase;
-  return s;
-}
-
 /// Throws ArgumentError unless the settings are consistent (fields named as the scene's keys).
 void check_contact(const ContactSettings& s) {
   check_penalty(s.penalty, "penalty.");
@@ -541,16 +518,6 @@ std::unique_ptr<Effect> make_self_edge_edge(const Model& model, const ContactSet
   check_penalty_for_model(settings.penalty, model, "penalty.");
   if (model.edges.cols() < 2) throw ArgumentError("", "self_edge_edge needs at least two edges");
   return std::make_unique<SelfContact<false>>(settings, model);
-}
-
-std::unique_ptr<Effect> load_self_vertex_face(const Params& params, const BuildContext& ctx) {
-  const ContactSettings s = parse_contact(params, ctx);
-  return params.build([&] { return make_self_vertex_face(*ctx.model, s); });
-}
-
-std::unique_ptr<Effect> load_self_edge_edge(const Params& params, const BuildContext& ctx) {
-  const ContactSettings s = parse_contact(params, ctx);
-  return params.build([&] { return make_self_edge_edge(*ctx.model, s); });
 }
 
 }  // namespace pce::sim

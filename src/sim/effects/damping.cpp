@@ -2,7 +2,8 @@
 // Damping as an incremental potential: E = Σᵢ mᵢ c/(2h) |xᵢ − xᵢⁿ|², whose force
 // −mᵢ c (xᵢ − xᵢⁿ)/h = −c mᵢ vᵢ is a linear drag on the step's velocity (backward Euler).
 #include "arguments.hpp"
-#include "elastic.hpp"
+
+#include <pce/sim/effects.hpp>
 
 #include <limits>
 
@@ -46,12 +47,6 @@ class Damping final : public Effect {
 std::unique_ptr<Effect> make_damping(const Model& model, double coefficient) {
   return std::make_unique<Damping>(model, args::nonnegative_at_most("coefficient", coefficient, args::kMaxDamping,
                                                                     "the largest damping pce::sim accepts, in 1/s"));
-}
-
-std::unique_ptr<Effect> load_damping(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "coefficient"});
-  const double c = params.nonnegative("coefficient");
-  return params.build([&] { return make_damping(*ctx.model, c); });
 }
 
 }  // namespace pce::sim

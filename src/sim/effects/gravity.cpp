@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Gravity: E = −Σᵢ mᵢ g·xᵢ, a linear potential (zero Hessian, nothing declared).
 #include "arguments.hpp"
-#include "elastic.hpp"
+
+#include <pce/sim/effects.hpp>
 
 namespace pce::sim {
 
@@ -30,12 +31,6 @@ class Gravity final : public Effect {
 std::unique_ptr<Effect> make_gravity(const Model& model, const Eigen::Vector3d& acceleration) {
   return std::make_unique<Gravity>(model, args::bounded("acceleration", acceleration, args::kMaxAcceleration,
                                                         "the largest acceleration pce::sim accepts, in m/s²"));
-}
-
-std::unique_ptr<Effect> load_gravity(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "acceleration"});
-  const Eigen::Vector3d g = params.vec3("acceleration", Eigen::Vector3d(0, 0, -9.81));
-  return params.build([&] { return make_gravity(*ctx.model, g); });
 }
 
 }  // namespace pce::sim

@@ -1,12 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// `obstacle_contact`: pushes every deformable vertex out of the kinematic obstacles.
-///
-/// Scene form:
-///
-///     {"type": "obstacle_contact",
-///      "penalty": {...},              // penalty_spec.hpp: quadratic | cubic | log_barrier
-///      "obstacles": ["name", ...]}    // optional; default: every obstacle of the scene
+/// `obstacle_contact`: pushes every deformable vertex out of the kinematic obstacles (its
+/// scene form and loader: effect_loaders.hpp and .cpp, next to the scene parser).
 ///
 /// Energy: E(x) = Σᵢ Σₖ ψ(dₖ(xᵢ)), dₖ the signed distance from vertex i to obstacle k's
 /// surface at the obstacle's pose at the END of the step (`surface_distance`), summed over
@@ -26,13 +21,11 @@
 /// Culling: a vertex is skipped for obstacle k when |xᵢ − cₖ| − Rₖ ≥ activation distance,
 /// with cₖ the obstacle's origin and Rₖ the radius of a sphere about it that bounds the
 /// shape (d ≥ |xᵢ − cₖ| − Rₖ for every shape).
-#include "factory.hpp"
 #include "penalty_spec.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -197,37 +190,6 @@ std::unique_ptr<Effect> make_obstacle_contact(const std::vector<Obstacle>& obsta
   for (std::size_t k = 0; k < obstacles.size(); ++k)
     check_obstacle(obstacles[k], "obstacles[" + std::to_string(k) + "]");
   return std::make_unique<ObstacleContact>(penalty, obstacles);
-}
-
-std::unique_ptr<Effect> load_obstacle_contact(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "penalty", "obstacles"});
-  const ContactPenalty spec = parse_penalty(params.object("penalty"));
-  static const std::vector<Obstacle> none;
-  const std::vector<Obstacle>& all = ctx.obstacles ? *ctx.obstacles : none;
-  std::vector<Obstacle> chosen;
-  if (!params.has("obstacles")) {
-    chosen = all;
-  } else {
-    const nlohmann::json& names = params.array("obstacles");
-    if (names.empty()) params.fail("obstacles", "expected at least one obstacle name (leave the field out for all)");
-    std::set<std::string> seen;
-    for (std::size_t k = 0; k < names.size(); ++k) {
-      const std::string where = params.path_of("obstacles") + "[" + std::to_string(k) + "]";
-      if (!names[k].is_string()) throw InputError(params.file(), where, "expected an obstacle name (a string)");
-      const std::string name = names[k].get<std::string>();
-      const auto it = std::find_if(all.begin(), all.end(), [&](const Obstacle& o) { return o.name == name; });
-      if (it == all.end()) {
-        std::string known;
-        for (const Obstacle& o : all) known += (known.empty() ? "" : ", ") + ("\"" + o.name + "\"");
-        throw InputError(
-            params.file(), where,
-            "unknown obstacle \"" + name + "\" (the scene's obstacles: " + (known.empty() ? "none" : known) + ")");
-      }
-      if (!seen.insert(name).second) throw InputError(params.file(), where, "obstacle \"" + name + "\" listed twice");
-      chosen.push_back(*it);
-    }
-  }
-  return params.build([&] { return make_obstacle_contact(chosen, spec); });
 }
 
 }  // namespace pce::sim

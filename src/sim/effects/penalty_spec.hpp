@@ -1,14 +1,10 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// A contact effect's penalty as the scene gives it, and the dispatch to pce's penalty
-/// types (the only place the simulator names them). Internal.
-///
-/// Scene form: `"penalty": {"type": "quadratic" | "cubic" | "log_barrier",
-///   "stiffness": k > 0, "distance": activation distance (ε, or d̂ for the barrier) > 0,
-///   "delta": δ ≥ 0 (cubic only, default 0)}`.
+/// A contact effect's penalty (`ContactPenalty`, pce/sim/effects.hpp): its checks, and the
+/// dispatch to pce's penalty types (the only place the simulator names them). The scene's
+/// `penalty` object is read by the scene loaders (effect_loaders.cpp). Internal.
 #pragma once
 
-#include "../scene/params.hpp"
 #include "arguments.hpp"
 
 #include <pce/sim/effects.hpp>
@@ -54,22 +50,6 @@ inline void check_penalty_for_model(const ContactPenalty& s, const Model& model,
                             " m of the model's rest bounding box: beyond, every pair is a "
                             "contact candidate at every step), got " +
                             args::text(s.distance));
-}
-
-inline ContactPenalty parse_penalty(const Params& p) {
-  ContactPenalty s;
-  const std::string type = p.choice("type", {"quadratic", "cubic", "log_barrier"});
-  s.kind = type == "quadratic" ? ContactPenalty::Kind::quadratic
-           : type == "cubic"   ? ContactPenalty::Kind::cubic
-                               : ContactPenalty::Kind::log_barrier;
-  if (s.kind == ContactPenalty::Kind::cubic)
-    p.only({"type", "stiffness", "distance", "delta"});
-  else
-    p.only({"type", "stiffness", "distance"});
-  s.stiffness = p.positive("stiffness");
-  s.distance = p.positive("distance");
-  s.delta = s.kind == ContactPenalty::Kind::cubic ? p.nonnegative("delta", 0.0) : 0.0;
-  return s;
 }
 
 /// Calls `f(penalty)` with the pce penalty object the spec describes.

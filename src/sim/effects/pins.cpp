@@ -5,8 +5,9 @@
 // x̂ᵢ(t) = c + v τ + exp([ω]× τ)(x̄ᵢ − c) (pce/sim/obstacle.hpp, Motion) at the end of the
 // step, c the group's centre (the twist scene turns one end of a ribbon that way). A group
 // is active for frames < release_frame (always without one).
+#include "pins.hpp"
+
 #include "arguments.hpp"
-#include "elastic.hpp"
 
 #include <pce/sim/effects.hpp>
 
@@ -27,13 +28,6 @@ struct Group {
   Motion motion;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
 };
-
-/// The model mesh named `name`, or null.
-const MeshRange* find_mesh(const Model& model, const std::string& name) {
-  const auto it =
-      std::find_if(model.meshes.begin(), model.meshes.end(), [&](const MeshRange& r) { return r.name == name; });
-  return it == model.meshes.end() ? nullptr : &*it;
-}
 
 class Pins final : public Effect {
  public:
@@ -82,6 +76,12 @@ class Pins final : public Effect {
 };
 
 }  // namespace
+
+const MeshRange* find_mesh(const Model& model, const std::string& name) {
+  const auto it =
+      std::find_if(model.meshes.begin(), model.meshes.end(), [&](const MeshRange& r) { return r.name == name; });
+  return it == model.meshes.end() ? nullptr : &*it;
+}
 
 std::vector<int> vertices_in_box(const Model& model, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                                  const std::string& mesh) {
@@ -137,50 +137,6 @@ std::unique_ptr<Effect> make_pins(const Model& model, std::vector<PinGroup> grou
     run.push_back(std::move(group));
   }
   return std::make_unique<Pins>(model, std::move(run), k);
-}
-
-std::unique_ptr<Effect> load_pins(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "stiffness", "groups"});
-  const double k = params.positive("stiffness", 1e5);
-  const Model& model = *ctx.model;
-  const std::size_t count = params.array("groups", true).size();
-  if (count == 0) params.fail("groups", "expected at least one pin group");
-  std::vector<PinGroup> groups;
-  for (std::size_t gi = 0; gi < count; ++gi) {
-    const Params g = params.element("groups", gi);
-    g.only({"vertices", "box", "mesh", "release_frame", "motion"});
-    PinGroup group;
-    if (g.has("release_frame"))
-      group.release_frame = static_cast<int>(g.integer("release_frame", std::nullopt, 1));  // ≥ 1
-    // The vertex range a group may name: one mesh's (local indices) or the whole model's.
-    int first = 0, size = model.vertex_count();
-    const std::string mesh = g.has("mesh") ? g.string("mesh") : std::string();
-    if (g.has("mesh")) {
-      const MeshRange* r = find_mesh(model, mesh);
-      if (!r) g.fail("mesh", "no mesh named \"" + mesh + "\"");
-      first = r->first_vertex, size = r->vertex_count;
-    }
-    if (g.has("vertices") == g.has("box"))
-      g.fail(g.has("box") ? "box" : "vertices", "expected exactly one of \"vertices\" and \"box\"");
-    if (g.has("vertices")) {
-      for (int i : g.indices("vertices", size)) group.vertices.push_back(first + i);
-      if (group.vertices.empty()) g.fail("vertices", "expected at least one vertex index");
-    } else {
-      const Params box = g.object("box");
-      box.only({"min", "max"});
-      const Eigen::Vector3d lo = box.vec3("min"), hi = box.vec3("max");
-      group.vertices = box.build([&] { return vertices_in_box(model, lo, hi, mesh); });
-      if (group.vertices.empty()) g.fail("box", "the box contains no vertex of the rest shape");
-    }
-    if (g.has("motion")) {
-      const Params m = g.object("motion");
-      m.only({"velocity", "angular_velocity", "center", "start", "stop"});
-      group.motion = parse_motion(m);
-      if (m.has("center")) group.centre = m.vec3("center");  // checked by make_pins (motion.center)
-    }
-    groups.push_back(std::move(group));
-  }
-  return params.build([&] { return make_pins(model, std::move(groups), k); });
 }
 
 }  // namespace pce::sim

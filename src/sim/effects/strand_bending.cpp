@@ -16,7 +16,8 @@
 // both bending directions (φ cot(φ/2) → 2 as φ → 0: the Hessian of k φ²/ℓ̄ is isotropic
 // there). The in-plane part of (φ − φ₀)∇²φ is dropped; it vanishes at the rest angle.
 #include "arguments.hpp"
-#include "elastic.hpp"
+
+#include <pce/sim/effects.hpp>
 
 #include <array>
 #include <cmath>
@@ -143,12 +144,6 @@ std::unique_ptr<Effect> make_strand_bending(const Model& model, double stiffness
     joints.push_back(jt);
   }
   return std::make_unique<StrandBending>(std::move(joints));
-}
-
-std::unique_ptr<Effect> load_strand_bending(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "stiffness"});
-  const double k = params.positive("stiffness");
-  return params.build([&] { return make_strand_bending(*ctx.model, k); });
 }
 
 }  // namespace pce::sim

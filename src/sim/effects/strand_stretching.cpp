@@ -6,7 +6,8 @@
 // whose eigenvalues are k/L (along n) and (k/L)(1 − L/|e|) twice; the projection clamps the
 // latter at 0 (exact PSD projection of the 6×6 [[H, −H], [−H, H]]).
 #include "arguments.hpp"
-#include "elastic.hpp"
+
+#include <pce/sim/effects.hpp>
 
 #include <array>
 #include <cmath>
@@ -78,12 +79,6 @@ std::unique_ptr<Effect> make_strand_stretching(const Model& model, double stiffn
     springs.push_back(s);
   }
   return std::make_unique<StrandStretching>(std::move(springs), k);
-}
-
-std::unique_ptr<Effect> load_strand_stretching(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "stiffness"});
-  const double k = params.positive("stiffness");
-  return params.build([&] { return make_strand_stretching(*ctx.model, k); });
 }
 
 }  // namespace pce::sim

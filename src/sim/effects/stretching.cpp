@@ -12,7 +12,8 @@
 // The projection clamps the three last eigenvalues at 0; the result maps to x-space with
 // the constant dF/dx (F = X D, X = [x0 x1 x2], D the 3×2 matrix below).
 #include "arguments.hpp"
-#include "elastic.hpp"
+
+#include <pce/sim/effects.hpp>
 
 #include <array>
 #include <cmath>
@@ -162,13 +163,6 @@ std::unique_ptr<Effect> make_stretching(const Model& model, double stiffness) {
     triangles.push_back(t);
   }
   return std::make_unique<Stretching>(std::move(triangles));
-}
-
-std::unique_ptr<Effect> load_stretching(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "model", "stiffness"});
-  params.choice("model", {"arap"}, std::string("arap"));
-  const double mu = params.positive("stiffness");
-  return params.build([&] { return make_stretching(*ctx.model, mu); });
 }
 
 }  // namespace pce::sim

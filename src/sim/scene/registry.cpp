@@ -1,23 +1,13 @@
 // SPDX-License-Identifier: MIT
-// The effect registry: each scene effect name and its `load_<name>` factory (which reads the
-// scene object and calls the public builder `make_<name>`, pce/sim/effects.hpp). The scene
-// loader knows the effects only through this list.
+// The effect registry: each scene effect name and its `load_<name>` factory
+// (effect_loaders.cpp, which reads the scene object and calls the public builder
+// `make_<name>`, pce/sim/effects.hpp). The scene loader knows the effects only through this
+// list.
 #include "registry.hpp"
 
-#include "../effects/penalty_spec.hpp"
+#include "effect_loaders.hpp"
 
 namespace pce::sim {
-
-std::unique_ptr<Effect> load_gravity(const Params&, const BuildContext&);
-std::unique_ptr<Effect> load_stretching(const Params&, const BuildContext&);
-std::unique_ptr<Effect> load_bending(const Params&, const BuildContext&);
-std::unique_ptr<Effect> load_strand_stretching(const Params&, const BuildContext&);
-std::unique_ptr<Effect> load_strand_bending(const Params&, const BuildContext&);
-std::unique_ptr<Effect> load_pins(const Params&, const BuildContext&);
-std::unique_ptr<Effect> load_damping(const Params&, const BuildContext&);
-std::unique_ptr<Effect> load_self_vertex_face(const Params&, const BuildContext&);
-std::unique_ptr<Effect> load_self_edge_edge(const Params&, const BuildContext&);
-std::unique_ptr<Effect> load_obstacle_contact(const Params&, const BuildContext&);
 
 const std::vector<RegisteredEffect>& effect_registry() {
   static const std::vector<RegisteredEffect> registry = {

@@ -3,7 +3,7 @@
 /// The effect registry (internal): scene effect names and their factories.
 #pragma once
 
-#include "../effects/factory.hpp"
+#include "factory.hpp"
 
 #include <string>
 #include <vector>

@@ -212,8 +212,7 @@ std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::strin
     sim.solver.single_solve = s.choice("mode", {"newton", "single_solve"}, std::string("newton")) == "single_solve";
     sim.solver.tolerance = s.positive("tolerance", sim.solver.tolerance);
     sim.solver.max_iterations = static_cast<int>(s.integer("max_iterations", 50L, 1, 100000));
-    const std::string ls =
-        s.choice("linear_solver", {"direct", "factor_reuse", "ldlt", "cg"}, std::string("direct"));
+    const std::string ls = s.choice("linear_solver", {"direct", "factor_reuse", "ldlt", "cg"}, std::string("direct"));
     sim.solver.linear = ls == "cg"       ? LinearSolver::cg
                         : ls == "ldlt"   ? LinearSolver::ldlt
                         : ls == "direct" ? LinearSolver::direct

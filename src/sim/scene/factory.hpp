@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// How effects are built from a scene: every effect file defines the public builder
-/// `make_<name>` (`pce/sim/effects.hpp`) and a `load_<name>` factory that reads the scene
-/// object and calls it; `scene/registry.cpp` maps the scene's effect names to the
-/// `load_<name>` factories. Internal.
+/// How effects are built from a scene: every effect file of `effects/` defines the public
+/// builder `make_<name>` (`pce/sim/effects.hpp`) and knows nothing of the scene;
+/// `scene/effect_loaders.cpp` holds a `load_<name>` factory per effect that reads the scene
+/// object and calls it, and `scene/registry.cpp` maps the scene's effect names to those
+/// factories. Internal.
 #pragma once
 
-#include "../scene/params.hpp"
+#include "params.hpp"
 
 #include <pce/sim/broad_phase.hpp>
 #include <pce/sim/effect.hpp>

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// Scene loaders of the elastic and kinematic effects (one file each in `effects/`): gravity,
-/// cloth stretching and bending, strand stretching and bending, pins, damping. Each reads
-/// its effect object and calls the typed builder of `pce/sim/effects.hpp`, which does the
-/// building. The scene's registry maps the effect names to them. Internal.
+/// The effects' scene loaders (defined in effect_loaders.cpp): each reads its effect object
+/// through `Params` and calls the typed builder of `pce/sim/effects.hpp`, which checks the
+/// values and does the building. The registry (registry.cpp) maps the effect names to them.
+/// Internal.
 ///
 /// Scene forms (SI units; every key not listed is an error):
 /// - `{"type":"gravity", "acceleration":[ax,ay,az] (m/s², default [0,0,-9.81])}`
@@ -13,15 +13,23 @@
 /// - `{"type":"strand_bending", "stiffness": k > 0 (N·m²)}`
 /// - `{"type":"pins", "stiffness": k > 0 (N/m, default 1e5), "groups": [{"vertices":[i,…]
 ///   | "box":{"min":[…],"max":[…]}, "mesh":"name" (optional), "release_frame": N ≥ 1
+///   (optional), "motion":{"velocity", "angular_velocity", "center", "start", "stop"}
 ///   (optional)}, …]}`; with "mesh", "vertices" are that mesh's local indices and a box
 ///   selects only its vertices (rest positions inside the closed box); a group is pinned
 ///   for frames < release_frame (always without one)
 /// - `{"type":"damping", "coefficient": c ≥ 0 (1/s)}`
+/// - `{"type":"self_vertex_face" | "self_edge_edge", "penalty": {...}, "length": "unsigned"
+///   (default) | "signed", "hessian": "analytic" (default) | "exact" | "numerical" |
+///   "gauss_newton" | "abs", "closest_features": false (default) | true, "ccd": true
+///   (default) | false}`
+/// - `{"type":"obstacle_contact", "penalty": {...}, "obstacles": ["name", …] (optional;
+///   default: every obstacle of the scene)}`
+/// - a contact effect's `"penalty": {"type": "quadratic" | "cubic" | "log_barrier",
+///   "stiffness": k > 0, "distance": activation distance (ε, or d̂ for the barrier) > 0,
+///   "delta": δ ≥ 0 (cubic only, default 0)}`
 #pragma once
 
 #include "factory.hpp"
-
-#include <pce/sim/effects.hpp>
 
 namespace pce::sim {
 
@@ -39,5 +47,11 @@ std::unique_ptr<Effect> load_strand_bending(const Params& params, const BuildCon
 std::unique_ptr<Effect> load_pins(const Params& params, const BuildContext& ctx);
 /// E = Σᵢ mᵢ c/(2h) |xᵢ − xᵢⁿ|² (drag force −c m v).
 std::unique_ptr<Effect> load_damping(const Params& params, const BuildContext& ctx);
+/// Σ ψ(L) over candidate (vertex, triangle) pairs (effects/contact.cpp).
+std::unique_ptr<Effect> load_self_vertex_face(const Params& params, const BuildContext& ctx);
+/// Σ ψ(L) over candidate (edge, edge) pairs (effects/contact.cpp).
+std::unique_ptr<Effect> load_self_edge_edge(const Params& params, const BuildContext& ctx);
+/// Σ ψ(d) over (vertex, obstacle) pairs, d the signed distance to the obstacle's surface.
+std::unique_ptr<Effect> load_obstacle_contact(const Params& params, const BuildContext& ctx);
 
 }  // namespace pce::sim

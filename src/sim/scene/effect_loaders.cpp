@@ -1,0 +1,186 @@
+// SPDX-License-Identifier: MIT
+// The effects' scene loaders (effect_loaders.hpp): each reads its effect object, in the
+// registry's order of effects, and calls the public builder `make_<name>`
+// (pce/sim/effects.hpp) inside `Params::build`, so the builder's ArgumentError becomes an
+// InputError at the field's JSON path.
+#include "effect_loaders.hpp"
+
+#include "../effects/pins.hpp"
+
+#include <pce/sim/effects.hpp>
+
+#include <algorithm>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace pce::sim {
+
+namespace {
+
+/// A contact effect's `penalty` object.
+ContactPenalty parse_penalty(const Params& p) {
+  ContactPenalty s;
+  const std::string type = p.choice("type", {"quadratic", "cubic", "log_barrier"});
+  s.kind = type == "quadratic" ? ContactPenalty::Kind::quadratic
+           : type == "cubic"   ? ContactPenalty::Kind::cubic
+                               : ContactPenalty::Kind::log_barrier;
+  if (s.kind == ContactPenalty::Kind::cubic)
+    p.only({"type", "stiffness", "distance", "delta"});
+  else
+    p.only({"type", "stiffness", "distance"});
+  s.stiffness = p.positive("stiffness");
+  s.distance = p.positive("distance");
+  s.delta = s.kind == ContactPenalty::Kind::cubic ? p.nonnegative("delta", 0.0) : 0.0;
+  return s;
+}
+
+/// A self-contact effect's object (`self_vertex_face`, `self_edge_edge`); the broad phase
+/// is the scene's.
+ContactSettings parse_contact(const Params& p, const BuildContext& ctx) {
+  if (p.has("exclude_rest_neighbours"))
+    p.fail("exclude_rest_neighbours",
+           "this option was removed: pairs of one mesh closer than 2d at rest are left out of the energy and "
+           "kept in the step bound, so a sheet cannot fold through itself (delete the key)");
+  p.only({"type", "penalty", "length", "hessian", "closest_features", "ccd"});
+  ContactSettings s;
+  s.penalty = parse_penalty(p.object("penalty"));
+  s.signed_length = p.choice("length", {"unsigned", "signed"}, std::string("unsigned")) == "signed";
+  s.closest_features = p.boolean("closest_features", false);
+  s.ccd = p.boolean("ccd", true);
+  const std::string h =
+      p.choice("hessian", {"analytic", "exact", "numerical", "gauss_newton", "abs"}, std::string("analytic"));
+  s.hessian = h == "exact"          ? Projection::exact
+              : h == "numerical"    ? Projection::numerical
+              : h == "gauss_newton" ? Projection::gauss_newton
+              : h == "abs"          ? Projection::abs
+                                    : Projection::analytic;
+  s.broad_phase = ctx.broad_phase;
+  return s;
+}
+
+}  // namespace
+
+std::unique_ptr<Effect> load_gravity(const Params& params, const BuildContext& ctx) {
+  params.only({"type", "acceleration"});
+  const Eigen::Vector3d g = params.vec3("acceleration", Eigen::Vector3d(0, 0, -9.81));
+  return params.build([&] { return make_gravity(*ctx.model, g); });
+}
+
+std::unique_ptr<Effect> load_stretching(const Params& params, const BuildContext& ctx) {
+  params.only({"type", "model", "stiffness"});
+  params.choice("model", {"arap"}, std::string("arap"));
+  const double mu = params.positive("stiffness");
+  return params.build([&] { return make_stretching(*ctx.model, mu); });
+}
+
+std::unique_ptr<Effect> load_bending(const Params& params, const BuildContext& ctx) {
+  params.only({"type", "stiffness"});
+  const double k = params.positive("stiffness");
+  return params.build([&] { return make_bending(*ctx.model, k); });
+}
+
+std::unique_ptr<Effect> load_strand_stretching(const Params& params, const BuildContext& ctx) {
+  params.only({"type", "stiffness"});
+  const double k = params.positive("stiffness");
+  return params.build([&] { return make_strand_stretching(*ctx.model, k); });
+}
+
+std::unique_ptr<Effect> load_strand_bending(const Params& params, const BuildContext& ctx) {
+  params.only({"type", "stiffness"});
+  const double k = params.positive("stiffness");
+  return params.build([&] { return make_strand_bending(*ctx.model, k); });
+}
+
+std::unique_ptr<Effect> load_pins(const Params& params, const BuildContext& ctx) {
+  params.only({"type", "stiffness", "groups"});
+  const double k = params.positive("stiffness", 1e5);
+  const Model& model = *ctx.model;
+  const std::size_t count = params.array("groups", true).size();
+  if (count == 0) params.fail("groups", "expected at least one pin group");
+  std::vector<PinGroup> groups;
+  for (std::size_t gi = 0; gi < count; ++gi) {
+    const Params g = params.element("groups", gi);
+    g.only({"vertices", "box", "mesh", "release_frame", "motion"});
+    PinGroup group;
+    if (g.has("release_frame"))
+      group.release_frame = static_cast<int>(g.integer("release_frame", std::nullopt, 1));  // ≥ 1
+    // The vertex range a group may name: one mesh's (local indices) or the whole model's.
+    int first = 0, size = model.vertex_count();
+    const std::string mesh = g.has("mesh") ? g.string("mesh") : std::string();
+    if (g.has("mesh")) {
+      const MeshRange* r = find_mesh(model, mesh);
+      if (!r) g.fail("mesh", "no mesh named \"" + mesh + "\"");
+      first = r->first_vertex, size = r->vertex_count;
+    }
+    if (g.has("vertices") == g.has("box"))
+      g.fail(g.has("box") ? "box" : "vertices", "expected exactly one of \"vertices\" and \"box\"");
+    if (g.has("vertices")) {
+      for (int i : g.indices("vertices", size)) group.vertices.push_back(first + i);
+      if (group.vertices.empty()) g.fail("vertices", "expected at least one vertex index");
+    } else {
+      const Params box = g.object("box");
+      box.only({"min", "max"});
+      const Eigen::Vector3d lo = box.vec3("min"), hi = box.vec3("max");
+      group.vertices = box.build([&] { return vertices_in_box(model, lo, hi, mesh); });
+      if (group.vertices.empty()) g.fail("box", "the box contains no vertex of the rest shape");
+    }
+    if (g.has("motion")) {
+      const Params m = g.object("motion");
+      m.only({"velocity", "angular_velocity", "center", "start", "stop"});
+      group.motion = parse_motion(m);
+      if (m.has("center")) group.centre = m.vec3("center");  // checked by make_pins (motion.center)
+    }
+    groups.push_back(std::move(group));
+  }
+  return params.build([&] { return make_pins(model, std::move(groups), k); });
+}
+
+std::unique_ptr<Effect> load_damping(const Params& params, const BuildContext& ctx) {
+  params.only({"type", "coefficient"});
+  const double c = params.nonnegative("coefficient");
+  return params.build([&] { return make_damping(*ctx.model, c); });
+}
+
+std::unique_ptr<Effect> load_self_vertex_face(const Params& params, const BuildContext& ctx) {
+  const ContactSettings s = parse_contact(params, ctx);
+  return params.build([&] { return make_self_vertex_face(*ctx.model, s); });
+}
+
+std::unique_ptr<Effect> load_self_edge_edge(const Params& params, const BuildContext& ctx) {
+  const ContactSettings s = parse_contact(params, ctx);
+  return params.build([&] { return make_self_edge_edge(*ctx.model, s); });
+}
+
+std::unique_ptr<Effect> load_obstacle_contact(const Params& params, const BuildContext& ctx) {
+  params.only({"type", "penalty", "obstacles"});
+  const ContactPenalty spec = parse_penalty(params.object("penalty"));
+  static const std::vector<Obstacle> none;
+  const std::vector<Obstacle>& all = ctx.obstacles ? *ctx.obstacles : none;
+  std::vector<Obstacle> chosen;
+  if (!params.has("obstacles")) {
+    chosen = all;
+  } else {
+    const nlohmann::json& names = params.array("obstacles");
+    if (names.empty()) params.fail("obstacles", "expected at least one obstacle name (leave the field out for all)");
+    std::set<std::string> seen;
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      const std::string where = params.path_of("obstacles") + "[" + std::to_string(k) + "]";
+      if (!names[k].is_string()) throw InputError(params.file(), where, "expected an obstacle name (a string)");
+      const std::string name = names[k].get<std::string>();
+      const auto it = std::find_if(all.begin(), all.end(), [&](const Obstacle& o) { return o.name == name; });
+      if (it == all.end()) {
+        std::string known;
+        for (const Obstacle& o : all) known += (known.empty() ? "" : ", ") + ("\"" + o.name + "\"");
+        throw InputError(
+            params.file(), where,
+            "unknown obstacle \"" + name + "\" (the scene's obstacles: " + (known.empty() ? "none" : known) + ")");
+      }
+      if (!seen.insert(name).second) throw InputError(params.file(), where, "obstacle \"" + name + "\" listed twice");
+      chosen.push_back(*it);
+    }
+  }
+  return params.build([&] { return make_obstacle_contact(chosen, spec); });
+}
+
+}  // namespace pce::sim
