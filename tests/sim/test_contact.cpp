@@ -101,7 +101,7 @@ TEST_P(ContactDerivatives, GradientMatchesCentralDifferencesAndHessianIsPsd) {
     EffectCounters c;
     e.report(c);
     const std::string kind = std::string(type) == "self_vertex_face" ? "vertex_face" : "edge_edge";
-    EXPECT_GT(c[kind + "_contacts"], 0.0);
+    EXPECT_GT(c.at(kind + "_contacts"), 0.0);
     const double h = 1e-7;
     double worst = 0, scale = g.cwiseAbs().maxCoeff();
     for (Eigen::Index i = 0; i < x.size(); ++i) {
@@ -186,7 +186,7 @@ TEST(Contact, DeclaresExactlyThePairsActiveAtTheIterate) {
       e.evaluate(at, nullptr, nullptr);
       EffectCounters c;
       e.report(c);
-      return std::make_pair(c[kind + "_declared"], c[kind + "_contacts"]);
+      return std::make_pair(c.at(kind + "_declared"), c.at(kind + "_contacts"));
     };
     EXPECT_TRUE(e.update_pattern(x));
     const auto [declared, active] = counts(x);

@@ -51,14 +51,13 @@ json frame_record(const FrameStats& s, long intersections) {
   r["solve_ms"] = s.solve_ms;
   r["line_search_ms"] = s.line_search_ms;
   const auto counter = [&](const std::string& k, double fallback) {
-    const auto it = s.counters.find(k);
-    return it == s.counters.end() ? fallback : it->second;
+    return s.counters.has(k) ? s.counters.at(k) : fallback;
   };
   json contacts = json::object();
   double min_distance = INFINITY;
   for (const char* kind : {"vertex_face", "edge_edge", "obstacle"}) {
     const std::string k = kind;
-    if (s.counters.count(k + "_contacts")) contacts[k] = static_cast<long>(counter(k + "_contacts", 0));
+    if (s.counters.has(k + "_contacts")) contacts[k] = static_cast<long>(counter(k + "_contacts", 0));
     min_distance = std::min(min_distance, counter(k + "_min_distance", INFINITY));
   }
   r["contacts"] = contacts;
@@ -68,7 +67,7 @@ json frame_record(const FrameStats& s, long intersections) {
   for (const auto& [name, ms] : s.effect_ms) effects[name] = ms;
   r["effects"] = effects;
   json counters = json::object();
-  for (const auto& [k, v] : s.counters) counters[k] = std::isfinite(v) ? json(v) : json(nullptr);
+  for (const auto& [k, v] : s.counters.entries()) counters[k] = std::isfinite(v) ? json(v) : json(nullptr);
   r["counters"] = counters;
   json iterations = json::array();
   for (const NewtonIteration& it : s.iterations)

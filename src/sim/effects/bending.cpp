@@ -100,8 +100,8 @@ class Bending final : public Effect {
     return energy;
   }
   void report(EffectCounters& counters) const override {
-    counters["hinges"] = static_cast<double>(hinges_.size());
-    counters["degenerate_hinges"] = static_cast<double>(degenerate_);
+    counters[Counter::hinges] = static_cast<double>(hinges_.size());
+    counters[Counter::degenerate_hinges] = static_cast<double>(degenerate_);
   }
 
  private:

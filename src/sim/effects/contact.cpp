@@ -244,19 +244,21 @@ template <bool VF> class SelfContact final : public Effect {
   }
 
   void report(EffectCounters& c) const override {
-    const std::string kind = VF ? "vertex_face" : "edge_edge";
     const auto& q = candidates_.stats();
-    c[kind + "_candidates"] = static_cast<double>(candidates_.size());
-    c[kind + "_declared"] = static_cast<double>(std::count(declared_.begin(), declared_.end(), char(1)));
-    c[kind + "_rest_neighbours"] = static_cast<double>(candidates_.fold_pairs());
-    c[kind + "_fold_contacts"] = static_cast<double>(stats_.fold_active);
-    c[kind + "_contacts"] = static_cast<double>(stats_.active);
-    c[kind + "_min_distance"] = stats_.min_length;
-    c["broad_phase_ms"] = q.broad_phase_ms + stats_.settle_ms;
-    c["broad_phase_tree_ms"] = q.tree_ms;
-    c["broad_phase_queries"] = q.queries;
-    c["pair_ms"] = stats_.pair_ms;
-    c["scatter_ms"] = stats_.scatter_ms;
+    c[VF ? Counter::vertex_face_candidates : Counter::edge_edge_candidates] = static_cast<double>(candidates_.size());
+    c[VF ? Counter::vertex_face_declared : Counter::edge_edge_declared] =
+        static_cast<double>(std::count(declared_.begin(), declared_.end(), char(1)));
+    c[VF ? Counter::vertex_face_rest_neighbours : Counter::edge_edge_rest_neighbours] =
+        static_cast<double>(candidates_.fold_pairs());
+    c[VF ? Counter::vertex_face_fold_contacts : Counter::edge_edge_fold_contacts] =
+        static_cast<double>(stats_.fold_active);
+    c[VF ? Counter::vertex_face_contacts : Counter::edge_edge_contacts] = static_cast<double>(stats_.active);
+    c[VF ? Counter::vertex_face_min_distance : Counter::edge_edge_min_distance] = stats_.min_length;
+    c[Counter::broad_phase_ms] = q.broad_phase_ms + stats_.settle_ms;
+    c[Counter::broad_phase_tree_ms] = q.tree_ms;
+    c[Counter::broad_phase_queries] = q.queries;
+    c[Counter::pair_ms] = stats_.pair_ms;
+    c[Counter::scatter_ms] = stats_.scatter_ms;
   }
 
   /// The tracked pairs with their sides and declarations: what the next begin_step keeps

@@ -103,8 +103,8 @@ class ObstacleContact final : public Effect {
   }
 
   void report(EffectCounters& counters) const override {
-    counters["obstacle_contacts"] = static_cast<double>(contacts_.size());
-    counters["obstacle_min_distance"] = min_distance_;
+    counters[Counter::obstacle_contacts] = static_cast<double>(contacts_.size());
+    counters[Counter::obstacle_min_distance] = min_distance_;
   }
 
  private:

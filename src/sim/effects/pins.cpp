@@ -65,7 +65,7 @@ class Pins final : public Effect {
     double pinned = 0;
     for (const Group& g : groups_)
       if (g.active) pinned += static_cast<double>(g.vertices.size());
-    counters["pinned_vertices"] = pinned;
+    counters[Counter::pinned_vertices] = pinned;
   }
 
  private:

@@ -103,8 +103,8 @@ class StrandBending final : public Effect {
     return energy;
   }
   void report(EffectCounters& counters) const override {
-    counters["joints"] = static_cast<double>(joints_.size());
-    counters["degenerate_joints"] = static_cast<double>(degenerate_);
+    counters[Counter::joints] = static_cast<double>(joints_.size());
+    counters[Counter::degenerate_joints] = static_cast<double>(degenerate_);
   }
 
  private:

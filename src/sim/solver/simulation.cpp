@@ -280,8 +280,8 @@ FrameStats Simulation::step() {
     if (ls.H.set_pattern(n, pattern)) ls.analyzed = false;
     const double ms = ms_since(t0);
     st.assembly_ms += ms;
-    st.counters["pattern_ms"] += ms;
-    st.counters["pattern_builds"] += 1;
+    st.counters[Counter::pattern_ms] += ms;
+    st.counters[Counter::pattern_builds] += 1;
   };
   rebuild_pattern();
 
@@ -398,29 +398,18 @@ FrameStats Simulation::step() {
     st.effect_ms.emplace_back(effects[k]->name(), effect_ms[k]);
     EffectCounters c;
     effects[k]->report(c);
-    for (const auto& [key, value] : c) {
-      auto it = st.counters.find(key);
-      if (it == st.counters.end())
-        st.counters[key] = value;
-      else if (key.find("min_distance") != std::string::npos)
-        it->second = std::min(it->second, value);
-      else
-        it->second += value;
-    }
+    st.counters.merge(c);  // summed, distances by their minimum (CounterInfo::minimum)
   }
-  const auto counter = [&](const char* key) {
-    const auto it = st.counters.find(key);
-    return it == st.counters.end() ? 0.0 : it->second;
-  };
-  st.broad_phase_ms = counter("broad_phase_ms");
-  st.pair_ms = counter("pair_ms");
-  st.assembly_ms += counter("scatter_ms");
-  st.counters["pattern_blocks"] = static_cast<double>(ls.H.block_count());
-  st.counters["analyze_ms"] = ls.analyze_ms;
-  st.counters["factorize_ms"] = ls.factorize_ms;
-  st.counters["analyses"] = ls.analyses;
-  st.counters["factorizations"] = ls.factorizations;
-  st.counters["cg_iterations"] = ls.cg_iterations;
+  const auto counter = [&](Counter key) { return st.counters.has(key) ? st.counters.at(key) : 0.0; };
+  st.broad_phase_ms = counter(Counter::broad_phase_ms);
+  st.pair_ms = counter(Counter::pair_ms);
+  st.assembly_ms += counter(Counter::scatter_ms);
+  st.counters[Counter::pattern_blocks] = static_cast<double>(ls.H.block_count());
+  st.counters[Counter::analyze_ms] = ls.analyze_ms;
+  st.counters[Counter::factorize_ms] = ls.factorize_ms;
+  st.counters[Counter::analyses] = ls.analyses;
+  st.counters[Counter::factorizations] = ls.factorizations;
+  st.counters[Counter::cg_iterations] = ls.cg_iterations;
   st.wall_ms = ms_since(t_frame);
   return st;
 }

@@ -94,16 +94,15 @@ StartStateReport check_start_state(Simulation& sim) {
     e->evaluate(x, nullptr, nullptr);
     EffectCounters c;
     e->report(c);
-    const std::pair<const char*, const char*> kinds[] = {
-        {"vertex_face", "vertex-face pairs are within the contact distance at the start"},
-        {"edge_edge", "edge-edge pairs are within the contact distance at the start"},
-        {"obstacle", "vertices are within the contact distance of an obstacle at the start"}};
+    const std::pair<Counter, const char*> kinds[] = {
+        {Counter::vertex_face_contacts, "vertex-face pairs are within the contact distance at the start"},
+        {Counter::edge_edge_contacts, "edge-edge pairs are within the contact distance at the start"},
+        {Counter::obstacle_contacts, "vertices are within the contact distance of an obstacle at the start"}};
     for (const auto& [key, what] : kinds) {
-      const auto it = c.find(std::string(key) + "_contacts");
-      if (it == c.end() || !(it->second > 0)) continue;
-      report.warnings.push_back("effect " + quoted(e->name()) + ": " + std::to_string(static_cast<long>(it->second)) +
+      if (!c.has(key) || !(c.at(key) > 0)) continue;
+      report.warnings.push_back("effect " + quoted(e->name()) + ": " + std::to_string(static_cast<long>(c.at(key))) +
                                 " " + what + " (their forces act from the first step" +
-                                (std::strcmp(key, "obstacle") == 0
+                                (key == Counter::obstacle_contacts
                                      ? ")"
                                      : "; within one mesh: the distance exceeds the mesh's own spacing)"));
     }

@@ -11,17 +11,18 @@
 #pragma once
 
 #include <pce/sim/block_hessian.hpp>
+#include <pce/sim/counters.hpp>
 #include <pce/sim/model.hpp>
 
 #include <limits>
-#include <map>
 #include <stdexcept>
 #include <string>
 
 namespace pce::sim {
 
-/// Numbers an effect reports for the frame's statistics (`stats.json`), e.g. contact counts.
-using EffectCounters = std::map<std::string, double>;
+/// Numbers an effect reports for the frame's statistics (`stats.json`), e.g. contact counts:
+/// typed counters (`pce/sim/counters.hpp`).
+using EffectCounters = Counters;
 
 /// One term of the incremental potential (see the file comment); the solver calls these
 /// in the order begin_step, declare, then per Newton iteration update_pattern, evaluate,
