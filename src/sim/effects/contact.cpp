@@ -237,6 +237,7 @@ template <bool VF> class SelfContact final : public Effect {
       ClosestFeatureEnergy<double> ce;
       const QuadraticPenalty probe{1.0, 0.0};
       if (closest_feature_energy<Kind>(xp, UnsignedLength{}, probe, ce) != Status::ok) continue;
+      candidates_.tighten(uk, v, ce.length);
       t = std::min(t, 0.9 * ce.length / (ma + mb));
     }
     candidates_.record_step(t_valid, t);
@@ -375,6 +376,7 @@ template <bool VF> class SelfContact final : public Effect {
     ClosestFeatureEnergy<double> ce;
     const QuadraticPenalty probe{1.0, 0.0};
     const Status s = closest_feature_energy<Kind>(xp, UnsignedLength{}, probe, ce);
+    if (s == Status::ok) candidates_.tighten(uk, candidates_.vertices(uk), ce.length);
     return s == Status::degenerate || (s == Status::ok && ce.length < a.limit);
   }
 
@@ -415,6 +417,8 @@ template <bool VF> class SelfContact final : public Effect {
     // A barrier at distance 0 (out of its domain, or a point kind's `degenerate`, which
     // is reported only at distance exactly 0) is infinite energy.
     if (s == Status::out_of_domain || (s == Status::degenerate && spec_.penalty.barrier())) return fail_infinite(o);
+    if (s == Status::ok)
+      candidates_.tighten(static_cast<std::size_t>(k), candidates_.vertices(static_cast<std::size_t>(k)), ce.length);
     if (s != Status::ok || !(ce.length < limit)) return;
     o.active = true;
     o.length = ce.length;

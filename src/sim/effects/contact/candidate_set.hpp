@@ -38,6 +38,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <type_traits>
 #include <vector>
@@ -133,6 +134,7 @@ template <bool VF> class CandidateSet {
   /// once per pass, before the pair loop.
   void measure_drift(const Eigen::Matrix3Xd& x) {
     drift_ = x - query_at_;
+    rounding_ = 64 * std::numeric_limits<double>::epsilon() * x.cwiseAbs().maxCoeff();
     const MeshDrift m = mesh_drift(drift_);
     const std::size_t M = m.s.size();
     drift_rel_.assign(M * M, 0.0);
@@ -166,6 +168,17 @@ template <bool VF> class CandidateSet {
     const double room = query_lb_[k] - limit * (1 + 1e-9);
     if (room >= drift_rel_[static_cast<std::size_t>(mesh_pair_[k])] * (1 + 1e-9)) return true;
     return room > 0 && room >= pair_drift(vertices(k)) * (1 + 1e-9);
+  }
+
+  /// Tightens candidate k's bound at the query with a distance measured at the x of the last
+  /// measure_drift: the distance at the query is at least `distance` less the pair's drift
+  /// since (pair_drift) and less a rounding allowance of 64 ε max|x|, far beyond the error
+  /// of a closest-feature distance. The passes call it where they measure a distance anyway,
+  /// so a pair whose box-or-sphere bound is 0 (a sheet's close neighbours: their boxes
+  /// overlap) costs one distance, not one per pass. Each pass writes only its own k.
+  void tighten(std::size_t k, const std::array<int, 4>& v, double distance) const {
+    if (query_lb_.size() != pairs_.size() || !std::isfinite(distance)) return;
+    query_lb_[k] = std::max(query_lb_[k], distance - rounding_ - pair_drift(v));
   }
 
   /// Step filter, meshes only: candidate k cannot limit a step below `t_valid` (from the
@@ -392,11 +405,14 @@ template <bool VF> class CandidateSet {
   std::vector<double> gaps_;              ///< M×M (upper part): gap between meshes' boxes at x0
   Eigen::Matrix3Xd target_;               ///< x + dx of the last step_limit: where a re-query sweeps to
   bool validity_bound_ = false;           ///< the last step's limit was the validity limit
-  std::vector<double> query_lb_;          ///< per candidate: distance lower bound at x0
-  std::vector<int> mesh_pair_;            ///< per candidate: a·M + b of its meshes (a ≤ b)
-  Eigen::Matrix3Xd drift_;                ///< x − x0 of the last measure_drift
-  std::vector<double> drift_rel_;         ///< rel_AB(drift_), indexed a·M + b
-  std::vector<double> step_reach_;        ///< W_AB of the last step_limit, indexed a·M + b
+  /// Per candidate: distance lower bound at x0 (box or spheres at the query, tightened by
+  /// distances the passes measure: a cache of a bound, hence mutable).
+  mutable std::vector<double> query_lb_;
+  double rounding_ = 0;             ///< 64 ε max|x| of the last measure_drift
+  std::vector<int> mesh_pair_;      ///< per candidate: a·M + b of its meshes (a ≤ b)
+  Eigen::Matrix3Xd drift_;          ///< x − x0 of the last measure_drift
+  std::vector<double> drift_rel_;   ///< rel_AB(drift_), indexed a·M + b
+  std::vector<double> step_reach_;  ///< W_AB of the last step_limit, indexed a·M + b
   QueryStats stats_;
 };
 
