@@ -288,6 +288,16 @@ template <bool VF> class CandidateSet {
   /// every candidate's distance bound at x0 (the filter).
   void query(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, std::vector<long>& previous) {
     const auto t0 = Clock::now();
+    // The former query point and bounds: a pair that stays a candidate keeps its bound,
+    // less how far it moved since (bound_at_query).
+    if (query_lb_.size() == pairs_.size() && query_at_.cols() == x0.cols()) {
+      former_lb_.swap(query_lb_);
+      moved_ = x0 - query_at_;
+      rounding_ = 64 * std::numeric_limits<double>::epsilon() *
+                  std::max(x0.cwiseAbs().maxCoeff(), query_at_.cwiseAbs().maxCoeff());
+    } else {
+      former_lb_.clear();
+    }
     query_at_ = x0;
     query_to_ = x1;
     sweep_lo_ = x0.cwiseMin(x1);
@@ -320,15 +330,19 @@ template <bool VF> class CandidateSet {
     }
     pairs_ = std::move(fresh);
     mark_fold_pairs();
-    bound_at_query();
+    bound_at_query(previous);
     stats_.queries += 1;
     ++instrumentation().broad_phase_queries;
     stats_.broad_phase_ms += ms_since(t0);
   }
 
-  /// Per candidate, at the query point: the distance lower bound and the index a·M + b
-  /// (a ≤ b) of its two primitives' meshes; what beyond and the step filter read.
-  void bound_at_query() {
+  /// Per candidate, at the query point: the distance lower bound (box or spheres; for a pair
+  /// that was a candidate before, at least its former bound less how far its vertices moved
+  /// relative to each other since the former query and the rounding allowance) and the
+  /// index a·M + b (a ≤ b) of its two primitives' meshes; what beyond and the step filter
+  /// read.
+  void bound_at_query(const std::vector<long>& previous) {
+    const bool carry = !former_lb_.empty();
     const long n = static_cast<long>(pairs_.size());
     const int M = static_cast<int>(model_->meshes.size());
     query_lb_.resize(pairs_.size());
@@ -338,6 +352,17 @@ template <bool VF> class CandidateSet {
       const auto uk = static_cast<std::size_t>(k);
       const auto v = vertices(uk);
       query_lb_[uk] = Geometry::distance_lower_bound(Geometry::gather(query_at_, v));
+      if (carry && previous[uk] >= 0) {
+        constexpr int na = Geometry::first_side_count();
+        double worst = 0;
+        for (int i = 0; i < na; ++i)
+          for (int j = na; j < 4; ++j)
+            worst = std::max(worst,
+                             (moved_.col(v[static_cast<std::size_t>(i)]) - moved_.col(v[static_cast<std::size_t>(j)]))
+                                 .squaredNorm());
+        query_lb_[uk] =
+            std::max(query_lb_[uk], former_lb_[static_cast<std::size_t>(previous[uk])] - rounding_ - std::sqrt(worst));
+      }
       const int a = mesh_of_[static_cast<std::size_t>(v[0])], b = mesh_of_[static_cast<std::size_t>(v[3])];
       mesh_pair_[uk] = std::min(a, b) * M + std::max(a, b);
     }
@@ -408,7 +433,9 @@ template <bool VF> class CandidateSet {
   /// Per candidate: distance lower bound at x0 (box or spheres at the query, tightened by
   /// distances the passes measure: a cache of a bound, hence mutable).
   mutable std::vector<double> query_lb_;
-  double rounding_ = 0;             ///< 64 ε max|x| of the last measure_drift
+  double rounding_ = 0;             ///< 64 ε max|x| of the last measure_drift (or query)
+  std::vector<double> former_lb_;   ///< during a query: the former candidates' bounds
+  Eigen::Matrix3Xd moved_;          ///< during a query: new query point − former query point
   std::vector<int> mesh_pair_;      ///< per candidate: a·M + b of its meshes (a ≤ b)
   Eigen::Matrix3Xd drift_;          ///< x − x0 of the last measure_drift
   std::vector<double> drift_rel_;   ///< rel_AB(drift_), indexed a·M + b
