@@ -64,7 +64,11 @@ template <bool VF> class CandidateSet {
   /// `distance` d, the activation distance; `bounded`: the effect bounds its steps
   /// (validity is then kept by step_limit, and re-queries wait until the limit binds).
   CandidateSet(const Model& model, BroadPhaseKind kind, double distance, bool bounded)
-      : model_(&model), broad_phase_(make_broad_phase(kind)), distance_(distance), bounded_(bounded) {
+      : model_(&model),
+        broad_phase_(make_broad_phase(kind)),
+        distance_(distance),
+        margin_(distance),
+        bounded_(bounded) {
     mesh_of_.resize(static_cast<std::size_t>(model.vertex_count()));
     for (std::size_t m = 0; m < model.meshes.size(); ++m)
       for (int i = 0; i < model.meshes[m].vertex_count; ++i)
@@ -88,7 +92,6 @@ template <bool VF> class CandidateSet {
   /// Starts a time step: one query over the sweep x0 → x1 (the effect sweeps from xⁿ to the
   /// inertial prediction). `previous[k]` is the index the new candidate k had before, or −1.
   void begin_step(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, std::vector<long>& previous) {
-    margin_ = distance_;
     stats_ = {};
     target_.resize(3, 0);
     validity_bound_ = false;
@@ -417,7 +420,7 @@ template <bool VF> class CandidateSet {
   const Model* model_;
   std::unique_ptr<BroadPhase> broad_phase_;
   double distance_;                       ///< d
-  double margin_;                         ///< this step's margin m (= d)
+  const double margin_;                   ///< the margin m = d of the query radius r = d + m
   bool bounded_;                          ///< the effect bounds its steps (validity kept by step_limit)
   std::vector<int> mesh_of_;              ///< per vertex: its mesh
   std::vector<Pair> pairs_;               ///< the candidates, sorted
