@@ -63,8 +63,8 @@ enum class Counter : int {
 /// A counter's key in `stats.json` and whether several reports merge by their minimum
 /// (distances) rather than their sum.
 struct CounterInfo {
-  const char* name;
-  bool minimum;
+  const char* name;  ///< the key in `stats.json`
+  bool minimum;      ///< several reports merge by their minimum (true) or their sum (false)
 };
 
 /// The name and merge rule of `c`.
@@ -110,6 +110,7 @@ inline const CounterInfo& counter_info(Counter c) {
 /// each either reported or absent (absent counters are not written to `stats.json`).
 class Counters {
  public:
+  /// The number of counters (`Counter::count`).
   static constexpr std::size_t kCount = static_cast<std::size_t>(Counter::count);
 
   /// The value of `c`, reported from now on (0 until written).
