@@ -8,8 +8,10 @@ no stats.jsonl). A row holds the run's label, frames, mean ms per frame and its 
 Newton iterations and broad-phase queries per frame (per contact effect: the counter sums
 both effects' queries), iteration caps, line-search failures and frames with intersecting
 triangle pairs, and, where stats.json records Newton iterations, how many were cut by a
-step limit and how many backtracked. Used for the before/after comparisons quoted in
-docs/simulation.md (benchmarks/results/hammock_before_after.csv).
+step limit and how many backtracked. benchmarks/results/scenes_before_after.csv is its
+output for the comparisons quoted in docs/simulation.md and CHANGELOG.md: each shipped
+scene at 7b22ee2 and at this work, one run of each side by side on the two cores of one
+machine (one thread each), labelled by commit; the threads rows ran alone.
 """
 import csv
 import json
