@@ -149,16 +149,7 @@ template <bool VF> class CandidateSet {
   /// over i of the first primitive and j of the second of |Dᵢ − Dⱼ| (D = x − query point of
   /// the last measure_drift). The distance between the primitives has changed by at most
   /// this since the query.
-  double pair_drift(const std::array<int, 4>& v) const {
-    constexpr int na = Geometry::first_side_count();
-    double worst = 0;
-    for (int i = 0; i < na; ++i)
-      for (int j = na; j < 4; ++j)
-        worst = std::max(
-            worst,
-            (drift_.col(v[static_cast<std::size_t>(i)]) - drift_.col(v[static_cast<std::size_t>(j)])).squaredNorm());
-    return std::sqrt(worst);
-  }
+  double pair_drift(const std::array<int, 4>& v) const { return relative_motion(drift_, v); }
 
   /// True when candidate k provably is farther than `limit` apart at the x of the last
   /// measure_drift: its lower bound at the query point, less how far its primitives can have
@@ -212,6 +203,18 @@ template <bool VF> class CandidateSet {
   const Eigen::Matrix3Xd& query_point() const { return query_at_; }
 
  private:
+  /// max over i of the first primitive and j of the second of |Dᵢ − Dⱼ|, D a displacement
+  /// per vertex: how far the pair's primitives can have closed in under D.
+  static double relative_motion(const Eigen::Matrix3Xd& D, const std::array<int, 4>& v) {
+    constexpr int na = Geometry::first_side_count();
+    double worst = 0;
+    for (int i = 0; i < na; ++i)
+      for (int j = na; j < 4; ++j)
+        worst = std::max(worst,
+                         (D.col(v[static_cast<std::size_t>(i)]) - D.col(v[static_cast<std::size_t>(j)])).squaredNorm());
+    return std::sqrt(worst);
+  }
+
   /// Per mesh: the mean c_A of D's columns and s_A = max_{i∈A} |Dᵢ − c_A|.
   struct MeshDrift {
     std::vector<Eigen::Vector3d> c;
@@ -356,15 +359,8 @@ template <bool VF> class CandidateSet {
       const auto v = vertices(uk);
       query_lb_[uk] = Geometry::distance_lower_bound(Geometry::gather(query_at_, v));
       if (carry && previous[uk] >= 0) {
-        constexpr int na = Geometry::first_side_count();
-        double worst = 0;
-        for (int i = 0; i < na; ++i)
-          for (int j = na; j < 4; ++j)
-            worst = std::max(worst,
-                             (moved_.col(v[static_cast<std::size_t>(i)]) - moved_.col(v[static_cast<std::size_t>(j)]))
-                                 .squaredNorm());
-        query_lb_[uk] =
-            std::max(query_lb_[uk], former_lb_[static_cast<std::size_t>(previous[uk])] - rounding_ - std::sqrt(worst));
+        query_lb_[uk] = std::max(
+            query_lb_[uk], former_lb_[static_cast<std::size_t>(previous[uk])] - rounding_ - relative_motion(moved_, v));
       }
       const int a = mesh_of_[static_cast<std::size_t>(v[0])], b = mesh_of_[static_cast<std::size_t>(v[3])];
       mesh_pair_[uk] = std::min(a, b) * M + std::max(a, b);
