@@ -34,7 +34,6 @@
 #include <pce/frames/vertex_face.hpp>
 #include <pce/sim/instrumentation.hpp>
 
-#include <Eigen/Geometry>
 #include <omp.h>
 
 #include <algorithm>
@@ -42,7 +41,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <iterator>
 #include <limits>
 
 namespace pce::sim {
