@@ -35,6 +35,23 @@ using SpMat = Eigen::SparseMatrix<double>;
 /// (free fall) CG is tried every time. The rule counts solves, not time, so runs are
 /// reproducible.
 constexpr int kMaxReuseBackoff = 16;
+
+/// Runs CHOLMOD (and the other factorisations) with OpenMP's parallel regions inactive.
+/// SuiteSparse 5's supernodal factorisation opens a region of CHOLMOD_OMP_NUM_THREADS = 4
+/// threads (a compile-time constant that neither omp_set_num_threads nor `--threads`
+/// reaches) around its scatter and clear loops; on a 2-core machine those regions cost
+/// more in waking and parking threads than the copies they share out, and they made a
+/// `--threads 1` run use four. The dense work is in BLAS, which is serial here.
+class SerialRegions {
+ public:
+  SerialRegions() : levels_(omp_get_max_active_levels()) { omp_set_max_active_levels(0); }
+  ~SerialRegions() { omp_set_max_active_levels(levels_); }
+  SerialRegions(const SerialRegions&) = delete;
+  SerialRegions& operator=(const SerialRegions&) = delete;
+
+ private:
+  int levels_;
+};
 }  // namespace
 
 /// The linear solver and the global Hessian, kept between steps (no allocation per
@@ -141,6 +158,7 @@ struct Simulation::LinearState {
   /// Solves H dx = rhs; false when the factorisation or the iteration fails.
   bool solve(const SolverSettings& settings, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx) {
     const SpMat& A = H.matrix();
+    const SerialRegions serial;
     switch (settings.linear) {
       case LinearSolver::factor_reuse:
 #ifdef PCE_SIM_HAVE_CHOLMOD
