@@ -130,19 +130,29 @@ template <bool VF> class SelfContact final : public Effect {
 #pragma omp parallel for schedule(static)
     for (long k = 0; k < n; ++k) near_[static_cast<std::size_t>(k)] = is_active(x, k);
     bool changed = false;
-    for (std::size_t k = 0; k < candidates_.size(); ++k)
+    active_at_pattern_.clear();
+    for (std::size_t k = 0; k < candidates_.size(); ++k) {
       if (near_[k] != declared_[k]) declared_[k] = near_[k], changed = true;
+      if (near_[k]) active_at_pattern_.push_back(k);
+    }
+    pattern_x_ = x;
+    pattern_x_valid_ = true;
     return changed;
   }
 
   double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) override {
     const auto t0 = Clock::now();
     const bool want_h = hessian != nullptr;
-    const long n = static_cast<long>(candidates_.size());
     const auto threads = static_cast<std::size_t>(omp_get_max_threads());
     hessians_.resize(threads);
     actives_.resize(threads);
     candidates_.measure_drift(x);
+    // At the state of the last update_pattern (the solver's Newton evaluation follows it), the
+    // pairs active there are the only ones that can be: is_active is true for every pair
+    // evaluate_pair finds active (and for degenerate closest-feature pairs, which it skips),
+    // so the pass visits those alone, in the same ascending order, with the same result.
+    const bool at_pattern = pattern_x_valid_ && pattern_x_.cols() == x.cols() && pattern_x_ == x;
+    const long n = at_pattern ? static_cast<long>(active_at_pattern_.size()) : static_cast<long>(candidates_.size());
     visit_penalty(spec_.penalty, [&](const auto& penalty) {
 #pragma omp parallel
       {
@@ -155,7 +165,8 @@ template <bool VF> class SelfContact final : public Effect {
         // lists in thread order visits the active pairs in k order (sums and scatter are
         // the same, bit for bit, whatever the thread count)
 #pragma omp for schedule(static)
-        for (long k = 0; k < n; ++k) {
+        for (long i = 0; i < n; ++i) {
+          const long k = at_pattern ? static_cast<long>(active_at_pattern_[static_cast<std::size_t>(i)]) : i;
           PairOut o;
           evaluate_pair(x, k, penalty, want_h ? &my_hessians : nullptr, o);
           if (o.active) {
@@ -165,7 +176,8 @@ template <bool VF> class SelfContact final : public Effect {
         }
       }
     });
-    (VF ? instrumentation().vertex_face_pairs_evaluated : instrumentation().edge_edge_pairs_evaluated) += n;
+    (VF ? instrumentation().vertex_face_pairs_evaluated : instrumentation().edge_edge_pairs_evaluated) +=
+        static_cast<long>(candidates_.size());
     stats_.pair_ms += ms_since(t0);
     const auto t1 = Clock::now();
     double energy = 0;
@@ -306,6 +318,7 @@ template <bool VF> class SelfContact final : public Effect {
     candidates_.restore(std::move(pairs));
     sides_ = std::move(sides);
     declared_ = std::move(declared);
+    pattern_x_valid_ = false;
   }
 
  private:
@@ -313,6 +326,7 @@ template <bool VF> class SelfContact final : public Effect {
   /// next update_pattern); new pairs start undeclared, with their side settled at xⁿ.
   void carry_over() {
     const auto t0 = Clock::now();
+    pattern_x_valid_ = false;
     std::vector<signed char> sides(previous_.size(), 0);
     std::vector<char> declared(previous_.size(), 0);
     for (std::size_t k = 0; k < previous_.size(); ++k)
@@ -485,10 +499,13 @@ template <bool VF> class SelfContact final : public Effect {
   const Model* model_;
   contact::CandidateSet<VF> candidates_;
   const Eigen::Matrix3Xd* x_start_ = nullptr;
-  std::vector<long> previous_;                 ///< per candidate of the last query: its former index, or −1
-  std::vector<signed char> sides_;             ///< per candidate: settled side (signed length), or 0
-  std::vector<char> declared_, near_;          ///< per candidate: in the pattern; active at the last update_pattern
-  std::vector<std::vector<PairOut>> actives_;  ///< per thread, active pairs only
+  std::vector<long> previous_;                  ///< per candidate of the last query: its former index, or −1
+  std::vector<signed char> sides_;              ///< per candidate: settled side (signed length), or 0
+  std::vector<char> declared_, near_;           ///< per candidate: in the pattern; active at the last update_pattern
+  std::vector<std::size_t> active_at_pattern_;  ///< the candidates active at the last update_pattern, ascending
+  Eigen::Matrix3Xd pattern_x_;                  ///< the state of the last update_pattern
+  bool pattern_x_valid_ = false;                ///< active_at_pattern_ belongs to the current candidates
+  std::vector<std::vector<PairOut>> actives_;   ///< per thread, active pairs only
   std::vector<std::vector<PairHessian>> hessians_;  ///< per thread, active pairs only
   ContactStats stats_;
 };
