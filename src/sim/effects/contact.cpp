@@ -58,6 +58,9 @@ struct PairOut {
   double energy = 0;
   double length = std::numeric_limits<double>::infinity();
   bool active = false;
+  /// is_active would say yes: active, or a degenerate closest-feature configuration.
+  bool declare = false;
+  bool unsure = false;  ///< declare is unknown (see closest_pair)
   Vec12<double> g;
 };
 
@@ -124,11 +127,18 @@ template <bool VF> class SelfContact final : public Effect {
     // vertices. Declaring more (pairs that were near activation at some earlier iterate)
     // multiplies the factorisation's fill-in: on the hammock, 65 k declared pairs for 3 k
     // active ones made L 4.9 M non-zeros and each factorisation 0.5 s.
-    const long n = static_cast<long>(candidates_.size());
-    if (near_.size() < candidates_.size()) near_.resize(candidates_.size());
-    candidates_.measure_drift(x);
+    // At the state of the last full evaluation (the line search's accepted trial), that pass
+    // recorded is_active for every candidate; otherwise one pass asks it.
+    if (evaluated_x_valid_ && evaluated_x_.cols() == x.cols() && evaluated_x_ == x) {
+      near_.assign(candidates_.size(), 0);
+      for (const std::size_t k : declared_at_evaluation_) near_[k] = 1;
+    } else {
+      const long n = static_cast<long>(candidates_.size());
+      if (near_.size() < candidates_.size()) near_.resize(candidates_.size());
+      candidates_.measure_drift(x);
 #pragma omp parallel for schedule(static)
-    for (long k = 0; k < n; ++k) near_[static_cast<std::size_t>(k)] = is_active(x, k);
+      for (long k = 0; k < n; ++k) near_[static_cast<std::size_t>(k)] = is_active(x, k);
+    }
     bool changed = false;
     active_at_pattern_.clear();
     for (std::size_t k = 0; k < candidates_.size(); ++k) {
@@ -146,6 +156,8 @@ template <bool VF> class SelfContact final : public Effect {
     const auto threads = static_cast<std::size_t>(omp_get_max_threads());
     hessians_.resize(threads);
     actives_.resize(threads);
+    declares_.resize(threads);
+    unsure_.assign(threads, 0);
     candidates_.measure_drift(x);
     // At the state of the last update_pattern (the solver's Newton evaluation follows it), the
     // pairs active there are the only ones that can be: is_active is true for every pair
@@ -159,8 +171,10 @@ template <bool VF> class SelfContact final : public Effect {
         const auto me = static_cast<std::size_t>(omp_get_thread_num());
         std::vector<PairHessian>& my_hessians = hessians_[me];
         std::vector<PairOut>& my_actives = actives_[me];
+        std::vector<std::size_t>& my_declares = declares_[me];
         my_hessians.clear();
         my_actives.clear();
+        my_declares.clear();
         // static schedule: thread t owns one contiguous range of k, so reading the threads'
         // lists in thread order visits the active pairs in k order (sums and scatter are
         // the same, bit for bit, whatever the thread count)
@@ -169,6 +183,8 @@ template <bool VF> class SelfContact final : public Effect {
           const long k = at_pattern ? static_cast<long>(active_at_pattern_[static_cast<std::size_t>(i)]) : i;
           PairOut o;
           evaluate_pair(x, k, penalty, want_h ? &my_hessians : nullptr, o);
+          if (o.declare) my_declares.push_back(static_cast<std::size_t>(k));
+          if (o.unsure) unsure_[me] = 1;
           if (o.active) {
             o.k = k;
             my_actives.push_back(o);
@@ -178,6 +194,15 @@ template <bool VF> class SelfContact final : public Effect {
     });
     (VF ? instrumentation().vertex_face_pairs_evaluated : instrumentation().edge_edge_pairs_evaluated) +=
         static_cast<long>(candidates_.size());
+    // A pass over every candidate recorded is_active for each: update_pattern at this x
+    // reads it instead of asking again.
+    evaluated_x_valid_ = !at_pattern && std::count(unsure_.begin(), unsure_.end(), char(1)) == 0;
+    if (evaluated_x_valid_) {
+      evaluated_x_ = x;
+      declared_at_evaluation_.clear();
+      for (const auto& list : declares_)
+        declared_at_evaluation_.insert(declared_at_evaluation_.end(), list.begin(), list.end());
+    }
     stats_.pair_ms += ms_since(t0);
     const auto t1 = Clock::now();
     double energy = 0;
@@ -318,7 +343,7 @@ template <bool VF> class SelfContact final : public Effect {
     candidates_.restore(std::move(pairs));
     sides_ = std::move(sides);
     declared_ = std::move(declared);
-    pattern_x_valid_ = false;
+    pattern_x_valid_ = evaluated_x_valid_ = false;
   }
 
  private:
@@ -326,7 +351,7 @@ template <bool VF> class SelfContact final : public Effect {
   /// next update_pattern); new pairs start undeclared, with their side settled at xⁿ.
   void carry_over() {
     const auto t0 = Clock::now();
-    pattern_x_valid_ = false;
+    pattern_x_valid_ = evaluated_x_valid_ = false;
     std::vector<signed char> sides(previous_.size(), 0);
     std::vector<char> declared(previous_.size(), 0);
     for (std::size_t k = 0; k < previous_.size(); ++k)
@@ -402,6 +427,7 @@ template <bool VF> class SelfContact final : public Effect {
     const Vec12<double> xp = Geometry::gather(x, candidates_.vertices(uk));
     const Activity a = classify(xp, uk);
     if (a.mode == Activity::Mode::none) return;
+    o.declare = a.mode == Activity::Mode::plane;  // is_active: plane mode is active
     if (a.mode == Activity::Mode::closest)
       return a.fold ? closest_pair(xp, k, with_reach(penalty, a.limit), a.limit, hessians, o)
                     : closest_pair(xp, k, penalty, a.limit, hessians, o);
@@ -426,6 +452,11 @@ template <bool VF> class SelfContact final : public Effect {
                                              std::vector<PairHessian>* hessians, PairOut& o) const {
     ClosestFeatureEnergy<double> ce;
     const Status s = closest_feature_energy<Kind>(xp, UnsignedLength{}, penalty, ce);
+    // What is_active (which measures with a probe penalty) says: degenerate, or a distance
+    // below the limit (a barrier's out_of_domain is a distance of 0). Another status of the
+    // effect's penalty (overflow) leaves it unknown.
+    o.declare = s == Status::degenerate || s == Status::out_of_domain || (s == Status::ok && ce.length < limit);
+    o.unsure = !(s == Status::ok || s == Status::degenerate || s == Status::out_of_domain);
     // A barrier at distance 0 (out of its domain, or a point kind's `degenerate`, which
     // is reported only at distance exactly 0) is infinite energy.
     if (s == Status::out_of_domain || (s == Status::degenerate && spec_.penalty.barrier())) return fail_infinite(o);
@@ -505,8 +536,13 @@ template <bool VF> class SelfContact final : public Effect {
   std::vector<std::size_t> active_at_pattern_;  ///< the candidates active at the last update_pattern, ascending
   Eigen::Matrix3Xd pattern_x_;                  ///< the state of the last update_pattern
   bool pattern_x_valid_ = false;                ///< active_at_pattern_ belongs to the current candidates
-  std::vector<std::vector<PairOut>> actives_;   ///< per thread, active pairs only
-  std::vector<std::vector<PairHessian>> hessians_;  ///< per thread, active pairs only
+  std::vector<std::size_t> declared_at_evaluation_;  ///< is_active at the last full evaluation, ascending
+  Eigen::Matrix3Xd evaluated_x_;                     ///< the state of that evaluation
+  bool evaluated_x_valid_ = false;                   ///< declared_at_evaluation_ is usable
+  std::vector<std::vector<std::size_t>> declares_;   ///< per thread, during a pass: its declare list
+  std::vector<char> unsure_;                         ///< per thread, during a pass: some declare unknown
+  std::vector<std::vector<PairOut>> actives_;        ///< per thread, active pairs only
+  std::vector<std::vector<PairHessian>> hessians_;   ///< per thread, active pairs only
   ContactStats stats_;
 };
 
