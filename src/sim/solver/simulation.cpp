@@ -307,6 +307,9 @@ FrameStats Simulation::step() {
   Eigen::VectorXd dx(3 * n), rhs(3 * n);
   const int cap = solver.single_solve ? 1 : std::max(1, solver.max_iterations);
   double E_accepted = 0;
+  // The effects' last evaluation was at y with the current candidates: set when a trial
+  // is accepted, cleared by a refresh (and by a trial that is not).
+  bool evaluated_at_y = false;
   for (int it = 0; it < cap; ++it) {
     // Gradient and Hessian: inertia, then every effect (the pattern grows with the
     // active contacts).
@@ -365,10 +368,12 @@ FrameStats Simulation::step() {
     for (int tries = 0; tries < 40 && alpha > 0 && (tries == 0 || alpha >= smallest); ++tries, alpha *= 0.5) {
       y1 = y + alpha * dxm;
       const double E1 = potential(y1, &effect_ms);
+      evaluated_at_y = false;
       if (std::isfinite(E1) && E1 <= E + 1e-4 * alpha * slope) {
         y = y1;
         E_accepted = E1;
         accepted = true;
+        evaluated_at_y = true;
         break;
       }
     }
@@ -391,15 +396,17 @@ FrameStats Simulation::step() {
         effects[k]->refresh(y);
         effect_ms[k] += ms_since(t0);
         changed = true;
+        evaluated_at_y = false;
       }
     if (changed) rebuild_pattern();
     if (converged) break;
     if (it + 1 == cap && !solver.single_solve) st.hit_iteration_cap = true;
   }
   if (!y.allFinite()) fail_non_finite(y, st.frame, "after the line search");
-  // One more energy pass at the accepted state, so the energy and every counter (contact
-  // counts, minimum distances) describe it rather than the last line-search trial.
-  {
+  // The energy and every counter (contact counts, minimum distances) describe the accepted
+  // state: when the last evaluation was elsewhere (a rejected trial) or with other
+  // candidates (a refresh since), one more energy pass there.
+  if (!evaluated_at_y) {
     const auto t0 = Clock::now();
     E_accepted = potential(y, &effect_ms);
     st.line_search_ms += ms_since(t0);
