@@ -23,7 +23,8 @@
 //    candidate);
 //  * closest-feature mode: pce::closest_feature_energy, the distance between the primitives.
 // The Hessian is pce's projection chosen per effect (`hessian`). Pairs are evaluated in
-// parallel (OpenMP) into per-thread buffers and scattered serially into the block Hessian.
+// parallel (OpenMP, chunks of consecutive candidates on a dynamic schedule) into per-chunk
+// buffers, which are summed and scattered serially, in chunk order, into the block Hessian.
 #include "contact/candidate_set.hpp"
 #include "contact/pair_geometry.hpp"
 #include "penalty_spec.hpp"
@@ -50,7 +51,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-/// An active pair's result of one evaluation (k its candidate index). Kept per thread, for
+/// An active pair's result of one evaluation (k its candidate index). Kept per chunk, for
 /// active pairs only, so the serial pass that sums and scatters touches those alone (a
 /// record per candidate made it sweep ~100 MB per evaluation on the hammock).
 struct PairOut {
@@ -64,7 +65,7 @@ struct PairOut {
   Vec12<double> g;
 };
 
-/// The Hessian of an active pair (k its candidate index). Kept per thread, for active pairs
+/// The Hessian of an active pair (k its candidate index). Kept per chunk, for active pairs
 /// only: a 12×12 block per candidate would cost ~1 KiB each (0.7 GB for the hammock's
 /// candidates).
 struct PairHessian {
@@ -136,7 +137,7 @@ template <bool VF> class SelfContact final : public Effect {
       const long n = static_cast<long>(candidates_.size());
       if (near_.size() < candidates_.size()) near_.resize(candidates_.size());
       candidates_.measure_drift(x);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 2048)
       for (long k = 0; k < n; ++k) near_[static_cast<std::size_t>(k)] = is_active(x, k);
     }
     bool changed = false;
@@ -153,11 +154,6 @@ template <bool VF> class SelfContact final : public Effect {
   double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) override {
     const auto t0 = Clock::now();
     const bool want_h = hessian != nullptr;
-    const auto threads = static_cast<std::size_t>(omp_get_max_threads());
-    hessians_.resize(threads);
-    actives_.resize(threads);
-    declares_.resize(threads);
-    unsure_.assign(threads, 0);
     candidates_.measure_drift(x);
     // At the state of the last update_pattern (the solver's Newton evaluation follows it), the
     // pairs active there are the only ones that can be: is_active is true for every pair
@@ -165,26 +161,38 @@ template <bool VF> class SelfContact final : public Effect {
     // so the pass visits those alone, in the same ascending order, with the same result.
     const bool at_pattern = pattern_x_valid_ && pattern_x_.cols() == x.cols() && pattern_x_ == x;
     const long n = at_pattern ? static_cast<long>(active_at_pattern_.size()) : static_cast<long>(candidates_.size());
+    // Chunks of consecutive pairs, each with its own output lists, handed to the threads as
+    // they come free (dynamic schedule: the cost per candidate varies by orders of
+    // magnitude, and a static split left one of two threads idle most of a pass); reading
+    // the chunks' lists in chunk order visits the active pairs in k order, so sums and
+    // scatter are the same, bit for bit, whatever the thread count. Active pairs (each with
+    // a Hessian) come in smaller chunks.
+    const long chunk = at_pattern ? 32 : 2048;
+    const auto chunks = static_cast<std::size_t>((n + chunk - 1) / chunk);
+    if (actives_.size() < chunks) {
+      actives_.resize(chunks);
+      hessians_.resize(chunks);
+      declares_.resize(chunks);
+    }
+    unsure_.assign(chunks, 0);
+    chunks_ = chunks;
     visit_penalty(spec_.penalty, [&](const auto& penalty) {
-#pragma omp parallel
-      {
-        const auto me = static_cast<std::size_t>(omp_get_thread_num());
-        std::vector<PairHessian>& my_hessians = hessians_[me];
-        std::vector<PairOut>& my_actives = actives_[me];
-        std::vector<std::size_t>& my_declares = declares_[me];
+#pragma omp parallel for schedule(dynamic, 1)
+      for (long c = 0; c < static_cast<long>(chunks); ++c) {
+        const auto uc = static_cast<std::size_t>(c);
+        std::vector<PairHessian>& my_hessians = hessians_[uc];
+        std::vector<PairOut>& my_actives = actives_[uc];
+        std::vector<std::size_t>& my_declares = declares_[uc];
         my_hessians.clear();
         my_actives.clear();
         my_declares.clear();
-        // static schedule: thread t owns one contiguous range of k, so reading the threads'
-        // lists in thread order visits the active pairs in k order (sums and scatter are
-        // the same, bit for bit, whatever the thread count)
-#pragma omp for schedule(static)
-        for (long i = 0; i < n; ++i) {
+        const long end = std::min(n, (c + 1) * chunk);
+        for (long i = c * chunk; i < end; ++i) {
           const long k = at_pattern ? static_cast<long>(active_at_pattern_[static_cast<std::size_t>(i)]) : i;
           PairOut o;
           evaluate_pair(x, k, penalty, want_h ? &my_hessians : nullptr, o);
           if (o.declare) my_declares.push_back(static_cast<std::size_t>(k));
-          if (o.unsure) unsure_[me] = 1;
+          if (o.unsure) unsure_[uc] = 1;
           if (o.active) {
             o.k = k;
             my_actives.push_back(o);
@@ -200,16 +208,16 @@ template <bool VF> class SelfContact final : public Effect {
     if (evaluated_x_valid_) {
       evaluated_x_ = x;
       declared_at_evaluation_.clear();
-      for (const auto& list : declares_)
-        declared_at_evaluation_.insert(declared_at_evaluation_.end(), list.begin(), list.end());
+      for (std::size_t c = 0; c < chunks_; ++c)
+        declared_at_evaluation_.insert(declared_at_evaluation_.end(), declares_[c].begin(), declares_[c].end());
     }
     stats_.pair_ms += ms_since(t0);
     const auto t1 = Clock::now();
     double energy = 0;
     long active = 0, fold_active = 0;
     double min_length = std::numeric_limits<double>::infinity();
-    for (const auto& list : actives_)
-      for (const PairOut& o : list) {
+    for (std::size_t c = 0; c < chunks_; ++c)
+      for (const PairOut& o : actives_[c]) {
         ++active;
         fold_active += candidates_.fold_pair(static_cast<std::size_t>(o.k));
         energy += o.energy;
@@ -220,8 +228,9 @@ template <bool VF> class SelfContact final : public Effect {
           for (int j = 0; j < 4; ++j) gradient->col(v[static_cast<std::size_t>(j)]) += o.g.segment<3>(3 * j);
       }
     if (hessian)
-      for (const auto& list : hessians_)
-        for (const PairHessian& ph : list) hessian->add<4>(candidates_.vertices(static_cast<std::size_t>(ph.k)), ph.H);
+      for (std::size_t c = 0; c < chunks_; ++c)
+        for (const PairHessian& ph : hessians_[c])
+          hessian->add<4>(candidates_.vertices(static_cast<std::size_t>(ph.k)), ph.H);
     stats_.scatter_ms += ms_since(t1);
     stats_.active = active;
     stats_.fold_active = fold_active;
@@ -245,7 +254,8 @@ template <bool VF> class SelfContact final : public Effect {
     const double t_valid = candidates_.step_limit(x, dx);
     double t = t_valid;  // (inside the loop, t is a thread's own minimum, which starts at +∞)
     const long n = static_cast<long>(candidates_.size());
-#pragma omp parallel for schedule(static) reduction(min : t)
+    // (dynamic schedule: the minimum is the same whatever the order; see evaluate)
+#pragma omp parallel for schedule(dynamic, 2048) reduction(min : t)
     for (long k = 0; k < n; ++k) {
       const auto uk = static_cast<std::size_t>(k);
       // Pairs whose distance provably stays above what t_valid allows are skipped before
@@ -539,10 +549,11 @@ template <bool VF> class SelfContact final : public Effect {
   std::vector<std::size_t> declared_at_evaluation_;  ///< is_active at the last full evaluation, ascending
   Eigen::Matrix3Xd evaluated_x_;                     ///< the state of that evaluation
   bool evaluated_x_valid_ = false;                   ///< declared_at_evaluation_ is usable
-  std::vector<std::vector<std::size_t>> declares_;   ///< per thread, during a pass: its declare list
-  std::vector<char> unsure_;                         ///< per thread, during a pass: some declare unknown
-  std::vector<std::vector<PairOut>> actives_;        ///< per thread, active pairs only
-  std::vector<std::vector<PairHessian>> hessians_;   ///< per thread, active pairs only
+  std::size_t chunks_ = 0;                           ///< chunks of the last evaluation
+  std::vector<std::vector<std::size_t>> declares_;   ///< per chunk: its pairs is_active would declare
+  std::vector<char> unsure_;                         ///< per chunk: some declaration unknown
+  std::vector<std::vector<PairOut>> actives_;        ///< per chunk, active pairs only
+  std::vector<std::vector<PairHessian>> hessians_;   ///< per chunk, active pairs only
   ContactStats stats_;
 };
 
