@@ -126,6 +126,51 @@ INSTANTIATE_TEST_SUITE_P(Kinds, ContactDerivatives,
                                            std::make_tuple("self_edge_edge", "signed", false),
                                            std::make_tuple("self_edge_edge", "unsigned", true)));
 
+TEST(Contact, PassesThatReuseAnEarlierPassAgreeWithAFullPass) {
+  // The Newton evaluation after update_pattern visits only the pairs active there, and
+  // update_pattern after a full evaluation at the same state reads that evaluation's record
+  // instead of testing every candidate. Each must give exactly what a full pass gives.
+  for (const auto& [type, length, closest] :
+       {std::make_tuple("self_vertex_face", "signed", false), std::make_tuple("self_vertex_face", "unsigned", true),
+        std::make_tuple("self_edge_edge", "unsigned", false), std::make_tuple("self_edge_edge", "unsigned", true)}) {
+    SCOPED_TRACE(std::string(type) + " " + length + (closest ? " closest" : " plane"));
+    auto a = two_sheets(contact(type, length, "analytic", closest), 0.008);
+    auto b = two_sheets(contact(type, length, "analytic", closest), 0.008);
+    begin(*a);
+    begin(*b);
+    Effect& ea = *a->simulation.effects[0];
+    Effect& eb = *b->simulation.effects[0];
+    Eigen::Matrix3Xd x = a->simulation.x;
+    for (Eigen::Index i = 0; i < x.cols(); ++i) x(2, i) += 1e-3 * std::sin(1.7 * static_cast<double>(i));
+    const auto n = static_cast<int>(x.cols());
+    // a: update_pattern tests every candidate; the evaluation then visits the active ones.
+    ea.update_pattern(x);
+    Pattern pa;
+    ea.declare(pa);
+    BlockHessian H;
+    H.set_pattern(n, pa);
+    Eigen::Matrix3Xd ga = Eigen::Matrix3Xd::Zero(3, n);
+    const double Ea = ea.evaluate(x, &ga, &H);
+    // b: a full evaluation first, whose record update_pattern then reads.
+    Eigen::Matrix3Xd gb = Eigen::Matrix3Xd::Zero(3, n);
+    const double Eb = eb.evaluate(x, &gb, nullptr);
+    eb.update_pattern(x);
+    Pattern pb;
+    eb.declare(pb);
+    EXPECT_GT(pa.pairs().size(), 0u);
+    EXPECT_EQ(pa.pairs(), pb.pairs());
+    EXPECT_GT(Ea, 0.0);
+    EXPECT_EQ(Ea, Eb);
+    EXPECT_EQ(ga, gb);
+    EffectCounters ca, cb;
+    ea.report(ca);
+    eb.report(cb);
+    const std::string kind = std::string(type) == "self_vertex_face" ? "vertex_face" : "edge_edge";
+    EXPECT_EQ(ca.at(kind + "_contacts"), cb.at(kind + "_contacts"));
+    EXPECT_EQ(ca.at(kind + "_declared"), cb.at(kind + "_declared"));
+  }
+}
+
 TEST(Contact, SignedSideIsRecordedAtEntryAndKeptWhileTracked) {
   auto s = two_sheets(contact("self_vertex_face", "signed", "analytic", false), 0.008);
   begin(*s);
