@@ -10,8 +10,9 @@ both effects' queries), iteration caps, line-search failures and frames with int
 triangle pairs, and, where stats.json records Newton iterations, how many were cut by a
 step limit and how many backtracked. benchmarks/results/scenes_before_after.csv is its
 output for the comparisons quoted in docs/simulation.md and CHANGELOG.md: each shipped
-scene at 7b22ee2 and at this work, one run of each side by side on the two cores of one
-machine (one thread each), labelled by commit; the threads rows ran alone.
+scene at 7b22ee2 and at later commits, labelled by commit. Rows marked "(one after the
+other)" ran alone, one after the other on one machine; the threads rows ran alone; every
+other pair of rows ran side by side on the two cores of one machine (one thread each).
 """
 import csv
 import json
