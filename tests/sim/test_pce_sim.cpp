@@ -31,9 +31,13 @@ namespace {
 
 const fs::path kScenes = fs::path(PCE_SOURCE_DIR) / "examples" / "scenes";
 
-/// Runs pce-sim with `args`; returns the exit code and the captured stderr.
+/// Runs pce-sim with `args`; returns the exit code and the captured stderr. The capture
+/// file is this process's own: ctest runs the tests of this file as separate processes in
+/// parallel, and one file for all of them let a test read another's output.
 int run(const std::string& args, std::string* err = nullptr) {
-  const fs::path log = fs::path(PCE_TEST_TMP) / "pce_sim_stderr.txt";
+  static int calls = 0;
+  const fs::path log =
+      fs::path(PCE_TEST_TMP) / ("pce_sim_stderr_" + std::to_string(getpid()) + "_" + std::to_string(calls++) + ".txt");
   const std::string cmd = std::string(PCE_SIM_EXE) + " " + args + " 2> " + log.string() + " > /dev/null";
   const int status = std::system(cmd.c_str());
   if (err) {
@@ -42,6 +46,7 @@ int run(const std::string& args, std::string* err = nullptr) {
     s << in.rdbuf();
     *err = s.str();
   }
+  fs::remove(log);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
