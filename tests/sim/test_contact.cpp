@@ -16,6 +16,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <atomic>
 #include <filesystem>
 
 using namespace pce::sim;
@@ -168,6 +169,68 @@ TEST(Contact, PassesThatReuseAnEarlierPassAgreeWithAFullPass) {
     const std::string kind = std::string(type) == "self_vertex_face" ? "vertex_face" : "edge_edge";
     EXPECT_EQ(ca.at(kind + "_contacts"), cb.at(kind + "_contacts"));
     EXPECT_EQ(ca.at(kind + "_declared"), cb.at(kind + "_declared"));
+  }
+}
+
+TEST(Contact, LineSearchTrialsOnTheStepAgreeWithAFullPass) {
+  // After max_step(x, dx), an evaluation at x + α dx (α up to the limit) visits only the
+  // pairs max_step listed as possibly active on that segment; it must give exactly what a
+  // full pass gives, and so must update_pattern reading its record. Sheet b starts 0.035
+  // above a (beyond d = 0.02, within the query radius 2d) and the step lowers half of it by
+  // 0.03, so pairs activate along the step while the other half's pairs stay out of reach.
+  for (const auto& [type, length, closest] :
+       {std::make_tuple("self_vertex_face", "signed", false), std::make_tuple("self_vertex_face", "unsigned", false),
+        std::make_tuple("self_vertex_face", "unsigned", true), std::make_tuple("self_edge_edge", "unsigned", false),
+        std::make_tuple("self_edge_edge", "unsigned", true)}) {
+    SCOPED_TRACE(std::string(type) + " " + length + (closest ? " closest" : " plane"));
+    auto a = two_sheets(contact(type, length, "analytic", closest), 0.035);
+    auto b = two_sheets(contact(type, length, "analytic", closest), 0.035);
+    begin(*a);
+    begin(*b);
+    Effect& ea = *a->simulation.effects[0];
+    Effect& eb = *b->simulation.effects[0];
+    Eigen::Matrix3Xd x = a->simulation.x;
+    for (Eigen::Index i = 0; i < x.cols(); ++i) x(2, i) += 1e-3 * std::sin(1.7 * static_cast<double>(i));
+    Eigen::Matrix3Xd dx = Eigen::Matrix3Xd::Zero(3, x.cols());
+    const Eigen::Index half = x.cols() / 2;
+    for (Eigen::Index i = half; i < x.cols(); ++i)
+      if (x(0, i) < 0) dx(2, i) = -0.03, dx(1, i) = 0.004 * std::cos(2.3 * static_cast<double>(i));
+    const double t = ea.max_step(x, dx);
+    ASSERT_GT(t, 0.5);
+    const std::string kind = std::string(type) == "self_vertex_face" ? "vertex_face" : "edge_edge";
+    std::atomic<long>& visited = kind == "vertex_face" ? instrumentation().vertex_face_pairs_evaluated
+                                                       : instrumentation().edge_edge_pairs_evaluated;
+    long fewer = 0;
+    for (const double alpha : {t, 0.5 * t, 0.25 * t, 0.0}) {
+      SCOPED_TRACE(alpha);
+      const Eigen::Matrix3Xd y = x + alpha * dx;
+      Eigen::Matrix3Xd ga = Eigen::Matrix3Xd::Zero(3, x.cols()), gb = ga;
+      const long before = visited;
+      const double Ea = ea.evaluate(y, &ga, nullptr);
+      const long on_list = visited - before;
+      const double Eb = eb.evaluate(y, &gb, nullptr);
+      fewer += visited - before - on_list > on_list;  // the full pass visited more pairs
+      EXPECT_EQ(Ea, Eb);
+      EXPECT_EQ(ga, gb);
+      EffectCounters ca, cb;
+      ea.report(ca);
+      eb.report(cb);
+      EXPECT_EQ(ca.at(kind + "_contacts"), cb.at(kind + "_contacts"));
+      EXPECT_EQ(ca.at(kind + "_min_distance"), cb.at(kind + "_min_distance"));
+      // update_pattern at y reads the list pass's record (a) or its own full pass's (b).
+      ea.update_pattern(y);
+      eb.update_pattern(y);
+      Pattern pa, pb;
+      ea.declare(pa);
+      eb.declare(pb);
+      EXPECT_EQ(pa.pairs(), pb.pairs());
+      if (alpha == t) EXPECT_GT(ca.at(kind + "_contacts"), 0.0);
+    }
+    if (!(std::string(type) == "self_vertex_face" && std::string(length) == "signed"))
+      EXPECT_GT(fewer, 0);  // (signed plane mode reaches 2d, the query radius: every candidate is listed)
+    // A state off the segment is evaluated in full.
+    const Eigen::Matrix3Xd off = lift_b(x, -0.03);
+    EXPECT_EQ(ea.evaluate(off, nullptr, nullptr), eb.evaluate(off, nullptr, nullptr));
   }
 }
 

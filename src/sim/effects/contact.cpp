@@ -160,14 +160,19 @@ template <bool VF> class SelfContact final : public Effect {
     // evaluate_pair finds active (and for degenerate closest-feature pairs, which it skips),
     // so the pass visits those alone, in the same ascending order, with the same result.
     const bool at_pattern = pattern_x_valid_ && pattern_x_.cols() == x.cols() && pattern_x_ == x;
-    const long n = at_pattern ? static_cast<long>(active_at_pattern_.size()) : static_cast<long>(candidates_.size());
+    // On the last max_step's segment (a line-search trial), the pairs max_step listed as
+    // possibly active there are the only ones that can be (is_active included), so the pass
+    // visits those alone, again in ascending order with the same result.
+    const bool on_list = !at_pattern && on_segment(x);
+    const std::vector<std::size_t>* list = at_pattern ? &active_at_pattern_ : on_list ? &segment_ : nullptr;
+    const long n = list ? static_cast<long>(list->size()) : static_cast<long>(candidates_.size());
     // Chunks of consecutive pairs, each with its own output lists, handed to the threads as
     // they come free (dynamic schedule: the cost per candidate varies by orders of
     // magnitude, and a static split left one of two threads idle most of a pass); reading
     // the chunks' lists in chunk order visits the active pairs in k order, so sums and
     // scatter are the same, bit for bit, whatever the thread count. Active pairs (each with
     // a Hessian) come in smaller chunks.
-    const long chunk = at_pattern ? 32 : 2048;
+    const long chunk = at_pattern ? 32 : on_list ? 256 : 2048;
     const auto chunks = static_cast<std::size_t>((n + chunk - 1) / chunk);
     if (actives_.size() < chunks) {
       actives_.resize(chunks);
@@ -188,7 +193,7 @@ template <bool VF> class SelfContact final : public Effect {
         my_declares.clear();
         const long end = std::min(n, (c + 1) * chunk);
         for (long i = c * chunk; i < end; ++i) {
-          const long k = at_pattern ? static_cast<long>(active_at_pattern_[static_cast<std::size_t>(i)]) : i;
+          const long k = list ? static_cast<long>((*list)[static_cast<std::size_t>(i)]) : i;
           PairOut o;
           evaluate_pair(x, k, penalty, want_h ? &my_hessians : nullptr, o);
           if (o.declare) my_declares.push_back(static_cast<std::size_t>(k));
@@ -200,8 +205,7 @@ template <bool VF> class SelfContact final : public Effect {
         }
       }
     });
-    (VF ? instrumentation().vertex_face_pairs_evaluated : instrumentation().edge_edge_pairs_evaluated) +=
-        static_cast<long>(candidates_.size());
+    (VF ? instrumentation().vertex_face_pairs_evaluated : instrumentation().edge_edge_pairs_evaluated) += n;
     // A pass over every candidate recorded is_active for each: update_pattern at this x
     // reads it instead of asking again.
     evaluated_x_valid_ = !at_pattern && std::count(unsure_.begin(), unsure_.end(), char(1)) == 0;
@@ -240,6 +244,7 @@ template <bool VF> class SelfContact final : public Effect {
   }
 
   double max_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) override {
+    segment_valid_ = false;
     if (!spec_.penalty.barrier() && !spec_.ccd) return 1.0;
     // Conservative advancement (the additive-CCD bound, Li et al. 2021): the distance is
     // unchanged by a common translation, so with p̄ the mean of the pair's four vertex
@@ -252,39 +257,79 @@ template <bool VF> class SelfContact final : public Effect {
     // within d either. (Bounding the candidates alone let a landing sheet cross faces that
     // were not candidates.)
     const double t_valid = candidates_.step_limit(x, dx);
-    double t = t_valid;  // (inside the loop, t is a thread's own minimum, which starts at +∞)
+    // The same pass lists the candidates that can be active anywhere on x + s dx, s ∈ [0,
+    // t_valid] (t_valid bounds what this returns, hence every line-search trial): a pair
+    // whose distance at x, less t_valid (ma + mb), is at least its reach is inactive on the
+    // whole segment. The trials then visit the list alone (evaluate, on_segment).
+    segment_slack_ = 8 * kSegmentTolerance * std::max(x.cwiseAbs().maxCoeff(), 1.0);
+    double t = t_valid;  // (inside the loop, t is a chunk's own minimum, which starts at +∞)
     const long n = static_cast<long>(candidates_.size());
-    // (dynamic schedule: the minimum is the same whatever the order; see evaluate)
-#pragma omp parallel for schedule(dynamic, 2048) reduction(min : t)
-    for (long k = 0; k < n; ++k) {
-      const auto uk = static_cast<std::size_t>(k);
-      // Pairs whose distance provably stays above what t_valid allows are skipped before
-      // their vertices are read (cannot_limit, cannot_lower: the query's distance bound
-      // less the drift since).
-      if (candidates_.cannot_limit(uk, t_valid)) continue;
-      const auto v = candidates_.vertices(uk);
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      for (int j = 0; j < 4; ++j) mean += dx.col(v[static_cast<std::size_t>(j)]);
-      mean *= 0.25;
-      double ma = 0, mb = 0;  // largest motion on each primitive relative to p̄
-      for (int j = 0; j < 4; ++j) {
-        const double d = (dx.col(v[static_cast<std::size_t>(j)]) - mean).norm();
-        double& m = j < Geometry::first_side_count() ? ma : mb;
-        m = std::max(m, d);
+    constexpr long chunk = 2048;
+    const auto chunks = static_cast<std::size_t>((n + chunk - 1) / chunk);
+    if (segments_.size() < chunks) segments_.resize(chunks);
+      // (dynamic schedule: the minimum is the same whatever the order, and the chunks' lists
+      // are joined in chunk order; see evaluate)
+#pragma omp parallel for schedule(dynamic, 1) reduction(min : t)
+    for (long c = 0; c < static_cast<long>(chunks); ++c) {
+      std::vector<std::size_t>& my_segment = segments_[static_cast<std::size_t>(c)];
+      my_segment.clear();
+      const long end = std::min(n, (c + 1) * chunk);
+      for (long k = c * chunk; k < end; ++k) {
+        const auto uk = static_cast<std::size_t>(k);
+        const double reach = reach_of(uk);
+        // Two questions, each asked at three levels of detail, reading more only while the
+        // answer is open: is the pair inactive on the whole segment (`far`: a lower bound on
+        // its distance at x, less t_valid times a bound on ma + mb, is at least its reach),
+        // and can it not lower t (the same bounds against t)? First from its meshes' drift
+        // and step reach (stays_beyond, cannot_limit), then from its primitives' spreads
+        // (primitive_lower_bound, step_bound), then from its four vertices.
+        bool far = candidates_.stays_beyond(uk, reach, t_valid, segment_slack_);
+        const bool cannot_limit = candidates_.cannot_limit(uk, t_valid);
+        if (far && cannot_limit) continue;
+        {
+          const double motion = candidates_.step_bound(uk), bound = candidates_.primitive_lower_bound(uk);
+          const bool far_too = far || bound - reach * (1 + 1e-9) >= (t_valid * motion + segment_slack_) * (1 + 1e-9);
+          const bool no_limit =
+              cannot_limit || !(motion > 0) || 0.9 * bound >= std::min(t, t_valid) * motion * (1 + 1e-9);
+          if (far_too && no_limit) continue;
+        }
+        const auto v = candidates_.vertices(uk);
+        Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+        for (int j = 0; j < 4; ++j) mean += dx.col(v[static_cast<std::size_t>(j)]);
+        mean *= 0.25;
+        double ma = 0, mb = 0;  // largest motion on each primitive relative to p̄
+        for (int j = 0; j < 4; ++j) {
+          const double d = (dx.col(v[static_cast<std::size_t>(j)]) - mean).norm();
+          double& m = j < Geometry::first_side_count() ? ma : mb;
+          m = std::max(m, d);
+        }
+        const double reach_along = (t_valid * (ma + mb) + segment_slack_) * (1 + 1e-9);
+        const auto beyond_along = [&](double lower_bound) { return lower_bound - reach * (1 + 1e-9) >= reach_along; };
+        far = far || beyond_along(candidates_.lower_bound(uk, v));
+        const bool may_limit =
+            !cannot_limit && ma + mb > 0 && !candidates_.cannot_lower(uk, v, ma + mb, std::min(t, t_valid));
+        if (far && !may_limit) continue;
+        const Vec12<double> xp = Geometry::gather(x, v);
+        // The distance is at least distance_lower_bound, so a pair whose bound already allows the
+        // smaller of this chunk's minimum and the validity bound cannot lower the result:
+        // it is the same without the pair's distance.
+        const double bound = Geometry::distance_lower_bound(xp);
+        far = far || beyond_along(bound);
+        if (!far) my_segment.push_back(uk);
+        if (!may_limit || 0.9 * bound >= std::min(t, t_valid) * (ma + mb)) continue;
+        ClosestFeatureEnergy<double> ce;
+        const QuadraticPenalty probe{1.0, 0.0};
+        if (closest_feature_energy<Kind>(xp, UnsignedLength{}, probe, ce) != Status::ok) continue;
+        candidates_.tighten(uk, v, ce.length);
+        t = std::min(t, 0.9 * ce.length / (ma + mb));
       }
-      if (!(ma + mb > 0)) continue;
-      if (candidates_.cannot_lower(uk, v, ma + mb, std::min(t, t_valid))) continue;
-      const Vec12<double> xp = Geometry::gather(x, v);
-      // The distance is at least distance_lower_bound, so a pair whose bound already allows the
-      // smaller of this thread's minimum and the validity bound cannot lower the result:
-      // it is the same without the pair's distance.
-      if (0.9 * Geometry::distance_lower_bound(xp) >= std::min(t, t_valid) * (ma + mb)) continue;
-      ClosestFeatureEnergy<double> ce;
-      const QuadraticPenalty probe{1.0, 0.0};
-      if (closest_feature_energy<Kind>(xp, UnsignedLength{}, probe, ce) != Status::ok) continue;
-      candidates_.tighten(uk, v, ce.length);
-      t = std::min(t, 0.9 * ce.length / (ma + mb));
     }
+    segment_.clear();
+    for (std::size_t c = 0; c < chunks; ++c) segment_.insert(segment_.end(), segments_[c].begin(), segments_[c].end());
+    segment_x_ = x;
+    segment_dx_ = dx;
+    segment_t_ = t_valid;
+    segment_valid_ = true;
     candidates_.record_step(t_valid, t);
     return std::max(t, 0.0);
   }
@@ -353,7 +398,7 @@ template <bool VF> class SelfContact final : public Effect {
     candidates_.restore(std::move(pairs));
     sides_ = std::move(sides);
     declared_ = std::move(declared);
-    pattern_x_valid_ = evaluated_x_valid_ = false;
+    pattern_x_valid_ = evaluated_x_valid_ = segment_valid_ = false;
   }
 
  private:
@@ -361,7 +406,7 @@ template <bool VF> class SelfContact final : public Effect {
   /// next update_pattern); new pairs start undeclared, with their side settled at xⁿ.
   void carry_over() {
     const auto t0 = Clock::now();
-    pattern_x_valid_ = evaluated_x_valid_ = false;
+    pattern_x_valid_ = evaluated_x_valid_ = segment_valid_ = false;
     std::vector<signed char> sides(previous_.size(), 0);
     std::vector<char> declared(previous_.size(), 0);
     for (std::size_t k = 0; k < previous_.size(); ++k)
@@ -407,9 +452,26 @@ template <bool VF> class SelfContact final : public Effect {
     return a;
   }
 
+  /// Candidate k is inactive while its distance is above this: its fold reach (a fold
+  /// pair) or inactive_beyond().
+  double reach_of(std::size_t k) const {
+    return candidates_.fold_pair(k) ? candidates_.fold_reach(k) : inactive_beyond();
+  }
+
   /// The filter classify starts from, before any vertex position is read.
-  bool filtered_out(std::size_t k) const {
-    return candidates_.beyond(k, candidates_.fold_pair(k) ? candidates_.fold_reach(k) : inactive_beyond());
+  bool filtered_out(std::size_t k) const { return candidates_.beyond(k, reach_of(k)); }
+
+  /// Whether x lies on the segment of the last max_step: x = x₀ + s dx with s ∈ [0, t_valid]
+  /// (relative 1e-12), to within kSegmentTolerance · max(|x₀|, 1) per coordinate (what the
+  /// solver's x₀ + α dx rounds to), so that only the pairs of segment_ can be active there.
+  bool on_segment(const Eigen::Matrix3Xd& x) const {
+    if (!segment_valid_ || x.cols() != segment_x_.cols()) return false;
+    Eigen::Index row = 0, col = 0;
+    const double largest = segment_dx_.cwiseAbs().maxCoeff(&row, &col);
+    const double s = largest > 0 ? (x(row, col) - segment_x_(row, col)) / segment_dx_(row, col) : 0.0;
+    if (!(s >= 0 && s <= segment_t_ * (1 + 1e-12))) return false;
+    const double tolerance = kSegmentTolerance * std::max(segment_x_.cwiseAbs().maxCoeff(), 1.0);
+    return ((x - segment_x_) - s * segment_dx_).cwiseAbs().maxCoeff() <= tolerance;
   }
 
   /// Whether candidate k is active at x (length below its limit, or a degenerate closest-
@@ -554,6 +616,17 @@ template <bool VF> class SelfContact final : public Effect {
   std::vector<char> unsure_;                         ///< per chunk: some declaration unknown
   std::vector<std::vector<PairOut>> actives_;        ///< per chunk, active pairs only
   std::vector<std::vector<PairHessian>> hessians_;   ///< per chunk, active pairs only
+  /// The candidates that can be active on the segment of the last max_step (ascending), per
+  /// chunk while it is built, and that segment: x₀ + s dx, s ∈ [0, segment_t_].
+  std::vector<std::size_t> segment_;
+  std::vector<std::vector<std::size_t>> segments_;
+  Eigen::Matrix3Xd segment_x_, segment_dx_;
+  double segment_t_ = 0;
+  double segment_slack_ = 0;    ///< the list's allowance for a state up to on_segment's tolerance off the segment
+  bool segment_valid_ = false;  ///< segment_ belongs to the current candidates
+  /// on_segment's tolerance per coordinate, relative to max(|x₀|, 1): far above the rounding
+  /// of x₀ + α dx (a few ε), far below any distance that matters.
+  static constexpr double kSegmentTolerance = 1e-12;
   ContactStats stats_;
 };
 

@@ -124,6 +124,7 @@ template <bool VF> class CandidateSet {
     target_ = x + dx;
     measure_drift(x);
     step_reach_ = step_reach(step);
+    spreads(dx, step_first_, step_second_);
     return t_valid;
   }
 
@@ -137,6 +138,7 @@ template <bool VF> class CandidateSet {
   /// once per pass, before the pair loop.
   void measure_drift(const Eigen::Matrix3Xd& x) {
     drift_ = x - query_at_;
+    spreads(drift_, drift_first_, drift_second_);
     rounding_ = 64 * std::numeric_limits<double>::epsilon() * x.cwiseAbs().maxCoeff();
     const MeshDrift m = mesh_drift(drift_);
     const std::size_t M = m.s.size();
@@ -161,8 +163,23 @@ template <bool VF> class CandidateSet {
     if (query_lb_.size() != pairs_.size()) return false;
     const double room = query_lb_[k] - limit * (1 + 1e-9);
     if (room >= drift_rel_[static_cast<std::size_t>(mesh_pair_[k])] * (1 + 1e-9)) return true;
-    return room > 0 && room >= pair_drift(vertices(k)) * (1 + 1e-9);
+    if (!(room > 0)) return false;
+    if (room >= drift_bound(k) * (1 + 1e-9)) return true;
+    return room >= pair_drift(vertices(k)) * (1 + 1e-9);
   }
+
+  /// An upper bound on pair_drift of candidate k from its primitives' spreads (no vertex
+  /// read): with mᵢ the mean of a primitive's drifts and ρᵢ the largest distance of one of
+  /// them from it, no vertex of the first moves relative to one of the second by more than
+  /// ρ_a + ρ_b + |m_a − m_b|.
+  double drift_bound(std::size_t k) const { return spread_bound(drift_first_, drift_second_, k); }
+
+  /// An upper bound on the step's ma + mb for candidate k (max_step: the most its two
+  /// primitives move relative to the mean p̄ of its four vertex displacements) from the
+  /// primitives' spreads of the last step_limit's dx: with p̄ = (n_a m_a + n_b m_b)/4, a
+  /// vertex of the first moves relative to p̄ by at most ρ_a + (n_b/4)|m_a − m_b|, one of the
+  /// second by at most ρ_b + (n_a/4)|m_a − m_b|, and n_a + n_b = 4.
+  double step_bound(std::size_t k) const { return spread_bound(step_first_, step_second_, k); }
 
   /// Tightens candidate k's bound at the query with a distance measured at the x of the last
   /// measure_drift: the distance at the query is at least `distance` less the pair's drift
@@ -183,6 +200,31 @@ template <bool VF> class CandidateSet {
     if (query_lb_.size() != pairs_.size()) return false;
     const auto mp = static_cast<std::size_t>(mesh_pair_[k]);
     return 0.9 * (query_lb_[k] - drift_rel_[mp]) >= t_valid * 2 * step_reach_[mp] * (1 + 1e-9);
+  }
+
+  /// Segment filter, meshes only: candidate k stays farther apart than `limit` on the whole
+  /// segment x + s dx, s ∈ [0, t] (x of the last measure_drift, dx of the last step_limit):
+  /// its bound at the query, less the relative drift of its meshes since and the most the
+  /// step moves its primitives relative to their mean (2 W_AB t), is at least `limit`, less
+  /// an absolute `slack` and with relative slacks of 1e-9.
+  bool stays_beyond(std::size_t k, double limit, double t, double slack) const {
+    if (query_lb_.size() != pairs_.size()) return false;
+    const auto mp = static_cast<std::size_t>(mesh_pair_[k]);
+    return query_lb_[k] - limit * (1 + 1e-9) >= (drift_rel_[mp] + 2 * t * step_reach_[mp]) * (1 + 1e-9) + slack;
+  }
+
+  /// The bound beyond() starts from for candidate k with vertices v: its bound at the query
+  /// less the pair's drift since (a lower bound on its distance at the x of the last
+  /// measure_drift; −∞ before the query's bounds exist).
+  double lower_bound(std::size_t k, const std::array<int, 4>& v) const {
+    if (query_lb_.size() != pairs_.size()) return -std::numeric_limits<double>::infinity();
+    return query_lb_[k] - pair_drift(v);
+  }
+
+  /// lower_bound without reading a vertex: the bound at the query less drift_bound.
+  double primitive_lower_bound(std::size_t k) const {
+    if (query_lb_.size() != pairs_.size()) return -std::numeric_limits<double>::infinity();
+    return query_lb_[k] - drift_bound(k);
   }
 
   /// Step filter, the pair's own drift: candidate k with vertices v, whose primitives the
@@ -213,6 +255,43 @@ template <bool VF> class CandidateSet {
         worst = std::max(worst,
                          (D.col(v[static_cast<std::size_t>(i)]) - D.col(v[static_cast<std::size_t>(j)])).squaredNorm());
     return std::sqrt(worst);
+  }
+
+  /// A primitive's displacements (3 × vertex count columns of some D): their mean and the
+  /// largest distance of one of them from it.
+  struct Spread {
+    Eigen::Vector3d mean;
+    double radius;
+  };
+  /// Per primitive of either side (vertices or edges, triangles or edges): its Spread under D.
+  void spreads(const Eigen::Matrix3Xd& D, std::vector<Spread>& first, std::vector<Spread>& second) const {
+    const auto of = [&D](const auto& indices, std::vector<Spread>& out) {
+      const Eigen::Index count = indices.cols();
+      out.resize(static_cast<std::size_t>(count));
+      for (Eigen::Index p = 0; p < count; ++p) {
+        Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+        for (Eigen::Index j = 0; j < indices.rows(); ++j) mean += D.col(indices(j, p));
+        mean /= static_cast<double>(indices.rows());
+        double radius = 0;
+        for (Eigen::Index j = 0; j < indices.rows(); ++j)
+          radius = std::max(radius, (D.col(indices(j, p)) - mean).norm());
+        out[static_cast<std::size_t>(p)] = {mean, radius};
+      }
+    };
+    if constexpr (VF) {
+      first.resize(static_cast<std::size_t>(D.cols()));
+      for (Eigen::Index i = 0; i < D.cols(); ++i) first[static_cast<std::size_t>(i)] = {D.col(i), 0.0};
+      of(model_->triangles, second);
+    } else {
+      of(model_->edges, first);
+      second.clear();  // the second primitive is an edge too: first's entries serve
+    }
+  }
+  double spread_bound(const std::vector<Spread>& first, const std::vector<Spread>& second, std::size_t k) const {
+    if (first.empty()) return std::numeric_limits<double>::infinity();
+    const Spread& a = first[static_cast<std::size_t>(pairs_[k][0])];
+    const Spread& b = (VF ? second : first)[static_cast<std::size_t>(pairs_[k][1])];
+    return a.radius + b.radius + (a.mean - b.mean).norm();
   }
 
   /// Per mesh: the mean c_A of D's columns and s_A = max_{i∈A} |Dᵢ − c_A|.
@@ -432,13 +511,15 @@ template <bool VF> class CandidateSet {
   /// Per candidate: distance lower bound at x0 (box or spheres at the query, tightened by
   /// distances the passes measure: a cache of a bound, hence mutable).
   mutable std::vector<double> query_lb_;
-  double rounding_ = 0;             ///< 64 ε max|x| of the last measure_drift (or query)
-  std::vector<double> former_lb_;   ///< during a query: the former candidates' bounds
-  Eigen::Matrix3Xd moved_;          ///< during a query: new query point − former query point
-  std::vector<int> mesh_pair_;      ///< per candidate: a·M + b of its meshes (a ≤ b)
-  Eigen::Matrix3Xd drift_;          ///< x − x0 of the last measure_drift
-  std::vector<double> drift_rel_;   ///< rel_AB(drift_), indexed a·M + b
-  std::vector<double> step_reach_;  ///< W_AB of the last step_limit, indexed a·M + b
+  double rounding_ = 0;                             ///< 64 ε max|x| of the last measure_drift (or query)
+  std::vector<double> former_lb_;                   ///< during a query: the former candidates' bounds
+  Eigen::Matrix3Xd moved_;                          ///< during a query: new query point − former query point
+  std::vector<int> mesh_pair_;                      ///< per candidate: a·M + b of its meshes (a ≤ b)
+  Eigen::Matrix3Xd drift_;                          ///< x − x0 of the last measure_drift
+  std::vector<double> drift_rel_;                   ///< rel_AB(drift_), indexed a·M + b
+  std::vector<double> step_reach_;                  ///< W_AB of the last step_limit, indexed a·M + b
+  std::vector<Spread> drift_first_, drift_second_;  ///< per primitive: Spread of drift_ (second empty for edges)
+  std::vector<Spread> step_first_, step_second_;    ///< per primitive: Spread of the last step_limit's dx
   QueryStats stats_;
 };
 

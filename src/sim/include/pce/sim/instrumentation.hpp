@@ -16,9 +16,10 @@ struct Instrumentation {
   std::atomic<long> broad_phases_built{0};
   /// Broad-phase queries made by contact effects.
   std::atomic<long> broad_phase_queries{0};
-  /// Vertex-face pairs evaluated by contact effects.
+  /// Vertex-face pairs visited by contact effects' energy passes (every candidate, or the
+  /// pairs of a pass that reuses an earlier one's list).
   std::atomic<long> vertex_face_pairs_evaluated{0};
-  /// Edge-edge pairs evaluated by contact effects.
+  /// Edge-edge pairs visited by contact effects' energy passes (as vertex_face_pairs_evaluated).
   std::atomic<long> edge_edge_pairs_evaluated{0};
   /// Bending hinges allocated.
   std::atomic<long> bending_hinges_allocated{0};
