@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <set>
 
 using namespace pce::sim;
 
@@ -58,4 +59,45 @@ TEST(BlockHessian, SkipsKinematicVerticesAndRejectsUndeclaredBlocks) {
   H.add<2>({0, -1}, A);
   EXPECT_EQ(dense(H)(0, 0), 1.0);
   EXPECT_THROW(H.add<2>({0, 2}, A), std::logic_error);
+}
+
+TEST(BlockHessian, StructureIsThatOfTheDeclaredBlocksInAnyOrder) {
+  // Many elements declared in random order, with repeats: every column lists exactly the
+  // distinct declared rows i ≤ j in ascending order, whatever order they came in.
+  std::mt19937 rng(11);
+  const int n = 300;
+  std::uniform_int_distribution<int> vertex(0, n - 1);
+  Pattern p;
+  std::set<std::pair<int, int>> blocks;
+  for (int v = 0; v < n; ++v) blocks.insert({v, v});
+  for (int e = 0; e < 2000; ++e) {
+    const std::array<int, 3> t{vertex(rng), vertex(rng), vertex(rng)};
+    p.add(t);
+    if (e % 3 == 0) p.add(t);  // repeated declarations
+    for (const int a : t)
+      for (const int b : t)
+        if (a <= b) blocks.insert({b, a});  // (column, row)
+  }
+  BlockHessian H;
+  EXPECT_TRUE(H.set_pattern(n, p));
+  EXPECT_EQ(H.block_count(), blocks.size());
+  const Eigen::SparseMatrix<double>& m = H.matrix();
+  std::set<std::pair<int, int>> found;
+  for (Eigen::Index c = 0; c < m.outerSize(); ++c) {
+    int previous = -1;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(m, c); it; ++it) {
+      EXPECT_GT(static_cast<int>(it.row()), previous);  // ascending rows within a column
+      previous = static_cast<int>(it.row());
+      found.insert({static_cast<int>(it.col()) / 3, static_cast<int>(it.row()) / 3});
+    }
+  }
+  EXPECT_EQ(found, blocks);
+  EXPECT_FALSE(H.set_pattern(n, p));  // the same declarations: structure kept
+}
+
+TEST(BlockHessian, RejectsAPatternNamingAVertexBeyondN) {
+  Pattern p;
+  p.add(std::array<int, 2>{1, 5});
+  BlockHessian H;
+  EXPECT_THROW(H.set_pattern(5, p), std::logic_error);
 }
