@@ -570,6 +570,11 @@ template <bool VF> class SelfContact final : public Effect {
       signed char& side = sides_[uk];
       if (side != 0 || candidates_.fold_pair(uk)) continue;
       const Vec12<double> xp = Geometry::gather(x, candidates_.vertices(uk));
+      // (vertex-face: the foot of the vertex outside the triangle by more than the test's
+      // slack rules out `inside` before a frame is built; most candidates are a sheet's own
+      // neighbours, beside each other)
+      if constexpr (VF)
+        if (!Geometry::may_be_plane_active(xp, kAnyDistance)) continue;
       Frame<double> f;
       if (Kind::frame(xp, f) != Status::ok || !Geometry::inside(f) || !detail::foot_consistent<Kind>(xp, f)) continue;
       if (std::abs(f.l) > 1e-3 * spec_.penalty.distance) side = f.l < 0 ? -1 : 1;
@@ -624,6 +629,9 @@ template <bool VF> class SelfContact final : public Effect {
   double segment_t_ = 0;
   double segment_slack_ = 0;    ///< the list's allowance for a state up to on_segment's tolerance off the segment
   bool segment_valid_ = false;  ///< segment_ belongs to the current candidates
+  /// A reach that PairGeometry::may_be_plane_active's distance test never rejects (its
+  /// square times a triangle's |n|² stays finite): what settle_sides passes to use the foot test alone.
+  static constexpr double kAnyDistance = 1e150;
   /// on_segment's tolerance per coordinate, relative to max(|x₀|, 1): far above the rounding
   /// of x₀ + α dx (a few ε), far below any distance that matters.
   static constexpr double kSegmentTolerance = 1e-12;
