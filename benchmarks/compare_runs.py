@@ -13,6 +13,8 @@ output for the comparisons quoted in docs/simulation.md and CHANGELOG.md: each s
 scene at 7b22ee2 and at later commits, labelled by commit. Rows marked "(one after the
 other)" ran alone, one after the other on one machine; the threads rows ran alone; every
 other pair of rows ran side by side on the two cores of one machine (one thread each).
+A label "run with C" marks an older commit run again in the same session as C's rows, to
+be compared with those.
 """
 import csv
 import json
