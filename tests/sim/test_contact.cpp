@@ -74,6 +74,24 @@ Eigen::MatrixXd dense_hessian(Effect& e, const Eigen::Matrix3Xd& x) {
   return Eigen::MatrixXd(full);
 }
 
+/// Two copies of the same one-effect scene, each past begin(), and a state with a little
+/// out-of-plane noise (so edge-edge pairs have frames): one copy takes a pass under test,
+/// the other the full pass it must agree with.
+struct Twins {
+  std::unique_ptr<Scene> a, b;
+  Effect& ea;
+  Effect& eb;
+  Eigen::Matrix3Xd x;
+  Twins(const json& effect, double gap)
+      : a(two_sheets(effect, gap)),
+        b(two_sheets(effect, gap)),
+        ea((begin(*a), *a->simulation.effects[0])),
+        eb((begin(*b), *b->simulation.effects[0])),
+        x(a->simulation.x) {
+    for (Eigen::Index i = 0; i < x.cols(); ++i) x(2, i) += 1e-3 * std::sin(1.7 * static_cast<double>(i));
+  }
+};
+
 /// Moves sheet b's vertices (the second half) up by dz.
 Eigen::Matrix3Xd lift_b(const Eigen::Matrix3Xd& x, double dz) {
   Eigen::Matrix3Xd y = x;
@@ -135,14 +153,9 @@ TEST(Contact, PassesThatReuseAnEarlierPassAgreeWithAFullPass) {
        {std::make_tuple("self_vertex_face", "signed", false), std::make_tuple("self_vertex_face", "unsigned", true),
         std::make_tuple("self_edge_edge", "unsigned", false), std::make_tuple("self_edge_edge", "unsigned", true)}) {
     SCOPED_TRACE(std::string(type) + " " + length + (closest ? " closest" : " plane"));
-    auto a = two_sheets(contact(type, length, "analytic", closest), 0.008);
-    auto b = two_sheets(contact(type, length, "analytic", closest), 0.008);
-    begin(*a);
-    begin(*b);
-    Effect& ea = *a->simulation.effects[0];
-    Effect& eb = *b->simulation.effects[0];
-    Eigen::Matrix3Xd x = a->simulation.x;
-    for (Eigen::Index i = 0; i < x.cols(); ++i) x(2, i) += 1e-3 * std::sin(1.7 * static_cast<double>(i));
+    Twins t(contact(type, length, "analytic", closest), 0.008);
+    Effect &ea = t.ea, &eb = t.eb;
+    const Eigen::Matrix3Xd& x = t.x;
     const auto n = static_cast<int>(x.cols());
     // a: update_pattern tests every candidate; the evaluation then visits the active ones.
     ea.update_pattern(x);
@@ -183,14 +196,9 @@ TEST(Contact, LineSearchTrialsOnTheStepAgreeWithAFullPass) {
         std::make_tuple("self_vertex_face", "unsigned", true), std::make_tuple("self_edge_edge", "unsigned", false),
         std::make_tuple("self_edge_edge", "unsigned", true)}) {
     SCOPED_TRACE(std::string(type) + " " + length + (closest ? " closest" : " plane"));
-    auto a = two_sheets(contact(type, length, "analytic", closest), 0.035);
-    auto b = two_sheets(contact(type, length, "analytic", closest), 0.035);
-    begin(*a);
-    begin(*b);
-    Effect& ea = *a->simulation.effects[0];
-    Effect& eb = *b->simulation.effects[0];
-    Eigen::Matrix3Xd x = a->simulation.x;
-    for (Eigen::Index i = 0; i < x.cols(); ++i) x(2, i) += 1e-3 * std::sin(1.7 * static_cast<double>(i));
+    Twins twins(contact(type, length, "analytic", closest), 0.035);
+    Effect &ea = twins.ea, &eb = twins.eb;
+    const Eigen::Matrix3Xd& x = twins.x;
     Eigen::Matrix3Xd dx = Eigen::Matrix3Xd::Zero(3, x.cols());
     const Eigen::Index half = x.cols() / 2;
     for (Eigen::Index i = half; i < x.cols(); ++i)
@@ -224,10 +232,13 @@ TEST(Contact, LineSearchTrialsOnTheStepAgreeWithAFullPass) {
       ea.declare(pa);
       eb.declare(pb);
       EXPECT_EQ(pa.pairs(), pb.pairs());
-      if (alpha == t) EXPECT_GT(ca.at(kind + "_contacts"), 0.0);
+      if (alpha == t) {
+        EXPECT_GT(ca.at(kind + "_contacts"), 0.0);
+      }
     }
-    if (!(std::string(type) == "self_vertex_face" && std::string(length) == "signed"))
+    if (!(std::string(type) == "self_vertex_face" && std::string(length) == "signed")) {
       EXPECT_GT(fewer, 0);  // (signed plane mode reaches 2d, the query radius: every candidate is listed)
+    }
     // A state off the segment is evaluated in full.
     const Eigen::Matrix3Xd off = lift_b(x, -0.03);
     EXPECT_EQ(ea.evaluate(off, nullptr, nullptr), eb.evaluate(off, nullptr, nullptr));
