@@ -8,6 +8,9 @@
 //    per-pass filter that drops candidates which cannot have closed in;
 //  * active pairs (`classify` below): the one test that the sparsity pattern
 //    (update_pattern) and the evaluation call, so what is declared is what is assembled;
+//    passes that can reuse an earlier one visit its list instead of every candidate (the
+//    pairs active at the pattern's state; on a line-search trial, those max_step found
+//    possibly active along the step);
 //  * the pair potential (`evaluate_pair`): pce's energy, gradient and projected Hessian of
 //    an active pair, scattered by candidate index.
 // Only pairs that share a vertex are never candidates. Fold pairs, of one mesh and closer
