@@ -25,6 +25,8 @@
 /// pairs once), so no deduplication is needed.
 #pragma once
 
+#include "util/counting_sort.hpp"
+
 #include <Eigen/Core>
 
 #include <algorithm>
@@ -161,15 +163,10 @@ inline void sort_pairs(std::vector<std::array<int, 2>>& pairs, int n, std::vecto
   for (const auto& p : pairs) m = std::max(m, p[1] + 1);
   scratch.resize(pairs.size());
   // By the second index into scratch, then stably by the first back into pairs.
-  const auto pass = [&](const std::vector<std::array<int, 2>>& from, std::vector<std::array<int, 2>>& to, int digit,
-                        int size) {
-    start.assign(static_cast<std::size_t>(size) + 1, 0);
-    for (const auto& p : from) ++start[static_cast<std::size_t>(p[digit]) + 1];
-    for (int i = 0; i < size; ++i) start[static_cast<std::size_t>(i) + 1] += start[static_cast<std::size_t>(i)];
-    for (const auto& p : from) to[static_cast<std::size_t>(start[static_cast<std::size_t>(p[digit])]++)] = p;
-  };
-  pass(pairs, scratch, 1, m);
-  pass(scratch, pairs, 0, n);
+  counting_pass(
+      pairs, scratch, static_cast<std::size_t>(m), [](const std::array<int, 2>& p) { return p[1]; }, start);
+  counting_pass(
+      scratch, pairs, static_cast<std::size_t>(n), [](const std::array<int, 2>& p) { return p[0]; }, start);
 }
 
 /// True when two index matrices are equal (same column count and entries): the topology

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include <pce/sim/block_hessian.hpp>
 
+#include "util/counting_sort.hpp"
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -27,14 +29,11 @@ bool BlockHessian::set_pattern(int n, const Pattern& pattern) {
   {
     std::vector<std::uint64_t> scratch(keys.size());
     std::vector<std::size_t> start;
-    const auto pass = [&](const std::vector<std::uint64_t>& from, std::vector<std::uint64_t>& to, int shift) {
-      start.assign(static_cast<std::size_t>(n) + 1, 0);
-      for (const std::uint64_t key : from) ++start[((key >> shift) & 0xffffffffu) + 1];
-      for (int v = 0; v < n; ++v) start[static_cast<std::size_t>(v) + 1] += start[static_cast<std::size_t>(v)];
-      for (const std::uint64_t key : from) to[start[(key >> shift) & 0xffffffffu]++] = key;
-    };
-    pass(keys, scratch, 0);
-    pass(scratch, keys, 32);
+    const auto vertices = static_cast<std::size_t>(n);  // the range of either index
+    counting_pass(
+        keys, scratch, vertices, [](std::uint64_t key) { return key & 0xffffffffu; }, start);
+    counting_pass(
+        scratch, keys, vertices, [](std::uint64_t key) { return key >> 32; }, start);
   }
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   block_count_ = keys.size();
