@@ -17,6 +17,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <atomic>
+#include <cstring>
 #include <filesystem>
 
 using namespace pce::sim;
@@ -324,8 +325,9 @@ TEST(Contact, DeclaresExactlyThePairsActiveAtTheIterate) {
 /// The conservative step bound over the documented candidate set, written out: the
 /// candidate set's validity (below), then every
 /// brute-force candidate at the query positions, minus same-mesh pairs closer than the
-/// query radius at rest, each limiting t to 0.9 D/(a + b) (D its closest-feature distance,
-/// a and b the largest motion on each primitive relative to the pair's mean motion).
+/// query radius at rest, each limiting t to where additive CCD, iterated, stops (from 0.9
+/// D/(a + b); D its closest-feature distance, a and b the largest motion on each primitive
+/// relative to the pair's mean motion).
 template <class Kind> double reference_step(const Scene& s, const std::vector<std::array<int, 2>>& pairs,
                                             const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, double radius) {
   const Model& m = s.simulation.model;
@@ -359,6 +361,10 @@ template <class Kind> double reference_step(const Scene& s, const std::vector<st
   double t = 1.0;
   for (const double rel : {2 * sa, 2 * sb, sa + sb + (ca - cb).norm()})
     if (rel > 0) t = std::min(t, budget / rel);
+  // or every vertex stays within m/2 (less a relative 1e-6) of where it was queried
+  const double room = 0.5 * budget * (1 - 1e-6), largest = dx.cwiseAbs().maxCoeff();
+  const double valid = std::max(t, largest > 0 ? std::min(1.0, room / largest) : 1.0);
+  t = valid;
   for (const auto& c : pairs) {
     const auto v = verts(c);
     if ((v[0] < half) == (v[static_cast<std::size_t>(first)] < half) && distance(m.rest, v) < radius) continue;
@@ -369,9 +375,85 @@ template <class Kind> double reference_step(const Scene& s, const std::vector<st
       (j < first ? a : b) = std::max(j < first ? a : b, (dx.col(v[static_cast<std::size_t>(j)]) - mean).norm());
     const double D = distance(x, v);
     if (D < 0 || !(a + b > 0)) continue;
-    t = std::min(t, 0.9 * D / (a + b));
+    // additive CCD, iterated: from a distance d at tk the pair stays ≥ D/10 apart for another
+    // (d − D/10)/(a + b); advance 0.9 of that until the validity limit, a stall or 32 rounds
+    double tk = 0.9 * D / (a + b);
+    for (int round = 0; round < 32 && tk < valid; ++round) {
+      const double d = distance(x + tk * dx, v);
+      if (d < 0) break;
+      const double advance = 0.9 * (d - 0.1 * D) / (a + b);
+      if (!(advance > 1e-3 * tk)) break;
+      tk += advance;
+    }
+    t = std::min(t, tk);
   }
   return t;
+}
+
+TEST(Contact, StepKeepsEveryCandidateATenthOfItsDistanceAlongTheWholeStep) {
+  // The guarantee behind the step bound, checked by sampling the step: for t = max_step, every
+  // pair within the query radius at x stays at least a tenth of its distance at x apart at
+  // x + s dx for every sampled s in [0, t] (so no pair crosses), however far the iterated
+  // additive CCD advanced.
+  for (const char* type : {"self_vertex_face", "self_edge_edge"}) {
+    for (int seed = 0; seed < 8; ++seed) {
+      SCOPED_TRACE(std::string(type) + " seed " + std::to_string(seed));
+      auto s = two_sheets(contact(type, "unsigned", "analytic", true), 0.008);
+      begin(*s);
+      Effect& e = *s->simulation.effects[0];
+      const Eigen::Matrix3Xd x = s->simulation.x;
+      std::srand(static_cast<unsigned>(seed) + 101u);
+      Eigen::Matrix3Xd dx = Eigen::Matrix3Xd::Random(3, x.cols()) * 0.004;
+      for (Eigen::Index i = 0; i < x.cols(); i += 5 + seed % 3) dx.col(i) *= 20.0;
+      const double t = e.max_step(x, dx);
+      ASSERT_GT(t, 0.0);
+      const Model& m = s->simulation.model;
+      const Candidates c = brute_force_candidates(x, m.triangles, m.edges, 0.04);
+      const bool vf = std::string(type) == "self_vertex_face";
+      const auto& pairs = vf ? c.vertex_face : c.edge_edge;
+      const auto distance = [&](const Eigen::Matrix3Xd& at, const std::array<int, 2>& p) {
+        pce::Vec12<double> xp;
+        const std::array<int, 4> v =
+            vf ? std::array<int, 4>{p[0], m.triangles(0, p[1]), m.triangles(1, p[1]), m.triangles(2, p[1])}
+               : std::array<int, 4>{m.edges(0, p[0]), m.edges(1, p[0]), m.edges(0, p[1]), m.edges(1, p[1])};
+        for (int j = 0; j < 4; ++j) xp.segment<3>(3 * j) = at.col(v[static_cast<std::size_t>(j)]);
+        pce::ClosestFeatureEnergy<double> ce;
+        const pce::Status st = vf ? pce::closest_feature_energy<pce::VertexFace>(xp, pce::UnsignedLength{},
+                                                                                 pce::QuadraticPenalty{1.0, 0.0}, ce)
+                                  : pce::closest_feature_energy<pce::EdgeEdge>(xp, pce::UnsignedLength{},
+                                                                               pce::QuadraticPenalty{1.0, 0.0}, ce);
+        return st == pce::Status::ok ? ce.length : -1.0;
+      };
+      std::vector<double> d0(pairs.size());
+      for (std::size_t k = 0; k < pairs.size(); ++k) d0[k] = distance(x, pairs[k]);
+      double closest = std::numeric_limits<double>::infinity();  // smallest distance / d0 seen
+      for (int i = 1; i <= 48; ++i) {
+        const Eigen::Matrix3Xd at = x + (t * i / 48.0) * dx;
+        for (std::size_t k = 0; k < pairs.size(); ++k) {
+          if (!(d0[k] > 0)) continue;
+          const double d = distance(at, pairs[k]);
+          if (d >= 0) closest = std::min(closest, d / d0[k]);
+        }
+      }
+      EXPECT_GE(closest, 0.1 * (1 - 1e-9));
+    }
+  }
+}
+
+TEST(Contact, StepBoundFollowsASlidingPairToTheEndOfTheStep) {
+  // Both sheets are 8 mm apart; the upper one slides 1.5 cm along x (within the candidate
+  // set's budget of 2 cm). No pair comes closer, but a vertex of the lower sheet and a
+  // triangle of the upper one move 1.5 cm relative to each other: the one-shot bound
+  // 0.9 d/(a + b) stops at 0.48; iterated additive CCD finds the pair still 8 mm apart and
+  // goes on to the whole step.
+  auto s = two_sheets(contact("self_vertex_face", "unsigned", "analytic", true), 0.008);
+  begin(*s);
+  Effect& e = *s->simulation.effects[0];
+  const Eigen::Matrix3Xd x = s->simulation.x;
+  const Eigen::Index half = x.cols() / 2;
+  Eigen::Matrix3Xd dx = Eigen::Matrix3Xd::Zero(3, x.cols());
+  dx.block(0, half, 1, half).setConstant(0.015);
+  EXPECT_EQ(e.max_step(x, dx), 1.0);
 }
 
 TEST(Contact, StepBoundIgnoresACommonTranslation) {
@@ -447,6 +529,100 @@ TEST(Contact, LandingSheetIsCoveredByOneQueryOverItsSweep) {
     EXPECT_EQ(e.max_step(x, lift_b(x, -0.09) - x), 1.0);
     EXPECT_TRUE(e.still_valid(lift_b(x, -0.09)));  // no second query
   }
+}
+
+TEST(Contact, StepBeyondTheSetIsCoveredByAQueryOverIt) {
+  // Sheet b slides 5 cm along x, 8 mm above a: beyond the set's budget of 2 cm, so max_step
+  // alone stops at the validity limit (0.4). cover_step queries again over the step; then
+  // the step is whole, a second cover_step has nothing to do, and the energy at x + dx is
+  // that of a set queried there.
+  for (const char* type : {"self_vertex_face", "self_edge_edge"}) {
+    SCOPED_TRACE(type);
+    auto s = two_sheets(contact(type, "unsigned", "analytic", true), 0.008);
+    begin(*s);
+    Effect& e = *s->simulation.effects[0];
+    const Eigen::Matrix3Xd x = s->simulation.x;
+    Eigen::Matrix3Xd dx = Eigen::Matrix3Xd::Zero(3, x.cols());
+    dx.block(0, x.cols() / 2, 1, x.cols() / 2).setConstant(0.05);
+    EXPECT_LE(e.max_step(x, dx), 0.4 + 1e-12);
+    EXPECT_TRUE(e.cover_step(x, dx));
+    EXPECT_EQ(e.max_step(x, dx), 1.0);
+    EXPECT_FALSE(e.cover_step(x, dx));
+    const Eigen::Matrix3Xd end = x + dx;
+    auto fresh = two_sheets(contact(type, "unsigned", "analytic", true), 0.008);
+    fresh->simulation.x = end;
+    begin(*fresh);
+    EXPECT_TRUE(e.still_valid(end));
+    EXPECT_GT(fresh->simulation.effects[0]->evaluate(end, nullptr, nullptr), 0.0);
+    EXPECT_DOUBLE_EQ(e.evaluate(end, nullptr, nullptr), fresh->simulation.effects[0]->evaluate(end, nullptr, nullptr));
+  }
+}
+
+TEST(Contact, SetStillValidAtTheNextStepIsKeptWithoutAQuery) {
+  // With a step bound, begin_step keeps a set that is still valid at xⁿ (the step's cover
+  // queries once a Newton step would leave it): a second step from the same state makes no
+  // query; a step from a state 5 cm away (beyond the budget) does.
+  for (const char* type : {"self_vertex_face", "self_edge_edge"}) {
+    SCOPED_TRACE(type);
+    auto s = two_sheets(contact(type, "unsigned", "analytic", true), 0.008);
+    Effect& e = *s->simulation.effects[0];
+    const auto queries = [&e] {
+      EffectCounters c;
+      e.report(c);
+      return c.at("broad_phase_queries");
+    };
+    begin(*s);
+    EXPECT_EQ(queries(), 1.0);
+    begin(*s);
+    EXPECT_EQ(queries(), 0.0);
+    s->simulation.x.row(0).tail(s->simulation.x.cols() / 2).array() += 0.05;
+    begin(*s);
+    EXPECT_EQ(queries(), 1.0);
+  }
+}
+
+TEST(Contact, SavedStateCarriesTheQueryAndRefusesACorruptOne) {
+  // save_state: the pairs, then the query's header (1, validity byte) and its sweep. A state
+  // without the query part (as older checkpoints wrote) loads and makes the next step query;
+  // a corrupt header or a non-finite position is refused, naming what is wrong.
+  auto s = two_sheets(contact("self_vertex_face", "unsigned", "analytic", true), 0.008);
+  Effect& e = *s->simulation.effects[0];
+  begin(*s);
+  const std::string state = e.save_state();
+  const std::size_t n = static_cast<std::size_t>(s->simulation.x.cols());
+  const std::size_t query_part = 2 + 2 * 3 * n * sizeof(double);
+  ASSERT_GT(state.size(), query_part);
+  const std::size_t head = state.size() - query_part;
+  EXPECT_EQ(state[head], 1);
+  const auto queries = [&e] {
+    EffectCounters c;
+    e.report(c);
+    return c.at("broad_phase_queries");
+  };
+  e.load_state(state);
+  begin(*s);
+  EXPECT_EQ(queries(), 0.0);  // the restored query is still valid
+  e.load_state(state.substr(0, head));
+  begin(*s);
+  EXPECT_EQ(queries(), 1.0);  // no query saved: one now
+  std::string bad = state;
+  bad[head + 1] = 7;
+  try {
+    e.load_state(bad);
+    ADD_FAILURE() << "accepted";
+  } catch (const std::invalid_argument& err) {
+    EXPECT_NE(std::string(err.what()).find("header"), std::string::npos) << err.what();
+  }
+  bad = state;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::memcpy(bad.data() + head + 2, &nan, sizeof nan);
+  try {
+    e.load_state(bad);
+    ADD_FAILURE() << "accepted";
+  } catch (const std::invalid_argument& err) {
+    EXPECT_NE(std::string(err.what()).find("not all finite"), std::string::npos) << err.what();
+  }
+  EXPECT_THROW(e.load_state(state.substr(0, state.size() - 1)), std::invalid_argument);
 }
 
 TEST(Contact, ThreadCountDoesNotChangeTheTrajectory) {

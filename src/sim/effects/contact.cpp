@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
 // Self contact through pce's pair energies: the effects `self_vertex_face` and
 // `self_edge_edge` (docs/simulation.md, "From candidates to energies"), in three steps:
-//  * candidates (`contact/candidate_set.hpp`): one broad-phase query per time step over the
-//    sweep from xⁿ to the inertial prediction x̃ = xⁿ + h vⁿ with radius r = d + m
-//    (activation distance d, margin m = d), kept while it provably covers every pair within
-//    d and queried again otherwise; fold pairs (one mesh, closer than 2d at rest); a
-//    per-pass filter that drops candidates which cannot have closed in;
+//  * candidates (`contact/candidate_set.hpp`): broad-phase queries with radius r = d + m
+//    (activation distance d, margin m = d) over a sweep: from xⁿ to the inertial prediction
+//    x̃ = xⁿ + h vⁿ at a step's start, and, with a step bound, over a Newton step that would
+//    leave the set (cover_step); a set is kept while it provably covers every pair within d
+//    (with a step bound, from one time step to the next); fold pairs (one mesh, closer than
+//    2d at rest); a per-pass filter that drops candidates which cannot have closed in;
 //  * active pairs (`classify` below): the one test that the sparsity pattern
 //    (update_pattern) and the evaluation call, so what is declared is what is assembled;
 //    passes that can reuse an earlier one visit its list instead of every candidate (the
@@ -109,12 +110,22 @@ template <bool VF> class SelfContact final : public Effect {
 
   void begin_step(const StepContext& ctx) override {
     x_start_ = ctx.x_start;
+    inertial_motion_ = ctx.dt * ctx.v_start->colwise().norm().maxCoeff();
     stats_ = {};
-    candidates_.begin_step(*ctx.x_start, *ctx.x_start + ctx.dt * *ctx.v_start, previous_);
-    carry_over();
+    if (candidates_.begin_step(*ctx.x_start, *ctx.x_start + ctx.dt * *ctx.v_start, previous_))
+      carry_over();
+    else
+      pattern_x_valid_ = evaluated_x_valid_ = segment_valid_ = false;
   }
 
   bool still_valid(const Eigen::Matrix3Xd& x) override { return candidates_.still_valid(x); }
+
+  bool cover_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) override {
+    if (!spec_.penalty.barrier() && !spec_.ccd) return false;
+    if (!candidates_.cover(x, dx, cover_reach(), previous_)) return false;
+    carry_over();
+    return true;
+  }
 
   void refresh(const Eigen::Matrix3Xd& x) override {
     candidates_.refresh(x, previous_);
@@ -249,16 +260,21 @@ template <bool VF> class SelfContact final : public Effect {
   double max_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) override {
     segment_valid_ = false;
     if (!spec_.penalty.barrier() && !spec_.ccd) return 1.0;
-    // Conservative advancement (the additive-CCD bound, Li et al. 2021): the distance is
-    // unchanged by a common translation, so with p̄ the mean of the pair's four vertex
-    // displacements, along x + t dx the distance between the primitives changes by at most
-    // t (max |dxᵢ − p̄| over the first's vertices + max |dxⱼ − p̄| over the second's); keep
-    // 10 % of every candidate's current distance (closest features), so no candidate pair
-    // can cross during the step. (Without p̄, strands falling side by side limited each
-    // other's step to ~6 % for twenty iterations.)
+    // Conservative advancement (additive CCD, Li et al. 2021): the distance is unchanged by
+    // a common translation, so with p̄ the mean of the pair's four vertex displacements,
+    // along x + t dx the distance between the primitives changes by at most t (max |dxᵢ − p̄|
+    // over the first's vertices + max |dxⱼ − p̄| over the second's); keep 10 % of every
+    // candidate's current distance (closest features), so no candidate pair can cross
+    // during the step. A pair whose one-shot bound would lower t is advanced further by
+    // measuring its distance again (`advance`): one round cut a sliding or glancing pair's
+    // step to a few percent; on the hammock's frames 21-40 that cost ~3 Newton iterations a
+    // frame.
+    // (Without p̄, strands falling side by side limited each other's step to ~6 % for twenty
+    // iterations.)
     // The step also keeps the candidate set valid (step_limit), so no other pair can come
     // within d either. (Bounding the candidates alone let a landing sheet cross faces that
-    // were not candidates.)
+    // were not candidates.) cover_step, called before, has queried again where the whole
+    // step would have left the set.
     const double t_valid = candidates_.step_limit(x, dx);
     // The same pass lists the candidates that can be active anywhere on x + s dx, s ∈ [0,
     // t_valid] (t_valid bounds what this returns, hence every line-search trial): a pair
@@ -324,7 +340,7 @@ template <bool VF> class SelfContact final : public Effect {
         const QuadraticPenalty probe{1.0, 0.0};
         if (closest_feature_energy<Kind>(xp, UnsignedLength{}, probe, ce) != Status::ok) continue;
         candidates_.tighten(uk, v, ce.length);
-        t = std::min(t, 0.9 * ce.length / (ma + mb));
+        t = std::min(t, advance(xp, Geometry::gather(dx, v), ce.length, ma + mb, std::min(t, t_valid)));
       }
     }
     segment_.clear();
@@ -355,9 +371,13 @@ template <bool VF> class SelfContact final : public Effect {
     c[Counter::scatter_ms] = stats_.scatter_ms;
   }
 
-  /// The tracked pairs with their sides and declarations: what the next begin_step keeps
-  /// (a query carries them over to the fresh candidates). Per pair: two int32 indices, the
-  /// side and the declaration as int8; native byte order.
+  /// The tracked pairs with their sides and declarations, and the query they came from:
+  /// what the next begin_step keeps (a query carries them over to the fresh candidates; a
+  /// set still valid is kept whole). Per pair: two int32 indices, the side and the
+  /// declaration as int8. Then, when a query was made: the byte 1, the byte of the last
+  /// step's validity limit (0 or 1), and the query's sweep as 2 × 3n doubles (x0 then x1,
+  /// column-major). Native byte order. A state without the query part (older checkpoints)
+  /// loads too; the next step then queries.
   std::string save_state() const override {
     std::string out;
     const auto& pairs = candidates_.pairs();
@@ -369,6 +389,13 @@ template <bool VF> class SelfContact final : public Effect {
       out.append(reinterpret_cast<const char*>(ab), sizeof ab);
       out.append(reinterpret_cast<const char*>(flags), sizeof flags);
     }
+    const Eigen::Matrix3Xd &at = candidates_.query_point(), &to = candidates_.query_to();
+    if (at.cols() == model_->vertex_count() && to.cols() == at.cols() && at.cols() > 0) {
+      const char head[2] = {1, static_cast<char>(candidates_.validity_bound() ? 1 : 0)};
+      out.append(head, sizeof head);
+      out.append(reinterpret_cast<const char*>(at.data()), sizeof(double) * static_cast<std::size_t>(at.size()));
+      out.append(reinterpret_cast<const char*>(to.data()), sizeof(double) * static_cast<std::size_t>(to.size()));
+    }
     return out;
   }
 
@@ -377,7 +404,13 @@ template <bool VF> class SelfContact final : public Effect {
     std::uint64_t count = 0;
     if (state.size() < sizeof count) throw std::invalid_argument(std::string(name()) + ": truncated state");
     std::memcpy(&count, state.data(), sizeof count);
-    if (count > (state.size() - sizeof count) / record || state.size() != sizeof count + count * record)
+    const std::size_t n = static_cast<std::size_t>(model_->vertex_count());
+    const std::size_t query_part = 2 + 2 * 3 * n * sizeof(double);
+    if (count > (state.size() - sizeof count) / record)
+      throw std::invalid_argument(std::string(name()) + ": the state's size does not match its pair count");
+    const std::size_t pairs_end = sizeof count + count * record;
+    const bool with_query = n > 0 && state.size() == pairs_end + query_part;
+    if (state.size() != pairs_end && !with_query)
       throw std::invalid_argument(std::string(name()) + ": the state's size does not match its pair count");
     const long first_max = VF ? model_->vertex_count() : model_->edges.cols();
     const long second_max = VF ? model_->triangles.cols() : model_->edges.cols();
@@ -398,7 +431,19 @@ template <bool VF> class SelfContact final : public Effect {
       sides[k] = flags[0];
       declared[k] = flags[1];
     }
-    candidates_.restore(std::move(pairs));
+    if (with_query) {
+      const char* q = state.data() + pairs_end;
+      if (q[0] != 1 || (q[1] != 0 && q[1] != 1))
+        throw std::invalid_argument(std::string(name()) + ": the saved query's header is not 1 followed by 0 or 1");
+      Eigen::Matrix3Xd at(3, static_cast<Eigen::Index>(n)), to(3, static_cast<Eigen::Index>(n));
+      std::memcpy(at.data(), q + 2, sizeof(double) * 3 * n);
+      std::memcpy(to.data(), q + 2 + sizeof(double) * 3 * n, sizeof(double) * 3 * n);
+      if (!at.allFinite() || !to.allFinite())
+        throw std::invalid_argument(std::string(name()) + ": the saved query's positions are not all finite");
+      candidates_.restore(std::move(pairs), at, to, q[1] == 1);
+    } else {
+      candidates_.restore(std::move(pairs));
+    }
     sides_ = std::move(sides);
     declared_ = std::move(declared);
     pattern_x_valid_ = evaluated_x_valid_ = segment_valid_ = false;
@@ -422,6 +467,31 @@ template <bool VF> class SelfContact final : public Effect {
     if (spec_.signed_length) settle_sides(*x_start_);
     stats_.settle_ms += ms_since(t0);
   }
+
+  /// Additive CCD (Li et al. 2021, iterated): the largest t found for which the pair at
+  /// xp + s dxp, s ∈ [0, t], stays at least g = 0.1 d₀ apart (d₀ its distance at s = 0, `lp` =
+  /// ma + mb the bound on how fast the distance changes along the step). From a distance
+  /// dᵢ at tᵢ the distance stays ≥ g up to tᵢ + (dᵢ − g)/lp; each round advances 0.9 of
+  /// that and measures again, until t reaches `cap` (then the pair cannot lower the
+  /// minimum), the advance stalls below 1e-3 t, or 32 rounds. The first round is the
+  /// one-shot bound 0.9 d₀/lp.
+  static double advance(const Vec12<double>& xp, const Vec12<double>& dxp, double d0, double lp, double cap) {
+    const double g = 0.1 * d0;
+    double t = 0.9 * d0 / lp;
+    const QuadraticPenalty probe{1.0, 0.0};
+    for (int round = 0; round < 32 && t < cap; ++round) {
+      ClosestFeatureEnergy<double> ce;
+      if (closest_feature_energy<Kind>(Vec12<double>(xp + t * dxp), UnsignedLength{}, probe, ce) != Status::ok) break;
+      const double step = 0.9 * (ce.length - g) / lp;
+      if (!(step > 1e-3 * t)) break;
+      t += step;
+    }
+    return t;
+  }
+
+  /// How far a step may move a vertex and still be covered by one query (cover_step): eight
+  /// query radii, or twice the farthest inertial motion of the step when that is larger.
+  double cover_reach() const { return std::max(8 * 2 * spec_.penalty.distance, 2 * inertial_motion_); }
 
   /// Pairs farther apart than this are inactive in every mode: the activation distance d, or
   /// 2d for signed plane mode (a pair counts down to L = −2d).
@@ -610,6 +680,7 @@ template <bool VF> class SelfContact final : public Effect {
   const Model* model_;
   contact::CandidateSet<VF> candidates_;
   const Eigen::Matrix3Xd* x_start_ = nullptr;
+  double inertial_motion_ = 0;                  ///< max |h vᵢⁿ| of the step (cover_reach)
   std::vector<long> previous_;                  ///< per candidate of the last query: its former index, or −1
   std::vector<signed char> sides_;              ///< per candidate: settled side (signed length), or 0
   std::vector<char> declared_, near_;           ///< per candidate: in the pattern; active at the last update_pattern

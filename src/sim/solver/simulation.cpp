@@ -348,6 +348,14 @@ FrameStats Simulation::step() {
     st.residual = dxm.colwise().norm().maxCoeff() / (h * scale_);
     E_accepted = E;
     const bool converged = st.residual < solver.tolerance;  // still take this (small) step
+    // Contact effects whose candidates would go stale along the step query again over it.
+    bool covered = false;
+    for (std::size_t k = 0; k < effects.size(); ++k) {
+      t0 = Clock::now();
+      if (effects[k]->cover_step(y, dxm)) covered = true;
+      effect_ms[k] += ms_since(t0);
+    }
+    if (covered) rebuild_pattern();
     // Backtracking line search from the largest step every effect allows.
     t0 = Clock::now();
     double alpha = 1.0;
@@ -358,6 +366,13 @@ FrameStats Simulation::step() {
         alpha = t;
         record.limited_by = e->name();
       }
+    // The Armijo test compares trials with an energy of the same candidates (the sum's
+    // rounding depends on them): after a new query, the energy at y again.
+    if (covered) {
+      E = E_accepted = potential(y, &effect_ms);
+      evaluated_at_y = true;
+      if (!std::isfinite(E)) fail_non_finite(y, st.frame, "at Newton iteration " + std::to_string(it + 1));
+    }
     record.step_limit = alpha;
     const double slope = -rhs.dot(dx);  // gᵀΔx < 0 for a descent direction
     bool accepted = false;
@@ -381,9 +396,10 @@ FrameStats Simulation::step() {
     record.alpha = accepted ? alpha : 0.0;
     st.iterations.push_back(record);
     if (trace_)
-      std::fprintf(
-          stderr, "  it %d E %.9g slope %.3g alpha %.3g residual %.3g accepted %d factorizations %d cg_iterations %d\n",
-          it, E, slope, alpha, st.residual, accepted, ls.factorizations, ls.cg_iterations);
+      std::fprintf(stderr,
+                   "  it %d E %.9g slope %.3g alpha %.3g residual %.3g accepted %d factorizations %d cg_iterations %d "
+                   "covered %d\n",
+                   it, E, slope, alpha, st.residual, accepted, ls.factorizations, ls.cg_iterations, int(covered));
     if (!accepted) {
       ++st.line_search_failures;
       break;

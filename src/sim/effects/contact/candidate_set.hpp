@@ -19,10 +19,13 @@
 ///      meshes A, B drifts relatively by at most
 ///          rel_AB(D) = s_A + s_B + |c_A − c_B|   (2 s_A within one mesh),
 ///      which ignores common translations (a sheet falling alone keeps its set).
-/// With a step bound (a barrier or `ccd`), `step_limit` never lets both conditions fail, and
-/// the set is queried again only after a step that this limit cut short, sweeping from there
-/// to that step's Newton target. Without one, a query follows once both conditions have used
-/// half their budget.
+/// With a step bound (a barrier or `ccd`), `step_limit` never lets both conditions fail:
+/// before a Newton step that would leave the set, `cover` queries again over that step (so
+/// the step is not cut short for the set's sake), and a set still valid at the start of the
+/// next time step is kept (`begin_step`); the set is also queried again after a step that
+/// the validity limit cut short (a step longer than `cover` sweeps), sweeping from there to
+/// that step's Newton target. Without a step bound, every time step queries and a query
+/// follows once both conditions have used half their budget.
 #pragma once
 
 #include "pair_geometry.hpp"
@@ -89,13 +92,23 @@ template <bool VF> class CandidateSet {
   long fold_pairs() const { return static_cast<long>(std::count(fold_pair_.begin(), fold_pair_.end(), char(1))); }
   const QueryStats& stats() const { return stats_; }
 
-  /// Starts a time step: one query over the sweep x0 → x1 (the effect sweeps from xⁿ to the
-  /// inertial prediction). `previous[k]` is the index the new candidate k had before, or −1.
-  void begin_step(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, std::vector<long>& previous) {
+  /// Starts a time step. With a step bound, a set that is still valid at x0 is kept (the
+  /// step's cover queries again once a Newton step would leave it); otherwise one query over
+  /// the sweep x0 → x1 (the effect sweeps from xⁿ to the inertial prediction), after which
+  /// `previous[k]` is the index the new candidate k had before, or −1. Returns true when it
+  /// queried.
+  bool begin_step(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, std::vector<long>& previous) {
     stats_ = {};
     target_.resize(3, 0);
+    if (bounded_ && has_query(x0) && still_valid(x0)) return false;
     validity_bound_ = false;
     query(x0, x1, previous);
+    return true;
+  }
+
+  /// A query for this many vertices has been made (or restored), with its bounds.
+  bool has_query(const Eigen::Matrix3Xd& x) const {
+    return query_at_.cols() == x.cols() && query_lb_.size() == pairs_.size();
   }
 
   /// Whether the set still covers every pair within d at x (see the file comment).
@@ -110,6 +123,24 @@ template <bool VF> class CandidateSet {
     const Eigen::Matrix3Xd to = target_.cols() == x.cols() ? target_ : x;
     validity_bound_ = false;
     query(x, to, previous);
+  }
+
+  /// Before a step: when the set does not stay valid along the whole step x → x + dx (a
+  /// step_limit below 1), queries again over the sweep x → x + c dx, c = min(1, `reach` /
+  /// max|dxᵢ|) (a step that moves a vertex by more than `reach` is covered only that far), so
+  /// the step is not cut short for the set's sake. Returns true when it queried (then
+  /// `previous` maps the new candidates to the former ones). Only with a step bound.
+  bool cover(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, double reach, std::vector<long>& previous) {
+    if (!bounded_) return false;
+    double t_drift = 1.0;
+    const MeshDrift step = mesh_drift(dx);
+    const bool drift_valid = validity_use(mesh_drift(x - query_at_), &step, &t_drift) <= 1;
+    if (std::max(drift_valid ? t_drift : 0.0, sweep_step(x, dx)) >= 1) return false;
+    const double largest = dx.colwise().norm().maxCoeff();
+    const double c = largest > reach ? reach / largest : 1.0;
+    validity_bound_ = false;
+    query(x, x + c * dx, previous);
+    return true;
   }
 
   /// The largest t ∈ [0, 1] for which x + t dx keeps the set valid (the larger of the two
@@ -239,7 +270,25 @@ template <bool VF> class CandidateSet {
     pairs_ = std::move(pairs);
     mark_fold_pairs();
     query_lb_.clear();
+    query_at_.resize(3, 0);
+    validity_bound_ = false;
   }
+
+  /// restore, and the query these pairs came from (a checkpoint's: its sweep `at` → `to` and
+  /// whether the last step's validity limit bound), so the next begin_step decides as it
+  /// would have in the uninterrupted run; the bounds are those of a fresh query at `at`.
+  void restore(std::vector<Pair> pairs, const Eigen::Matrix3Xd& at, const Eigen::Matrix3Xd& to, bool validity_bound) {
+    restore(std::move(pairs));
+    set_sweep(at, to);
+    former_lb_.clear();
+    bound_at_query(std::vector<long>(pairs_.size(), -1));
+    validity_bound_ = validity_bound;
+  }
+
+  /// The last query's sweep (x0 → x1; no columns before the first query) and whether the
+  /// last step's validity limit bound: what a checkpoint keeps (restore).
+  const Eigen::Matrix3Xd& query_to() const { return query_to_; }
+  bool validity_bound() const { return validity_bound_; }
 
   /// The query's start state (the effect settles signed sides there).
   const Eigen::Matrix3Xd& query_point() const { return query_at_; }
@@ -383,21 +432,7 @@ template <bool VF> class CandidateSet {
     } else {
       former_lb_.clear();
     }
-    query_at_ = x0;
-    query_to_ = x1;
-    sweep_lo_ = x0.cwiseMin(x1);
-    sweep_hi_ = x0.cwiseMax(x1);
-    const std::size_t M = model_->meshes.size();
-    std::vector<Eigen::AlignedBox3d> boxes(M);
-    for (std::size_t a = 0; a < M; ++a) {
-      const MeshRange& r = model_->meshes[a];
-      const auto block = x0.middleCols(r.first_vertex, r.vertex_count);
-      boxes[a] = Eigen::AlignedBox3d(block.rowwise().minCoeff(), block.rowwise().maxCoeff());
-    }
-    gaps_.assign(M * M, 0.0);
-    for (std::size_t a = 0; a < M; ++a)
-      for (std::size_t b = a + 1; b < M; ++b) gaps_[a * M + b] = std::sqrt(boxes[a].squaredExteriorDistance(boxes[b]));
-
+    set_sweep(x0, x1);
     std::vector<Pair> fresh;
     const auto t_tree = Clock::now();
     const double r = distance_ + margin_;
@@ -419,6 +454,25 @@ template <bool VF> class CandidateSet {
     stats_.queries += 1;
     ++instrumentation().broad_phase_queries;
     stats_.broad_phase_ms += ms_since(t0);
+  }
+
+  /// The sweep of a query: its ends, each vertex's box over it (condition A) and the gaps
+  /// between the meshes' boxes at x0 (condition B).
+  void set_sweep(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1) {
+    query_at_ = x0;
+    query_to_ = x1;
+    sweep_lo_ = x0.cwiseMin(x1);
+    sweep_hi_ = x0.cwiseMax(x1);
+    const std::size_t M = model_->meshes.size();
+    std::vector<Eigen::AlignedBox3d> boxes(M);
+    for (std::size_t a = 0; a < M; ++a) {
+      const MeshRange& r = model_->meshes[a];
+      const auto block = x0.middleCols(r.first_vertex, r.vertex_count);
+      boxes[a] = Eigen::AlignedBox3d(block.rowwise().minCoeff(), block.rowwise().maxCoeff());
+    }
+    gaps_.assign(M * M, 0.0);
+    for (std::size_t a = 0; a < M; ++a)
+      for (std::size_t b = a + 1; b < M; ++b) gaps_[a * M + b] = std::sqrt(boxes[a].squaredExteriorDistance(boxes[b]));
   }
 
   /// Per candidate, at the query point: the distance lower bound (box or spheres; for a pair

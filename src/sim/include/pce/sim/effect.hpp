@@ -6,8 +6,8 @@
 /// scene declares are constructed (`pce/sim/scene.hpp`), so nothing else costs time.
 ///
 /// The solver makes a few virtual calls per effect and Newton iteration (update_pattern,
-/// evaluate, max_step, still_valid, and evaluate again per line-search trial), never one per
-/// element or pair.
+/// evaluate, cover_step, max_step, still_valid, and evaluate again per line-search trial),
+/// never one per element or pair.
 #pragma once
 
 #include <pce/sim/block_hessian.hpp>
@@ -26,7 +26,8 @@ using EffectCounters = Counters;
 
 /// One term of the incremental potential (see the file comment); the solver calls these
 /// in the order begin_step, declare, then per Newton iteration update_pattern, evaluate,
-/// max_step, still_valid (and refresh when that says no), and report once per frame.
+/// cover_step, max_step, still_valid (and refresh when that says no), and report once per
+/// frame.
 class Effect {
  public:
   virtual ~Effect() = default;
@@ -47,6 +48,12 @@ class Effect {
   /// Returns the energy at `x` (3×n); when `gradient` is non-null adds ∇E to it, when
   /// `hessian` is non-null adds a positive-semidefinite approximation of ∇²E to it.
   virtual double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) = 0;
+  /// Called once per Newton iteration with the Newton step `dx` from `x`, before
+  /// `max_step`: a contact effect whose candidates would not stay valid along the step
+  /// queries again over it (so that max_step need not cut the step short for the
+  /// candidates' sake) and returns true; the solver then re-evaluates the energy at `x`
+  /// with the new candidates. The active pairs at `x` are the same.
+  virtual bool cover_step(const Eigen::Matrix3Xd& /*x*/, const Eigen::Matrix3Xd& /*dx*/) { return false; }
   /// Largest fraction t ∈ (0, 1] of the step `dx` from `x` that this effect allows (a
   /// barrier keeps every active length above 0); 1 for effects without a domain limit.
   virtual double max_step(const Eigen::Matrix3Xd& /*x*/, const Eigen::Matrix3Xd& /*dx*/) { return 1.0; }
