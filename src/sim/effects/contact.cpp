@@ -2,7 +2,7 @@
 // Self contact through pce's pair energies: the effects `self_vertex_face` and
 // `self_edge_edge` (docs/simulation.md, "From candidates to energies"), in three steps:
 //  * candidates (`contact/candidate_set.hpp`): broad-phase queries with radius r = d + m
-//    (activation distance d, margin m = d) over a sweep: from xⁿ to the inertial prediction
+//    (activation distance d, margin m = d/2) over a sweep: from xⁿ to the inertial prediction
 //    x̃ = xⁿ + h vⁿ at a step's start, and, with a step bound, over a Newton step that would
 //    leave the set (cover_step); a set is kept while it provably covers every pair within d
 //    (with a step bound, from one time step to the next); fold pairs (one mesh, closer than
@@ -657,7 +657,7 @@ template <bool VF> class SelfContact final : public Effect {
   /// Plane mode: the frame exists and is well conditioned (edges at least ~3° from
   /// parallel, PairGeometry::well_conditioned), the closest points of the plane (line)
   /// distance lie inside the primitives, and L = σ l is below `limit` and (signed) not
-  /// deeper than the query radius.
+  /// deeper than 2d.
   bool plane_active(const Vec12<double>& xp, std::size_t k, double limit, Frame<double>& f, double& sigma) const {
     if (!Geometry::may_be_plane_active(xp, std::max(limit, 2 * spec_.penalty.distance))) return false;
     if (Kind::frame(xp, f) != Status::ok || !Geometry::inside(f) || !detail::foot_consistent<Kind>(xp, f)) return false;

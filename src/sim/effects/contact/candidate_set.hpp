@@ -70,7 +70,7 @@ template <bool VF> class CandidateSet {
       : model_(&model),
         broad_phase_(make_broad_phase(kind)),
         distance_(distance),
-        margin_(distance),
+        margin_(0.5 * distance),
         bounded_(bounded) {
     mesh_of_.resize(static_cast<std::size_t>(model.vertex_count()));
     for (std::size_t m = 0; m < model.meshes.size(); ++m)
@@ -549,7 +549,7 @@ template <bool VF> class CandidateSet {
   const Model* model_;
   std::unique_ptr<BroadPhase> broad_phase_;
   double distance_;                       ///< d
-  const double margin_;                   ///< the margin m = d of the query radius r = d + m
+  const double margin_;                   ///< the margin m = d/2 of the query radius r = d + m
   bool bounded_;                          ///< the effect bounds its steps (validity kept by step_limit)
   std::vector<int> mesh_of_;              ///< per vertex: its mesh
   std::vector<Pair> pairs_;               ///< the candidates, sorted
