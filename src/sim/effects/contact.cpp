@@ -112,10 +112,8 @@ template <bool VF> class SelfContact final : public Effect {
     x_start_ = ctx.x_start;
     inertial_motion_ = ctx.dt * ctx.v_start->colwise().norm().maxCoeff();
     stats_ = {};
-    if (candidates_.begin_step(*ctx.x_start, *ctx.x_start + ctx.dt * *ctx.v_start, previous_))
-      carry_over();
-    else
-      pattern_x_valid_ = evaluated_x_valid_ = segment_valid_ = false;
+    // (a kept set keeps what its passes recorded: each record names the state it was made at)
+    if (candidates_.begin_step(*ctx.x_start, *ctx.x_start + ctx.dt * *ctx.v_start, previous_)) carry_over();
   }
 
   bool still_valid(const Eigen::Matrix3Xd& x) override { return candidates_.still_valid(x); }
@@ -489,8 +487,8 @@ template <bool VF> class SelfContact final : public Effect {
     return t;
   }
 
-  /// How far a step may move a vertex and still be covered by one query (cover_step): eight
-  /// query radii, or twice the farthest inertial motion of the step when that is larger.
+  /// How far a step may move a vertex and still be covered by one query (cover_step): 16 d,
+  /// or twice the farthest inertial motion of the step when that is larger.
   double cover_reach() const { return std::max(8 * 2 * spec_.penalty.distance, 2 * inertial_motion_); }
 
   /// Pairs farther apart than this are inactive in every mode: the activation distance d, or

@@ -348,14 +348,14 @@ FrameStats Simulation::step() {
     st.residual = dxm.colwise().norm().maxCoeff() / (h * scale_);
     E_accepted = E;
     const bool converged = st.residual < solver.tolerance;  // still take this (small) step
-    // Contact effects whose candidates would go stale along the step query again over it.
+    // Contact effects whose candidates would go stale along the step query again over it
+    // (the pairs active at y, hence the pattern, stay those of the new candidates).
     bool covered = false;
     for (std::size_t k = 0; k < effects.size(); ++k) {
       t0 = Clock::now();
       if (effects[k]->cover_step(y, dxm)) covered = true;
       effect_ms[k] += ms_since(t0);
     }
-    if (covered) rebuild_pattern();
     // Backtracking line search from the largest step every effect allows.
     t0 = Clock::now();
     double alpha = 1.0;

@@ -131,11 +131,7 @@ template <bool VF> class CandidateSet {
   /// the step is not cut short for the set's sake. Returns true when it queried (then
   /// `previous` maps the new candidates to the former ones). Only with a step bound.
   bool cover(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, double reach, std::vector<long>& previous) {
-    if (!bounded_) return false;
-    double t_drift = 1.0;
-    const MeshDrift step = mesh_drift(dx);
-    const bool drift_valid = validity_use(mesh_drift(x - query_at_), &step, &t_drift) <= 1;
-    if (std::max(drift_valid ? t_drift : 0.0, sweep_step(x, dx)) >= 1) return false;
+    if (!bounded_ || valid_fraction(x, dx, mesh_drift(dx)) >= 1) return false;
     const double largest = dx.colwise().norm().maxCoeff();
     const double c = largest > reach ? reach / largest : 1.0;
     validity_bound_ = false;
@@ -149,9 +145,7 @@ template <bool VF> class CandidateSet {
   /// a re-query.
   double step_limit(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) {
     const MeshDrift step = mesh_drift(dx);
-    double t_drift = 1.0;
-    const bool drift_valid = validity_use(mesh_drift(x - query_at_), &step, &t_drift) <= 1;
-    const double t_valid = std::max(drift_valid ? t_drift : 0.0, sweep_step(x, dx));
+    const double t_valid = valid_fraction(x, dx, step);
     target_ = x + dx;
     measure_drift(x);
     step_reach_ = step_reach(step);
@@ -387,6 +381,14 @@ template <bool VF> class CandidateSet {
         }
       }
     return use;
+  }
+
+  /// The largest t ∈ [0, 1] for which x + t dx keeps the set valid: the larger of the two
+  /// conditions' limits, each where it holds at x (`step` = mesh_drift(dx)).
+  double valid_fraction(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, const MeshDrift& step) const {
+    double t_drift = 1.0;
+    const bool drift_valid = validity_use(mesh_drift(x - query_at_), &step, &t_drift) <= 1;
+    return std::max(drift_valid ? t_drift : 0.0, sweep_step(x, dx));
   }
 
   /// Half the margin, the room each vertex has beyond its swept box (condition A), less a
