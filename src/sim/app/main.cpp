@@ -11,6 +11,7 @@
 // frames and stats up to the failure and the last finite frame are kept, the message names
 // the frame, the effect and the vertex); 130 / 143 stopped by SIGINT / SIGTERM after the
 // current frame (everything written as at the end, plus a checkpoint); 1 anything else.
+#include <pce/sim/allocator.hpp>
 #include <pce/sim/checkpoint.hpp>
 #include <pce/sim/frames.hpp>
 #include <pce/sim/input_error.hpp>
@@ -180,6 +181,7 @@ json summary_of(const Simulation& sim, const std::string& scene_file, const json
 }  // namespace
 
 int main(int argc, char** argv) {
+  pce::sim::keep_freed_memory();  // CHOLMOD's factors then reuse freed memory (allocator.hpp)
   CLI::App app{"pce-sim: simulate a scene with pce's contact energies (docs/simulation.md)"};
   std::string scene_file, out_dir, hessian, broad_phase, resume_dir;
   int frames = 0, threads = -1, checkpoint_every = 0;
