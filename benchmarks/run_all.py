@@ -1,6 +1,7 @@
 """What accuracy costs in time: runs every benchmark and rewrites docs/benchmarks.md.
 
     benchmarks/run_all [--quick] [--build DIR] [--results DIR] [--docs FILE] [--jobs N] [--steps S]
+                       [--before REV]
 
 The executables come from --build DIR as they are. Without --build: from build/ when it has
 every executable the steps need, otherwise run_all configures build-benchmarks/ (Release,
@@ -14,6 +15,11 @@ Steps, in this order (each writes JSON/CSV into the results folder):
   threads      threads.csv: pce-sim at 1 and 2 threads, stage times
   scenes       scenes.json/.csv: pce-sim per scene x strategy x mode x tolerance, deviation
                from a tight-tolerance reference run
+  hammock      hammock.csv: pce-sim on the shipped hammock, frames 1-120, full Newton and
+               single solve, one thread, each run alone: ms per frame and its split, Newton
+               iterations, queries, factorisations, analyses, CG iterations. With --before
+               REV the same runs of commit REV's pce-sim (built from `git archive REV` in
+               build-before/REV), interleaved with this build's: a before/after table
 then draws the PNG plots (next to the docs file, in images/benchmarks/) and writes the docs
 file, whose last section is benchmarks/guidance.md with its numbers recomputed from the
 results folder by benchmarks/guidance_numbers.py (when the results folder is
@@ -46,6 +52,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import compare_runs  # noqa: E402
 import guidance_numbers  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -85,7 +92,7 @@ def scene_configs(quick):
     return out
 
 
-ALL_STEPS = ["pair_cost", "accuracy", "broad_phase", "threads", "scenes"]
+ALL_STEPS = ["pair_cost", "accuracy", "broad_phase", "threads", "scenes", "hammock"]
 REFERENCE = ("exact", "newton", 1e-5)      # the tight-tolerance reference of every scene
 NOISE_FLOOR = ("numerical", "newton", 1e-5)  # a second tight run: how far two converged runs differ
 HEADLINE_SCENE = ("hammock", {"frames": 20})  # full resolution, every strategy at the scene's tolerance
@@ -188,6 +195,7 @@ class Context:
         self.docs = Path(args.docs).resolve()
         self.images = self.docs.parent / "images" / "benchmarks"
         self.jobs = args.jobs
+        self.before = args.before
 
     def exe(self, name):
         p = find_exe(self.build, name)
@@ -440,6 +448,111 @@ def step_scenes(ctx):
             "rows": rows}
 
 
+def build_before(ctx, rev):
+    """pce-sim of commit `rev`, built once from `git archive` in build-before/<commit> (sources
+    and build side by side; reused when it is there). Only pce::sim and pce-sim are built."""
+    p = run(["git", "-C", ROOT, "rev-parse", "--verify", "--short", rev + "^{commit}"], check=False)
+    if p.returncode != 0:
+        raise ValueError(f"--before {rev}: not a commit of {ROOT}")
+    commit = p.stdout.strip()
+    top = ROOT / "build-before" / commit
+    exe = find_exe(top / "build", "pce-sim")
+    if exe:
+        return commit, exe
+    src = top / "src"
+    if src.exists():
+        shutil.rmtree(src)
+    src.mkdir(parents=True)
+    archive = subprocess.run(["git", "-C", str(ROOT), "archive", "--format=tar", commit], stdout=subprocess.PIPE)
+    if archive.returncode != 0:
+        raise RuntimeError(f"git archive {commit} failed")
+    subprocess.run(["tar", "-x", "-C", str(src)], input=archive.stdout, check=True)
+    log(f"building pce-sim of {commit} in {top / 'build'}")
+    run(["cmake", "-S", src, "-B", top / "build"] + (["-G", "Ninja"] if shutil.which("ninja") else []) + [
+        "-DCMAKE_BUILD_TYPE=Release", "-DPCE_BUILD_SIM=ON", "-DPCE_BUILD_TESTS=OFF", "-DPCE_BUILD_BENCHMARKS=OFF",
+        "-DPCE_BUILD_EXAMPLES=OFF", "-DPCE_BUILD_PROBE=OFF"])
+    run(["cmake", "--build", top / "build", "--parallel", str(max(ctx.jobs, 1)), "--target", "pce-sim"])
+    exe = find_exe(top / "build", "pce-sim")
+    if not exe:
+        raise RuntimeError(f"building {commit} made no pce-sim in {top / 'build'}")
+    return commit, exe
+
+
+def hammock_row(label, exe, directory):
+    """One run's row: compare_runs.row (ms per frame, stages, iterations, queries, caps, line-search
+    failures, frames with intersections) and the linear solver's counters per frame."""
+    records = compare_runs.load(directory)
+    r = compare_runs.row(label, records)
+    n = max(len(records), 1)
+    for key in ("factorizations", "analyses", "cg_iterations", "factorize_ms", "analyze_ms"):
+        # None (n/a) for a version that did not count it
+        r[key] = sum(rec["counters"].get(key, 0) for rec in records) / n if any(
+            key in rec["counters"] for rec in records) else None
+    r["broad_phase_share"] = r["broad_phase_ms"] / r["ms_per_frame"] if r["ms_per_frame"] else float("nan")
+    r["exe"] = str(exe)
+    return r
+
+
+def step_hammock(ctx):
+    """The shipped hammock, frames 1-120, one thread, full Newton and single solve, every run alone;
+    with --before, REV's pce-sim the same way, each mode's two runs one after the other."""
+    scene = ROOT / "examples" / "scenes" / ("twist.json" if ctx.quick else "hammock.json")
+    frames = 10 if ctx.quick else 120
+    builds = []
+    if ctx.before:
+        commit, exe = build_before(ctx, ctx.before)
+        builds.append((f"before ({commit})", commit, exe))
+    builds.append(("this build", "this build", ctx.exe("pce-sim")))
+    rows = []
+    for mode in ("newton", "single"):
+        for label, tag, exe in builds:
+            out = ctx.results / "runs" / f"hammock_{tag.replace(' ', '_')}_{mode}"
+            if out.exists():
+                shutil.rmtree(out)
+            cmd = [exe, scene, "--frames", str(frames), "--no-frames", "--threads", "1", "--out", out]
+            if mode == "single":
+                cmd.append("--single-solve")
+            log(f"  hammock: {label}, {mode}")
+            run(cmd)
+            r = hammock_row(label, exe, out)
+            r.update({"mode": mode, "command": " ".join(str(c) for c in cmd[1:]).replace(str(ROOT) + "/", "")})
+            rows.append(r)
+    for r in rows:
+        first = next(x for x in rows if x["mode"] == r["mode"])
+        r["ratio"] = r["ms_per_frame"] / first["ms_per_frame"] if first["ms_per_frame"] else float("nan")
+    columns = ["run", "mode", "frames", "ms_per_frame", "ratio", "newton_per_frame", "queries_per_frame_per_effect",
+               "factorizations", "analyses", "cg_iterations", "broad_phase_share"] + compare_runs.STAGES + [
+               "factorize_ms", "analyze_ms", "iteration_caps", "line_search_failures", "frames_with_intersections"]
+    write_csv(ctx.results / "hammock.csv", rows, columns)
+    return {"scene": scene.name, "frames": frames, "before": ctx.before, "rows": rows}
+
+
+def write_hammock_section(A, hammock):
+    """Section 5: the hammock's rows from step_hammock, before and after when there is a before."""
+    rows = hammock["rows"]
+    before = hammock.get("before")
+    A("## 5. The hammock, %s\n" % ("before and after" if before else "where a frame goes"))
+    A("`pce-sim examples/scenes/%s --frames %d --no-frames --threads 1` (`analytic`, the scene's tolerance), full "
+      "Newton and `--single-solve`, each run alone on the machine%s. Per frame: wall time (*ratio* to the first "
+      "row of the same mode), Newton iterations, broad-phase queries per contact effect, CHOLMOD factorisations "
+      "and symbolic analyses, CG iterations (`factor_reuse` only), the broad phase's share, the stages in ms, "
+      "then iteration caps, line-search failures and frames with intersecting triangle pairs over the run "
+      "(`benchmarks/results/hammock.csv`).\n"
+      % (hammock["scene"], hammock["frames"],
+         f"; the before rows are commit {before}'s `pce-sim` (`benchmarks/run_all --before {before}`), each "
+         "mode's two runs one after the other" if before else
+         "; `benchmarks/run_all --steps hammock --before REV` adds the same runs of commit REV"))
+    A(md_table(["run", "mode", "ms/frame", "ratio", "Newton it", "queries", "factorisations", "analyses", "CG it",
+                "broad phase"] + [STAGE_NAMES[k] + " ms" for k in compare_runs.STAGES] +
+               ["caps", "ls failures", "intersecting frames"],
+               [[r["run"], r["mode"], fmt(r["ms_per_frame"]), fmt(r["ratio"]), fmt(r["newton_per_frame"]),
+                 fmt(r["queries_per_frame_per_effect"]), fmt(r["factorizations"]), fmt(r["analyses"]),
+                 fmt(r["cg_iterations"]), f"{100 * r['broad_phase_share']:.0f} %"] +
+                [fmt(r[k]) for k in compare_runs.STAGES] +
+                [r["iteration_caps"], r["line_search_failures"], r["frames_with_intersections"]] for r in rows],
+               align=["---", "---"] + ["---:"] * 16) + "\n")
+
+
 # ---------------------------------------------------------------------------------------------
 # Plots.
 
@@ -601,7 +714,7 @@ def broad_phase_exponents(bp, quick):
 # ---------------------------------------------------------------------------------------------
 # The report.
 
-def write_report(ctx, machine, cost, acc, bp, threads, scenes, total_s):
+def write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, total_s):
     img = os.path.relpath(ctx.images, ctx.docs.parent)
     L = []
     A = L.append
@@ -767,9 +880,10 @@ def write_report(ctx, machine, cost, acc, bp, threads, scenes, total_s):
     A(md_table(["scene", "ms/frame"] + [STAGE_NAMES[k] for k in STAGES + ["other_ms"]],
                [[r["scene"], fmt(r["ms_per_frame"])] + [f"{100 * r[k] / r['ms_per_frame']:.0f} %" if r["ms_per_frame"] else "n/a"
                                                        for k in STAGES + ["other_ms"]] for r in shares]) + "\n")
+    write_hammock_section(A, hammock)
     A("## Files\n")
     A("`benchmarks/results/`: `machine.json`, `pce_bench.json`/`.csv`, `accuracy.json`/`.csv`, "
-      "`broad_phase.json`/`.csv`, `threads.csv`, `scenes.csv`, `step_*.json` (each step's numbers as this page "
+      "`broad_phase.json`/`.csv`, `threads.csv`, `scenes.csv`, `hammock.csv`, `step_*.json` (each step's numbers as this page "
       "used them; `run_all --steps scenes` reruns one step and reads the others from there), and the scene "
       "variants in `scenes/`. The simulations' own outputs go to `runs/` (not kept in git).\n")
     ctx.docs.parent.mkdir(parents=True, exist_ok=True)
@@ -884,6 +998,8 @@ def main():
     ap.add_argument("--steps", default="all", help="comma-separated steps to run (%s), 'all' or 'none' (only the "
                                                    "plots and the page); the others' last results are read from the "
                                                    "results folder" % ", ".join(ALL_STEPS))
+    ap.add_argument("--before", default=None, metavar="REV",
+                    help="step 'hammock': also run commit REV's pce-sim (built in build-before/), before/after")
     ap.add_argument("--self-test", action="store_true", help="check the number-crunching helpers and exit")
     args = ap.parse_args()
     if args.self_test:
@@ -894,7 +1010,7 @@ def main():
     if unknown:
         raise ValueError(f"--steps: unknown step(s) {', '.join(unknown)} (steps: {', '.join(ALL_STEPS)})")
     needs = {"pair_cost": "pce-bench", "accuracy": "pce-accuracy", "broad_phase": "pce-broad-phase-bench",
-             "threads": "pce-sim", "scenes": "pce-sim"}
+             "threads": "pce-sim", "scenes": "pce-sim", "hammock": "pce-sim"}
     if args.build is None:
         args.build = str(default_build([needs[x] for x in steps], args.jobs))
     if args.results is None:
@@ -945,6 +1061,10 @@ def main():
         for r in scenes["rows"]:
             r.pop("final_obj", None)
         done("scenes", scenes, t)
+    if "hammock" in steps:
+        log("hammock before/after (one run at a time)" if ctx.before else "hammock (one run at a time)")
+        t = time.monotonic()
+        done("hammock", step_hammock(ctx), t)
     for name in ALL_STEPS:  # steps not run now: their last results
         if name not in data:
             f = ctx.results / f"step_{name}.json"
@@ -953,18 +1073,18 @@ def main():
             data[name] = json.loads(f.read_text())
             if name == "accuracy":
                 data[name]["rows"] = json.loads((ctx.results / "accuracy.json").read_text())["rows"]
-    cost, acc, bp, threads, scenes = (data[k] for k in ALL_STEPS)
+    cost, acc, bp, threads, scenes, hammock = (data[k] for k in ALL_STEPS)
     total = time.monotonic() - t0
     # The page reports the time the whole pipeline takes: the steps' own times (accuracy and
     # broad phase run side by side, so the longer of the two counts).
     run_total = (data["pair_cost"].get("wall_s", 0) + max(acc.get("wall_s", 0), bp.get("wall_s", 0)) +
-                 threads.get("wall_s", 0) + scenes.get("wall_s", 0))
+                 threads.get("wall_s", 0) + scenes.get("wall_s", 0) + hammock.get("wall_s", 0))
     log("plots and page")
     plot_pair(ctx, acc, cost)
     plot_scenes(ctx, scenes)
     plot_broad_phase(ctx, bp)
     plot_threads(ctx, threads, scenes)
-    write_report(ctx, machine, cost, acc, bp, threads, scenes, run_total)
+    write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, run_total)
     missing = [p for p in [ctx.docs] + [ctx.images / f for f in ("pair_accuracy_cost.png", "scene_pareto.png",
                                                                    "broad_phase_scaling.png", "threads.png")]
                if not p.exists() or p.stat().st_size == 0]
@@ -972,7 +1092,7 @@ def main():
         raise RuntimeError("missing outputs: " + ", ".join(map(str, missing)))
     page = ctx.docs.read_text()
     absent = [h for h in ("## What accuracy costs", "## 1. Per pair", "## 2. Per scene", "## 3. Broad phase",
-                          "## 4. Threads") if h not in page]
+                          "## 4. Threads", "## 5. The hammock") if h not in page]
     if absent:
         raise RuntimeError(f"{ctx.docs}: sections missing: {', '.join(absent)}")
     failures = [r for r in scenes["rows"] if r["exit_code"] not in (0,)]
