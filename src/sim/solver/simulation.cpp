@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -349,12 +350,27 @@ FrameStats Simulation::step() {
     E_accepted = E;
     const bool converged = st.residual < solver.tolerance;  // still take this (small) step
     // Contact effects whose candidates would go stale along the step query again over it
-    // (the pairs active at y, hence the pattern, stay those of the new candidates).
+    // (the pairs active at y, hence the pattern, stay those of the new candidates). Each
+    // effect covers with its own candidate set and broad phase, so with two threads or more
+    // the effects cover side by side (a vertex-face and an edge-edge effect usually query
+    // at the same iteration); what each computes does not depend on it.
     bool covered = false;
-    for (std::size_t k = 0; k < effects.size(); ++k) {
-      t0 = Clock::now();
-      if (effects[k]->cover_step(y, dxm)) covered = true;
-      effect_ms[k] += ms_since(t0);
+    {
+      const long count = static_cast<long>(effects.size());
+      std::exception_ptr error;
+#pragma omp parallel for schedule(dynamic, 1) reduction(|| : covered) if (count > 1)
+      for (long k = 0; k < count; ++k) {
+        const auto uk = static_cast<std::size_t>(k);
+        try {
+          const auto tc = Clock::now();
+          covered = effects[uk]->cover_step(y, dxm) || covered;
+          effect_ms[uk] += ms_since(tc);
+        } catch (...) {
+#pragma omp critical(pce_sim_cover_error)
+          if (!error) error = std::current_exception();
+        }
+      }
+      if (error) std::rethrow_exception(error);
     }
     // Backtracking line search from the largest step every effect allows.
     t0 = Clock::now();

@@ -52,7 +52,9 @@ class Effect {
   /// `max_step`: a contact effect whose candidates would not stay valid along the step
   /// queries again over it (so that max_step need not cut the step short for the
   /// candidates' sake) and returns true; the solver then re-evaluates the energy at `x`
-  /// with the new candidates. The active pairs at `x` are the same.
+  /// with the new candidates. The active pairs at `x` are the same. With more than one
+  /// thread the solver calls the effects' cover_step side by side, so an effect's
+  /// cover_step may touch only that effect's own state.
   virtual bool cover_step(const Eigen::Matrix3Xd& /*x*/, const Eigen::Matrix3Xd& /*dx*/) { return false; }
   /// Largest fraction t ∈ (0, 1] of the step `dx` from `x` that this effect allows (a
   /// barrier keeps every active length above 0); 1 for effects without a domain limit.
