@@ -6,6 +6,7 @@
 #include <pce/sim/scene.hpp>
 
 #include <gtest/gtest.h>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 using namespace pce::sim;
@@ -40,6 +41,25 @@ TEST(Simulation, FreeFallIsBackwardEulerExactly) {
     EXPECT_NEAR((sim.x.row(2) - x0.row(2)).minCoeff(), z, 1e-12);
     EXPECT_NEAR(sim.v.row(2).mean(), v, 1e-10);
   }
+}
+
+TEST(Simulation, ARejectedTrialAtAConvergedDirectionIsNoLineSearchFailure) {
+  // drape.json's first frames are a free fall: Newton's first step solves the quadratic
+  // potential, the second direction is rounding (~1e-13, below the tolerance), and its one
+  // trial can fail Armijo by rounding (it does at frame 4). The step has converged, so no
+  // line-search failure is counted.
+  auto s = load_scene(std::filesystem::path(PCE_SOURCE_DIR) / "examples" / "scenes" / "drape.json");
+  Simulation& sim = s->simulation;
+  sim.solver.threads = 1;
+  int rejected_converged = 0;
+  for (int f = 1; f <= 4; ++f) {
+    const FrameStats st = sim.step();
+    EXPECT_EQ(st.line_search_failures, 0) << "frame " << f;
+    for (const NewtonIteration& it : st.iterations)
+      rejected_converged += it.alpha == 0 && it.residual < sim.solver.tolerance;
+  }
+  EXPECT_GT(rejected_converged, 0) << "no rejected trial at a converged direction in drape's frames 1-4: the case "
+                                      "this test is about no longer occurs here";
 }
 
 TEST(Simulation, LinearSolversAgreeAndSingleSolveTakesOneIteration) {
