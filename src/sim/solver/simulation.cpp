@@ -419,8 +419,8 @@ FrameStats Simulation::step() {
     if (!accepted) {
       // A direction below the tolerance (converged) whose trial does not pass Armijo is
       // rounding, not a failure: the iterate already meets the tolerance, and the energy's
-      // change along a direction of ~1e-13 is below its own rounding (drape and strands
-      // counted such a "failure" in free fall, at frame 4).
+      // change along such a direction (a free fall's second one is ~1e-13) is below its own
+      // rounding.
       if (!converged) ++st.line_search_failures;
       break;
     }
