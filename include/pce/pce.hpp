@@ -45,6 +45,7 @@
 #include <pce/frames/point_edge.hpp>
 #include <pce/frames/point_point.hpp>
 #include <pce/frames/vertex_face.hpp>
+#include <pce/friction/lagged_friction.hpp>
 #include <pce/lengths/length_hessian.hpp>
 #include <pce/lengths/signed_length.hpp>
 #include <pce/lengths/unsigned_length.hpp>

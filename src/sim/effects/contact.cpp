@@ -26,11 +26,20 @@
 //    first step start with the vertex over the face, and kept while the pair stays a
 //    candidate);
 //  * closest-feature mode: pce::closest_feature_energy, the distance between the primitives.
+// With `area_weighted`, a pair's energy is w ψ(L), w its rest area (vertex-face: the face's
+// area plus the vertex's lumped area; edge-edge: the two edges' lumped areas), evaluated as
+// ψ with stiffness w k. With `friction`, every pair active at the step's start is frozen
+// there (friction.hpp): λ = −ψ′(L), the closest points' weights (the frame's for the plane
+// kinds, the closest feature's otherwise) and a tangent basis of the pair's normal; the
+// potential of the closest points' relative slip over the step is summed with the contact
+// energy, on its own list (a frozen pair stays one for the step whether or not it is still
+// active or a candidate).
 // The Hessian is pce's projection chosen per effect (`hessian`). Pairs are evaluated in
 // parallel (OpenMP, chunks of consecutive candidates on a dynamic schedule) into per-chunk
 // buffers, which are summed and scattered serially, in chunk order, into the block Hessian.
 #include "contact/candidate_set.hpp"
 #include "contact/pair_geometry.hpp"
+#include "friction.hpp"
 #include "penalty_spec.hpp"
 
 #include <pce/energy/closest_feature.hpp>
@@ -104,7 +113,9 @@ template <bool VF> class SelfContact final : public Effect {
   SelfContact(const ContactSettings& spec, const Model& model)
       : spec_(spec),
         model_(&model),
-        candidates_(model, spec.broad_phase, spec.penalty.distance, spec.penalty.barrier() || spec.ccd) {}
+        candidates_(model, spec.broad_phase, spec.penalty.distance, spec.penalty.barrier() || spec.ccd) {
+    if (spec.area_weighted) areas_ = rest_areas(model);
+  }
 
   const char* name() const override { return VF ? "self_vertex_face" : "self_edge_edge"; }
 
@@ -114,6 +125,19 @@ template <bool VF> class SelfContact final : public Effect {
     stats_ = {};
     // (a kept set keeps what its passes recorded: each record names the state it was made at)
     if (candidates_.begin_step(*ctx.x_start, *ctx.x_start + ctx.dt * *ctx.v_start, previous_)) carry_over();
+    if (spec_.friction) {
+      friction_stats_ = {};
+      eps_ = spec_.friction->slip_velocity * ctx.dt;
+      rounds_ = 1;
+      freeze(*ctx.x_start);
+    }
+  }
+
+  bool update_lagged(const Eigen::Matrix3Xd& x) override {
+    if (!spec_.friction || rounds_ >= spec_.friction->lagged_iterations) return false;
+    ++rounds_;
+    freeze(x);
+    return true;
   }
 
   bool still_valid(const Eigen::Matrix3Xd& x) override { return candidates_.still_valid(x); }
@@ -133,6 +157,7 @@ template <bool VF> class SelfContact final : public Effect {
   void declare(Pattern& pattern) const override {
     for (std::size_t k = 0; k < candidates_.size(); ++k)
       if (declared_[k]) pattern.add(candidates_.vertices(k));
+    for (const FrictionContact<4>& c : frozen_) pattern.add(c.v);
   }
 
   bool update_pattern(const Eigen::Matrix3Xd& x) override {
@@ -251,6 +276,11 @@ template <bool VF> class SelfContact final : public Effect {
     stats_.active = active;
     stats_.fold_active = fold_active;
     stats_.min_length = min_length;
+    if (spec_.friction) {
+      const auto t2 = Clock::now();
+      energy += add_friction(frozen_, x, *x_start_, gradient, hessian, friction_stats_.sticking);
+      friction_stats_.ms += ms_since(t2);
+    }
     if (!std::isfinite(energy)) return std::numeric_limits<double>::infinity();
     return energy;
   }
@@ -367,6 +397,13 @@ template <bool VF> class SelfContact final : public Effect {
     c[Counter::broad_phase_queries] = q.queries;
     c[Counter::pair_ms] = stats_.pair_ms;
     c[Counter::scatter_ms] = stats_.scatter_ms;
+    if (spec_.friction) {
+      c[VF ? Counter::vertex_face_friction_contacts : Counter::edge_edge_friction_contacts] =
+          static_cast<double>(frozen_.size());
+      c[VF ? Counter::vertex_face_friction_sticking : Counter::edge_edge_friction_sticking] =
+          static_cast<double>(friction_stats_.sticking);
+      c[VF ? Counter::vertex_face_friction_ms : Counter::edge_edge_friction_ms] = friction_stats_.ms;
+    }
   }
 
   /// The tracked pairs with their sides and declarations, and the query they came from:
@@ -571,16 +608,17 @@ template <bool VF> class SelfContact final : public Effect {
     const Activity a = classify(xp, uk);
     if (a.mode == Activity::Mode::none) return;
     o.declare = a.mode == Activity::Mode::plane;  // is_active: plane mode is active
+    const Penalty pk = weighted(penalty, uk);
     if (a.mode == Activity::Mode::closest)
-      return a.fold ? closest_pair(xp, k, with_reach(penalty, a.limit), a.limit, hessians, o)
-                    : closest_pair(xp, k, penalty, a.limit, hessians, o);
+      return a.fold ? closest_pair(xp, k, with_reach(pk, a.limit), a.limit, hessians, o)
+                    : closest_pair(xp, k, pk, a.limit, hessians, o);
     // pair_energy's result from the frame already built (signed with the side σ, or the
     // unsigned length, whose σ = sgn l is the same number): no second frame.
     PairEnergy<double> e;
     e.frame = a.frame;
     e.sigma = a.sigma;
     e.length = a.sigma * a.frame.l;
-    const Status s = detail::evaluate_penalty(penalty, e.length, e.psi);
+    const Status s = detail::evaluate_penalty(pk, e.length, e.psi);
     if (s == Status::out_of_domain) return fail_infinite(o);
     if (s != Status::ok) return;
     o.active = true;
@@ -611,6 +649,77 @@ template <bool VF> class SelfContact final : public Effect {
     o.energy = ce.psi.value;
     o.g = energy_gradient(ce);
     if (hessians) hessians->push_back({k, projected_hessian(ce, spec_.hessian)});
+  }
+
+  /// The rest area candidate k's energy is weighed by (area_weighted): the vertex's lumped
+  /// area plus the face's area, or the two edges' lumped areas.
+  double weight(std::size_t k) const {
+    const auto& c = candidates_.pairs()[k];
+    return VF ? areas_.vertex[c[0]] + areas_.triangle[c[1]] : areas_.edge[c[0]] + areas_.edge[c[1]];
+  }
+
+  /// The penalty of candidate k: the effect's, with its stiffness times weight(k) when
+  /// area weighted (ψ is linear in it).
+  template <class Penalty> Penalty weighted(const Penalty& penalty, std::size_t k) const {
+    if (!spec_.area_weighted) return penalty;
+    Penalty p = penalty;
+    p.stiffness *= weight(k);
+    return p;
+  }
+
+  /// Freezes the friction of every candidate active at `x` (classify, then the pair's
+  /// penalty): λ = −ψ′(L) of its (weighted) penalty, its closest points' weights and the
+  /// tangent basis of its normal (pce::friction_geometry), μλ and ε = ε_v h. In chunks of
+  /// consecutive candidates on the threads, joined in candidate order.
+  void freeze(const Eigen::Matrix3Xd& x) {
+    const auto t0 = Clock::now();
+    candidates_.measure_drift(x);
+    const long n = static_cast<long>(candidates_.size());
+    constexpr long chunk = 2048;
+    const auto chunks = static_cast<std::size_t>((n + chunk - 1) / chunk);
+    std::vector<std::vector<FrictionContact<4>>> parts(chunks);
+    const double mu = spec_.friction->coefficient;
+    visit_penalty(spec_.penalty, [&](const auto& penalty) {
+#pragma omp parallel for schedule(dynamic, 1)
+      for (long c = 0; c < static_cast<long>(chunks); ++c) {
+        const long end = std::min(n, (c + 1) * chunk);
+        for (long k = c * chunk; k < end; ++k) {
+          const auto uk = static_cast<std::size_t>(k);
+          if (filtered_out(uk)) continue;
+          const auto v = candidates_.vertices(uk);
+          const Vec12<double> xp = Geometry::gather(x, v);
+          const Activity a = classify(xp, uk);
+          if (a.mode == Activity::Mode::none) continue;
+          const auto pk = weighted(penalty, uk);
+          double lambda = 0;
+          VecN<double, 4> w;
+          Eigen::Vector3d normal;
+          if (a.mode == Activity::Mode::plane) {
+            PenaltyDerivatives<double> psi;
+            if (detail::evaluate_penalty(pk, a.sigma * a.frame.l, psi) != Status::ok) continue;
+            lambda = -psi.first;
+            friction_geometry(a.frame, w, normal);
+          } else {
+            ClosestFeatureEnergy<double> ce;
+            const Status s = a.fold ? closest_feature_energy<Kind>(xp, UnsignedLength{}, with_reach(pk, a.limit), ce)
+                                    : closest_feature_energy<Kind>(xp, UnsignedLength{}, pk, ce);
+            if (s != Status::ok || !(ce.length < a.limit) || !friction_geometry(ce, xp, w, normal)) continue;
+            lambda = -ce.psi.first;
+          }
+          if (!(lambda > 0) || !std::isfinite(lambda)) continue;
+          FrictionContact<4> fc;
+          fc.v = v;
+          fc.f.weights = w;
+          fc.f.basis = tangent_basis<double>(normal);
+          fc.f.mu_lambda = mu * lambda;
+          fc.f.eps = eps_;
+          parts[static_cast<std::size_t>(c)].push_back(fc);
+        }
+      }
+    });
+    frozen_.clear();
+    for (const auto& part : parts) frozen_.insert(frozen_.end(), part.begin(), part.end());
+    friction_stats_.ms += ms_since(t0);
   }
 
   /// The effect's penalty with its activation distance replaced by `reach` (fold pairs).
@@ -708,11 +817,17 @@ template <bool VF> class SelfContact final : public Effect {
   /// of x₀ + α dx (a few ε), far below any distance that matters.
   static constexpr double kSegmentTolerance = 1e-12;
   ContactStats stats_;
+  RestAreas areas_;                         ///< rest areas (area_weighted), else empty
+  std::vector<FrictionContact<4>> frozen_;  ///< the step's frozen friction pairs (friction)
+  double eps_ = 0;                          ///< ε_v h
+  int rounds_ = 0;                          ///< solves of this step with friction frozen so far
+  FrictionStats friction_stats_;
 };
 
 /// Throws ArgumentError unless the settings are consistent (fields named as the scene's keys).
 void check_contact(const ContactSettings& s) {
   check_penalty(s.penalty, "penalty.");
+  check_friction(s.friction);
   if (s.hessian == Projection::none)
     throw ArgumentError("hessian",
                         "expected a PSD strategy (analytic, exact, numerical, gauss_newton or abs), got none");
@@ -731,6 +846,13 @@ std::unique_ptr<Effect> make_self_vertex_face(const Model& model, const ContactS
   check_contact(settings);
   check_penalty_for_model(settings.penalty, model, "penalty.");
   if (model.triangles.cols() == 0) throw ArgumentError("", "self_vertex_face needs a mesh with triangles");
+  if (settings.area_weighted) {
+    const RestAreas area = rest_areas(model);
+    for (Eigen::Index t = 0; t < area.triangle.size(); ++t)
+      if (!(area.triangle[t] > 0))
+        throw ArgumentError("area_weighted",
+                            "triangle " + std::to_string(t) + " has no rest area to weigh its contacts by");
+  }
   return std::make_unique<SelfContact<true>>(settings, model);
 }
 
@@ -738,6 +860,16 @@ std::unique_ptr<Effect> make_self_edge_edge(const Model& model, const ContactSet
   check_contact(settings);
   check_penalty_for_model(settings.penalty, model, "penalty.");
   if (model.edges.cols() < 2) throw ArgumentError("", "self_edge_edge needs at least two edges");
+  if (settings.area_weighted) {
+    const Eigen::VectorXd area = rest_areas(model).edge;
+    for (Eigen::Index e = 0; e < area.size(); ++e)
+      if (!(area[e] > 0))
+        throw ArgumentError("area_weighted", "edge " + std::to_string(e) + " (vertices " +
+                                                 std::to_string(model.edges(0, e)) + ", " +
+                                                 std::to_string(model.edges(1, e)) +
+                                                 ") borders no triangle of positive area (a strand segment?): it has "
+                                                 "no area to weigh its contacts by");
+  }
   return std::make_unique<SelfContact<false>>(settings, model);
 }
 

@@ -18,10 +18,24 @@
 /// `max_step` keeps every distance positive: since d is 1-Lipschitz in the vertex
 /// position, t ≤ 0.9 d / |Δxᵢ| leaves d ≥ 0.1 d > 0 all along the segment.
 ///
+/// Area weighting (`area_weighted`): vertex i's energy is Aᵢ ψ(d), Aᵢ its lumped rest area
+/// (the penalty evaluated with stiffness Aᵢ k, which ψ is linear in).
+///
+/// Friction (`friction`): at the step's start every active (vertex, obstacle) pair is frozen
+/// with λ = −ψ′(d) (weighted), the tangent basis of its normal, and the displacement over
+/// the step of the obstacle's surface point nearest the vertex (its rigid motion from the
+/// step's start pose to its end pose): the vertex's slip is its displacement less that one
+/// (friction.hpp, pce/friction/lagged_friction.hpp). With `lagged_iterations` n > 1, after
+/// each of the first n − 1 solves the pairs are frozen again at the solve's result with the
+/// end poses.
+///
 /// Culling: a vertex is skipped for obstacle k when |xᵢ − cₖ| − Rₖ ≥ activation distance,
 /// with cₖ the obstacle's origin and Rₖ the radius of a sphere about it that bounds the
 /// shape (d ≥ |xᵢ − cₖ| − Rₖ for every shape).
+#include "friction.hpp"
 #include "penalty_spec.hpp"
+
+#include <chrono>
 
 #include <algorithm>
 #include <cmath>
@@ -51,20 +65,52 @@ double bounding_radius(const Obstacle& o) {
   return std::numeric_limits<double>::infinity();
 }
 
+using Clock = std::chrono::steady_clock;
+
+/// `p` with its stiffness multiplied by `w` (ψ is linear in it).
+template <class Penalty> Penalty scaled(Penalty p, double w) {
+  p.stiffness *= w;
+  return p;
+}
+
 class ObstacleContact final : public Effect {
  public:
-  ObstacleContact(ContactPenalty spec, std::vector<Obstacle> obstacles)
-      : spec_(spec), obstacles_(std::move(obstacles)) {
+  ObstacleContact(const ObstacleContactSettings& settings, std::vector<Obstacle> obstacles, Eigen::VectorXd areas)
+      : spec_(settings.penalty),
+        friction_(settings.friction),
+        obstacles_(std::move(obstacles)),
+        areas_(std::move(areas)) {
     radius_.reserve(obstacles_.size());
     for (const Obstacle& o : obstacles_) radius_.push_back(bounding_radius(o));
     poses_.assign(obstacles_.size(), Eigen::Isometry3d::Identity());
     for (std::size_t k = 0; k < obstacles_.size(); ++k) poses_[k] = obstacles_[k].pose(0.0);
+    start_poses_ = poses_;
   }
 
   const char* name() const override { return "obstacle_contact"; }
 
   void begin_step(const StepContext& ctx) override {
-    for (std::size_t k = 0; k < obstacles_.size(); ++k) poses_[k] = obstacles_[k].pose(ctx.time);
+    for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+      poses_[k] = obstacles_[k].pose(ctx.time);
+      if (friction_) start_poses_[k] = obstacles_[k].pose(ctx.time - ctx.dt);
+    }
+    if (!friction_) return;
+    const auto t0 = Clock::now();
+    friction_stats_ = {};
+    x_start_ = ctx.x_start;
+    eps_ = friction_->slip_velocity * ctx.dt;
+    rounds_ = 1;
+    freeze(*ctx.x_start, true);
+    friction_stats_.ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  }
+
+  bool update_lagged(const Eigen::Matrix3Xd& x) override {
+    if (!friction_ || rounds_ >= friction_->lagged_iterations) return false;
+    const auto t0 = Clock::now();
+    ++rounds_;
+    freeze(x, false);
+    friction_stats_.ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    return true;
   }
 
   /// Only diagonal blocks, which every pattern holds.
@@ -73,10 +119,11 @@ class ObstacleContact final : public Effect {
   double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) override {
     gather(x);
     if (blocked_) return std::numeric_limits<double>::infinity();
-    return visit_penalty(spec_, [&](const auto& penalty) {
+    double energy = visit_penalty(spec_, [&](const auto& penalty) {
       double energy = 0;
       for (const Contact& c : contacts_) {
-        const PenaltyDerivatives<double> psi = penalty.evaluate(c.distance);
+        const PenaltyDerivatives<double> psi =
+            areas_.size() ? scaled(penalty, areas_[c.vertex]).evaluate(c.distance) : penalty.evaluate(c.distance);
         energy += psi.value;
         if (gradient) gradient->col(c.vertex) += psi.first * c.normal;
         if (hessian && psi.second > 0)
@@ -84,6 +131,12 @@ class ObstacleContact final : public Effect {
       }
       return energy;
     });
+    if (friction_) {
+      const auto t0 = Clock::now();
+      energy += add_friction(frozen_, x, *x_start_, gradient, hessian, friction_stats_.sticking);
+      friction_stats_.ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    }
+    return energy;
   }
 
   double max_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) override {
@@ -105,6 +158,11 @@ class ObstacleContact final : public Effect {
   void report(EffectCounters& counters) const override {
     counters[Counter::obstacle_contacts] = static_cast<double>(contacts_.size());
     counters[Counter::obstacle_min_distance] = min_distance_;
+    if (friction_) {
+      counters[Counter::obstacle_friction_contacts] = static_cast<double>(frozen_.size());
+      counters[Counter::obstacle_friction_sticking] = static_cast<double>(friction_stats_.sticking);
+      counters[Counter::obstacle_friction_ms] = friction_stats_.ms;
+    }
   }
 
  private:
@@ -138,10 +196,52 @@ class ObstacleContact final : public Effect {
     }
   }
 
+  /// Freezes the friction of every pair active at `x`, with the obstacles at their start
+  /// poses (`at_start`) or their end poses: λ = −ψ′(d), the tangent basis of the normal, and
+  /// the displacement over the step of the surface point nearest the vertex.
+  void freeze(const Eigen::Matrix3Xd& x, bool at_start) {
+    frozen_.clear();
+    const std::vector<Eigen::Isometry3d>& at = at_start ? start_poses_ : poses_;
+    const std::vector<Eigen::Isometry3d>& other = at_start ? poses_ : start_poses_;
+    const double reach = spec_.distance;
+    visit_penalty(spec_, [&](const auto& penalty) {
+      for (Eigen::Index i = 0; i < x.cols(); ++i) {
+        const Eigen::Vector3d p = x.col(i);
+        for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+          if ((p - at[k].translation()).norm() - radius_[k] >= reach) continue;
+          const SurfaceDistance s = surface_distance(obstacles_[k], at[k], p);
+          if (!(s.distance < reach) || (spec_.barrier() && !(s.distance > 0))) continue;
+          const PenaltyDerivatives<double> psi =
+              areas_.size() ? scaled(penalty, areas_[i]).evaluate(s.distance) : penalty.evaluate(s.distance);
+          const double lambda = -psi.first;
+          if (!(lambda > 0) || !std::isfinite(lambda)) continue;
+          FrictionContact<1> c;
+          c.v = {static_cast<int>(i)};
+          c.f.weights << 1.0;
+          c.f.basis = tangent_basis<double>(s.normal);
+          const Eigen::Vector3d surface = p - s.distance * s.normal;
+          const Eigen::Vector3d moved = other[k] * (at[k].inverse() * surface);
+          c.f.offset = at_start ? Eigen::Vector3d(moved - surface) : Eigen::Vector3d(surface - moved);
+          c.f.mu_lambda = friction_->coefficient * lambda;
+          c.f.eps = eps_;
+          frozen_.push_back(c);
+        }
+      }
+    });
+  }
+
   ContactPenalty spec_;
+  std::optional<FrictionSettings> friction_;
   std::vector<Obstacle> obstacles_;
+  Eigen::VectorXd areas_;  ///< per vertex, its lumped rest area (area weighting), else empty
   std::vector<double> radius_;
-  std::vector<Eigen::Isometry3d> poses_;
+  std::vector<Eigen::Isometry3d> poses_;        ///< at the end of the step
+  std::vector<Eigen::Isometry3d> start_poses_;  ///< at its start (friction)
+  std::vector<FrictionContact<1>> frozen_;      ///< the step's frozen friction pairs
+  const Eigen::Matrix3Xd* x_start_ = nullptr;
+  double eps_ = 0;  ///< ε_v h
+  int rounds_ = 0;  ///< solves of this step with friction frozen so far
+  FrictionStats friction_stats_;
   std::vector<Contact> contacts_;
   double min_distance_ = std::numeric_limits<double>::max();
   bool blocked_ = false;
@@ -189,7 +289,27 @@ std::unique_ptr<Effect> make_obstacle_contact(const std::vector<Obstacle>& obsta
   check_penalty(penalty, "penalty.");
   for (std::size_t k = 0; k < obstacles.size(); ++k)
     check_obstacle(obstacles[k], "obstacles[" + std::to_string(k) + "]");
-  return std::make_unique<ObstacleContact>(penalty, obstacles);
+  ObstacleContactSettings settings;
+  settings.penalty = penalty;
+  return std::make_unique<ObstacleContact>(settings, obstacles, Eigen::VectorXd());
+}
+
+std::unique_ptr<Effect> make_obstacle_contact(const Model& model, const std::vector<Obstacle>& obstacles,
+                                              const ObstacleContactSettings& settings) {
+  check_penalty(settings.penalty, "penalty.");
+  check_friction(settings.friction);
+  for (std::size_t k = 0; k < obstacles.size(); ++k)
+    check_obstacle(obstacles[k], "obstacles[" + std::to_string(k) + "]");
+  Eigen::VectorXd areas;
+  if (settings.area_weighted) {
+    areas = rest_areas(model).vertex;
+    for (Eigen::Index i = 0; i < areas.size(); ++i)
+      if (!(areas[i] > 0))
+        throw ArgumentError("area_weighted", "vertex " + std::to_string(i) +
+                                                 " is no corner of a triangle of positive area (a strand vertex?): it "
+                                                 "has no area to weigh its contact by");
+  }
+  return std::make_unique<ObstacleContact>(settings, obstacles, std::move(areas));
 }
 
 }  // namespace pce::sim

@@ -6,6 +6,8 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <map>
+#include <utility>
 #include <set>
 #include <sstream>
 #include <string>
@@ -86,6 +88,30 @@ Model build_model(const std::vector<ModelMesh>& meshes) {
   m.edges.resize(2, tri_edges.cols() + m.segments.cols());
   m.edges << tri_edges, m.segments;
   return m;
+}
+
+RestAreas rest_areas(const Model& model) {
+  RestAreas a;
+  const auto nt = model.triangles.cols();
+  a.vertex = Eigen::VectorXd::Zero(model.rest.cols());
+  a.triangle = Eigen::VectorXd::Zero(nt);
+  a.edge = Eigen::VectorXd::Zero(model.edges.cols());
+  std::map<std::pair<int, int>, Eigen::Index> edge_of;
+  for (Eigen::Index e = 0; e < model.edges.cols(); ++e)
+    edge_of.emplace(std::minmax(model.edges(0, e), model.edges(1, e)), e);
+  for (Eigen::Index t = 0; t < nt; ++t) {
+    const auto tri = model.triangles.col(t);
+    const double area =
+        0.5 *
+        (model.rest.col(tri[1]) - model.rest.col(tri[0])).cross(model.rest.col(tri[2]) - model.rest.col(tri[0])).norm();
+    a.triangle[t] = area;
+    for (int j = 0; j < 3; ++j) {
+      a.vertex[tri[j]] += area / 3.0;
+      const auto it = edge_of.find(std::minmax(tri[j], tri[(j + 1) % 3]));
+      if (it != edge_of.end()) a.edge[it->second] += area / 3.0;
+    }
+  }
+  return a;
 }
 
 }  // namespace pce::sim

@@ -35,6 +35,16 @@ ContactPenalty parse_penalty(const Params& p) {
   return s;
 }
 
+/// A contact effect's `friction` object.
+FrictionSettings parse_friction(const Params& p) {
+  p.only({"coefficient", "slip_velocity", "lagged_iterations"});
+  FrictionSettings f;
+  f.coefficient = p.nonnegative("coefficient");
+  f.slip_velocity = p.positive("slip_velocity", f.slip_velocity);
+  f.lagged_iterations = static_cast<int>(p.integer("lagged_iterations", 1, 1, 100));
+  return f;
+}
+
 /// A self-contact effect's object (`self_vertex_face`, `self_edge_edge`); the broad phase
 /// is the scene's.
 ContactSettings parse_contact(const Params& p, const BuildContext& ctx) {
@@ -42,7 +52,7 @@ ContactSettings parse_contact(const Params& p, const BuildContext& ctx) {
     p.fail("exclude_rest_neighbours",
            "this option was removed: pairs of one mesh closer than 2d at rest are left out of the energy and "
            "kept in the step bound, so a sheet cannot fold through itself (delete the key)");
-  p.only({"type", "penalty", "length", "hessian", "closest_features", "ccd"});
+  p.only({"type", "penalty", "length", "hessian", "closest_features", "ccd", "area_weighted", "friction"});
   ContactSettings s;
   s.penalty = parse_penalty(p.object("penalty"));
   s.signed_length = p.choice("length", {"unsigned", "signed"}, std::string("unsigned")) == "signed";
@@ -56,6 +66,8 @@ ContactSettings parse_contact(const Params& p, const BuildContext& ctx) {
               : h == "abs"          ? Projection::abs
                                     : Projection::analytic;
   s.broad_phase = ctx.broad_phase;
+  s.area_weighted = p.boolean("area_weighted", false);
+  if (p.has("friction")) s.friction = parse_friction(p.object("friction"));
   return s;
 }
 
@@ -153,8 +165,11 @@ std::unique_ptr<Effect> load_self_edge_edge(const Params& params, const BuildCon
 }
 
 std::unique_ptr<Effect> load_obstacle_contact(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "penalty", "obstacles"});
-  const ContactPenalty spec = parse_penalty(params.object("penalty"));
+  params.only({"type", "penalty", "obstacles", "area_weighted", "friction"});
+  ObstacleContactSettings spec;
+  spec.penalty = parse_penalty(params.object("penalty"));
+  spec.area_weighted = params.boolean("area_weighted", false);
+  if (params.has("friction")) spec.friction = parse_friction(params.object("friction"));
   static const std::vector<Obstacle> none;
   const std::vector<Obstacle>& all = ctx.obstacles ? *ctx.obstacles : none;
   std::vector<Obstacle> chosen;
@@ -180,7 +195,7 @@ std::unique_ptr<Effect> load_obstacle_contact(const Params& params, const BuildC
       chosen.push_back(*it);
     }
   }
-  return params.build([&] { return make_obstacle_contact(chosen, spec); });
+  return params.build([&] { return make_obstacle_contact(*ctx.model, chosen, spec); });
 }
 
 }  // namespace pce::sim

@@ -311,132 +311,147 @@ FrameStats Simulation::step() {
   // The effects' last evaluation was at y with the current candidates: set when a trial
   // is accepted, cleared by a refresh (and by a trial that is not).
   bool evaluated_at_y = false;
-  for (int it = 0; it < cap; ++it) {
-    // Gradient and Hessian: inertia, then every effect (the pattern grows with the
-    // active contacts).
-    bool changed_pattern = false;
-    for (std::size_t k = 0; k < effects.size(); ++k) {
-      const auto tp = Clock::now();
-      changed_pattern = effects[k]->update_pattern(y) || changed_pattern;
-      effect_ms[k] += ms_since(tp);
-    }
-    if (changed_pattern) rebuild_pattern();
-    auto t0 = Clock::now();
-    ls.H.set_zero();
-    ls.H.add_diagonal(mass3_);
-    st.assembly_ms += ms_since(t0);
-    g = (y - x_tilde_);
-    for (int i = 0; i < n; ++i) g.col(i) *= model.mass[i] / (h * h);
-    double E = 0.5 * ((y - x_tilde_).colwise().squaredNorm().transpose().array() * model.mass.array()).sum() / (h * h);
-    for (std::size_t k = 0; k < effects.size(); ++k) {
+  // One solve, or more when an effect freezes quantities again at a solve's result
+  // (update_lagged: friction with lagged_iterations > 1).
+  for (;;) {
+    for (int it = 0; it < cap; ++it) {
+      // Gradient and Hessian: inertia, then every effect (the pattern grows with the
+      // active contacts).
+      bool changed_pattern = false;
+      for (std::size_t k = 0; k < effects.size(); ++k) {
+        const auto tp = Clock::now();
+        changed_pattern = effects[k]->update_pattern(y) || changed_pattern;
+        effect_ms[k] += ms_since(tp);
+      }
+      if (changed_pattern) rebuild_pattern();
+      auto t0 = Clock::now();
+      ls.H.set_zero();
+      ls.H.add_diagonal(mass3_);
+      st.assembly_ms += ms_since(t0);
+      g = (y - x_tilde_);
+      for (int i = 0; i < n; ++i) g.col(i) *= model.mass[i] / (h * h);
+      double E =
+          0.5 * ((y - x_tilde_).colwise().squaredNorm().transpose().array() * model.mass.array()).sum() / (h * h);
+      for (std::size_t k = 0; k < effects.size(); ++k) {
+        t0 = Clock::now();
+        E += effects[k]->evaluate(y, &g, &ls.H);
+        effect_ms[k] += ms_since(t0);
+      }
+      if (!std::isfinite(E) || !g.allFinite())
+        fail_non_finite(y, st.frame, "at Newton iteration " + std::to_string(it + 1));
+      // Newton direction.
       t0 = Clock::now();
-      E += effects[k]->evaluate(y, &g, &ls.H);
-      effect_ms[k] += ms_since(t0);
-    }
-    if (!std::isfinite(E) || !g.allFinite())
-      fail_non_finite(y, st.frame, "at Newton iteration " + std::to_string(it + 1));
-    // Newton direction.
-    t0 = Clock::now();
-    rhs = -Eigen::Map<const Eigen::VectorXd>(g.data(), g.size());
-    const bool solved = ls.solve(solver, rhs, dx);
-    st.solve_ms += ms_since(t0);
-    if (!solved || !dx.allFinite())
-      throw SimulationError(st.frame, "", -1,
-                            "frame " + std::to_string(st.frame) + ": the linear solve failed at Newton iteration " +
-                                std::to_string(it + 1) + (solved ? " (a non-finite direction)" : ""));
-    ++st.newton_iterations;
-    dxm = Eigen::Map<const Eigen::Matrix3Xd>(dx.data(), 3, n);
-    st.residual = dxm.colwise().norm().maxCoeff() / (h * scale_);
-    E_accepted = E;
-    const bool converged = st.residual < solver.tolerance;  // still take this (small) step
-    // Contact effects whose candidates would go stale along the step query again over it
-    // (the pairs active at y, hence the pattern, stay those of the new candidates). Each
-    // effect covers with its own candidate set and broad phase, so with two threads or more
-    // the effects cover side by side (a vertex-face and an edge-edge effect usually query
-    // at the same iteration); what each computes does not depend on it.
-    bool covered = false;
-    {
-      const long count = static_cast<long>(effects.size());
-      std::exception_ptr error;
+      rhs = -Eigen::Map<const Eigen::VectorXd>(g.data(), g.size());
+      const bool solved = ls.solve(solver, rhs, dx);
+      st.solve_ms += ms_since(t0);
+      if (!solved || !dx.allFinite())
+        throw SimulationError(st.frame, "", -1,
+                              "frame " + std::to_string(st.frame) + ": the linear solve failed at Newton iteration " +
+                                  std::to_string(it + 1) + (solved ? " (a non-finite direction)" : ""));
+      ++st.newton_iterations;
+      dxm = Eigen::Map<const Eigen::Matrix3Xd>(dx.data(), 3, n);
+      st.residual = dxm.colwise().norm().maxCoeff() / (h * scale_);
+      E_accepted = E;
+      const bool converged = st.residual < solver.tolerance;  // still take this (small) step
+      // Contact effects whose candidates would go stale along the step query again over it
+      // (the pairs active at y, hence the pattern, stay those of the new candidates). Each
+      // effect covers with its own candidate set and broad phase, so with two threads or more
+      // the effects cover side by side (a vertex-face and an edge-edge effect usually query
+      // at the same iteration); what each computes does not depend on it.
+      bool covered = false;
+      {
+        const long count = static_cast<long>(effects.size());
+        std::exception_ptr error;
 #pragma omp parallel for schedule(dynamic, 1) reduction(|| : covered) if (count > 1)
-      for (long k = 0; k < count; ++k) {
-        const auto uk = static_cast<std::size_t>(k);
-        try {
-          const auto tc = Clock::now();
-          covered = effects[uk]->cover_step(y, dxm) || covered;
-          effect_ms[uk] += ms_since(tc);
-        } catch (...) {
+        for (long k = 0; k < count; ++k) {
+          const auto uk = static_cast<std::size_t>(k);
+          try {
+            const auto tc = Clock::now();
+            covered = effects[uk]->cover_step(y, dxm) || covered;
+            effect_ms[uk] += ms_since(tc);
+          } catch (...) {
 #pragma omp critical(pce_sim_cover_error)
-          if (!error) error = std::current_exception();
+            if (!error) error = std::current_exception();
+          }
+        }
+        if (error) std::rethrow_exception(error);
+      }
+      // Backtracking line search from the largest step every effect allows.
+      t0 = Clock::now();
+      double alpha = 1.0;
+      NewtonIteration record;
+      record.residual = st.residual;
+      for (auto& e : effects)
+        if (const double t = e->max_step(y, dxm); t < alpha) {
+          alpha = t;
+          record.limited_by = e->name();
+        }
+      // The Armijo test compares trials with an energy of the same candidates (the sum's
+      // rounding depends on them): after a new query, the energy at y again.
+      if (covered) {
+        E = E_accepted = potential(y, &effect_ms);
+        evaluated_at_y = true;
+        if (!std::isfinite(E)) fail_non_finite(y, st.frame, "at Newton iteration " + std::to_string(it + 1));
+      }
+      record.step_limit = alpha;
+      const double slope = -rhs.dot(dx);  // gᵀΔx < 0 for a descent direction
+      bool accepted = false;
+      // Trial steps whose largest vertex motion is below a hundredth of the stopping
+      // tolerance's are not tried: such a step cannot change the outcome, and trying them
+      // (40 halvings) made a step at a kink of the energy cost ~40 energy passes.
+      const double smallest = 0.01 * solver.tolerance / std::max(st.residual, 1e-300);
+      for (int tries = 0; tries < 40 && alpha > 0 && (tries == 0 || alpha >= smallest); ++tries, alpha *= 0.5) {
+        y1 = y + alpha * dxm;
+        const double E1 = potential(y1, &effect_ms);
+        evaluated_at_y = false;
+        if (std::isfinite(E1) && E1 <= E + 1e-4 * alpha * slope) {
+          y = y1;
+          E_accepted = E1;
+          accepted = true;
+          evaluated_at_y = true;
+          break;
         }
       }
-      if (error) std::rethrow_exception(error);
-    }
-    // Backtracking line search from the largest step every effect allows.
-    t0 = Clock::now();
-    double alpha = 1.0;
-    NewtonIteration record;
-    record.residual = st.residual;
-    for (auto& e : effects)
-      if (const double t = e->max_step(y, dxm); t < alpha) {
-        alpha = t;
-        record.limited_by = e->name();
-      }
-    // The Armijo test compares trials with an energy of the same candidates (the sum's
-    // rounding depends on them): after a new query, the energy at y again.
-    if (covered) {
-      E = E_accepted = potential(y, &effect_ms);
-      evaluated_at_y = true;
-      if (!std::isfinite(E)) fail_non_finite(y, st.frame, "at Newton iteration " + std::to_string(it + 1));
-    }
-    record.step_limit = alpha;
-    const double slope = -rhs.dot(dx);  // gᵀΔx < 0 for a descent direction
-    bool accepted = false;
-    // Trial steps whose largest vertex motion is below a hundredth of the stopping
-    // tolerance's are not tried: such a step cannot change the outcome, and trying them
-    // (40 halvings) made a step at a kink of the energy cost ~40 energy passes.
-    const double smallest = 0.01 * solver.tolerance / std::max(st.residual, 1e-300);
-    for (int tries = 0; tries < 40 && alpha > 0 && (tries == 0 || alpha >= smallest); ++tries, alpha *= 0.5) {
-      y1 = y + alpha * dxm;
-      const double E1 = potential(y1, &effect_ms);
-      evaluated_at_y = false;
-      if (std::isfinite(E1) && E1 <= E + 1e-4 * alpha * slope) {
-        y = y1;
-        E_accepted = E1;
-        accepted = true;
-        evaluated_at_y = true;
+      st.line_search_ms += ms_since(t0);
+      record.alpha = accepted ? alpha : 0.0;
+      st.iterations.push_back(record);
+      if (trace_)
+        std::fprintf(
+            stderr,
+            "  it %d E %.9g slope %.3g alpha %.3g residual %.3g accepted %d factorizations %d cg_iterations %d "
+            "covered %d\n",
+            it, E, slope, alpha, st.residual, accepted, ls.factorizations, ls.cg_iterations, int(covered));
+      if (!accepted) {
+        // A direction below the tolerance (converged) whose trial does not pass Armijo is
+        // rounding, not a failure: the iterate already meets the tolerance, and the energy's
+        // change along such a direction (a free fall's second one is ~1e-13) is below its own
+        // rounding.
+        if (!converged) ++st.line_search_failures;
         break;
       }
+      // Contact effects whose candidates went stale query again; the pattern follows.
+      bool changed = false;
+      for (std::size_t k = 0; k < effects.size(); ++k)
+        if (!effects[k]->still_valid(y)) {
+          t0 = Clock::now();
+          effects[k]->refresh(y);
+          effect_ms[k] += ms_since(t0);
+          changed = true;
+          evaluated_at_y = false;
+        }
+      if (changed) rebuild_pattern();
+      if (converged) break;
+      if (it + 1 == cap && !solver.single_solve) st.hit_iteration_cap = true;
     }
-    st.line_search_ms += ms_since(t0);
-    record.alpha = accepted ? alpha : 0.0;
-    st.iterations.push_back(record);
-    if (trace_)
-      std::fprintf(stderr,
-                   "  it %d E %.9g slope %.3g alpha %.3g residual %.3g accepted %d factorizations %d cg_iterations %d "
-                   "covered %d\n",
-                   it, E, slope, alpha, st.residual, accepted, ls.factorizations, ls.cg_iterations, int(covered));
-    if (!accepted) {
-      // A direction below the tolerance (converged) whose trial does not pass Armijo is
-      // rounding, not a failure: the iterate already meets the tolerance, and the energy's
-      // change along such a direction (a free fall's second one is ~1e-13) is below its own
-      // rounding.
-      if (!converged) ++st.line_search_failures;
-      break;
+    bool again = false;
+    for (std::size_t k = 0; k < effects.size(); ++k) {
+      const auto tl = Clock::now();
+      again = effects[k]->update_lagged(y) || again;
+      effect_ms[k] += ms_since(tl);
     }
-    // Contact effects whose candidates went stale query again; the pattern follows.
-    bool changed = false;
-    for (std::size_t k = 0; k < effects.size(); ++k)
-      if (!effects[k]->still_valid(y)) {
-        t0 = Clock::now();
-        effects[k]->refresh(y);
-        effect_ms[k] += ms_since(t0);
-        changed = true;
-        evaluated_at_y = false;
-      }
-    if (changed) rebuild_pattern();
-    if (converged) break;
-    if (it + 1 == cap && !solver.single_solve) st.hit_iteration_cap = true;
+    if (!again) break;
+    rebuild_pattern();
+    evaluated_at_y = false;
   }
   if (!y.allFinite()) fail_non_finite(y, st.frame, "after the line search");
   // The energy and every counter (contact counts, minimum distances) describe the accepted

@@ -26,8 +26,8 @@ using EffectCounters = Counters;
 
 /// One term of the incremental potential (see the file comment); the solver calls these
 /// in the order begin_step, declare, then per Newton iteration update_pattern, evaluate,
-/// cover_step, max_step, still_valid (and refresh when that says no), and report once per
-/// frame.
+/// cover_step, max_step, still_valid (and refresh when that says no), update_lagged after
+/// each solve, and report once per frame.
 class Effect {
  public:
   virtual ~Effect() = default;
@@ -64,6 +64,11 @@ class Effect {
   virtual bool still_valid(const Eigen::Matrix3Xd& /*x*/) { return true; }
   /// Re-runs the per-step query at the current positions (after `still_valid` said no).
   virtual void refresh(const Eigen::Matrix3Xd& /*x*/) {}
+  /// Called when a solve of the time step has ended at `x`: an effect with quantities frozen
+  /// at the step's start (friction's normal forces and bases) that is to freeze them again
+  /// at `x` does so and returns true, and the solver solves the step again from `x` (friction's
+  /// `lagged_iterations` − 1 times per step); false: nothing changed.
+  virtual bool update_lagged(const Eigen::Matrix3Xd& /*x*/) { return false; }
   /// Counters for the frame's statistics (contact counts, minimum distance, …).
   virtual void report(EffectCounters& /*counters*/) const {}
   /// The state this effect carries from one step to the next that `begin_step` does not

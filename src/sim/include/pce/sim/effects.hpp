@@ -86,6 +86,27 @@ struct ContactPenalty {
   bool barrier() const { return kind == Kind::log_barrier; }
 };
 
+/// A contact effect's friction (scene `friction` object): lagged smoothed Coulomb friction
+/// (IPC, Li et al. 2020; docs/simulation.md §4, "Friction"). Each time step freezes, at its
+/// start, the normal force λ = −ψ′ of every contact active there, its tangent basis and
+/// closest points; the potential μλ f₀(|u|) of the contact's tangential slip u over the step
+/// then resists sliding with Coulomb's force μλ above the slip velocity and as a stiff
+/// spring below it.
+struct FrictionSettings {
+  /// μ ≥ 0 (dimensionless), at most `kMaxFrictionCoefficient`.
+  double coefficient = 0;
+  /// ε_v > 0 (m/s): slips slower than this are static friction's spring (a creep of at most
+  /// ε_v); at most `args`' largest speed, 1e6 m/s.
+  double slip_velocity = 1e-3;
+  /// Solves per time step: 1 freezes the normal forces and bases at the step's start; n > 1
+  /// solves again n − 1 times with them updated at the previous solve's result. In [1, 100].
+  int lagged_iterations = 1;
+};
+
+/// The largest friction coefficient accepted: far above any material pair's (rubber on
+/// dry rough surfaces reaches ~2).
+inline constexpr double kMaxFrictionCoefficient = 100;
+
 /// A self-contact effect's settings (scene `self_vertex_face` / `self_edge_edge` objects).
 struct ContactSettings {
   /// The penalty ψ of the pair's length.
@@ -100,6 +121,14 @@ struct ContactSettings {
   bool ccd = true;
   /// The broad phase that finds the candidate pairs (scene `solver.broad_phase`).
   BroadPhaseKind broad_phase = BroadPhaseKind::fcl;
+  /// Weigh each pair's energy by rest areas (vertex-face: the face's area plus the vertex's
+  /// lumped area; edge-edge: the two edges' lumped areas), so the stiffness is per unit area
+  /// (J/m⁴ quadratic, J/m⁵ cubic, J/m⁴ log barrier) and the contact force per area does not
+  /// depend on the mesh resolution. Needs every edge of an edge-edge effect to border a
+  /// triangle (strand segments have no area).
+  bool area_weighted = false;
+  /// Friction on the effect's pairs; none when absent (nothing of it is built).
+  std::optional<FrictionSettings> friction = std::nullopt;
 };
 
 /// Vertex-face self contact: Σ ψ(L) over candidate (vertex, triangle) pairs of the model's
@@ -116,7 +145,26 @@ std::unique_ptr<Effect> make_self_edge_edge(const Model& model, const ContactSet
 
 /// Contact with kinematic obstacles: Σ ψ(d) over (vertex, obstacle) pairs, d the signed
 /// distance to the obstacle's surface (negative inside). The obstacles are copied; each
-/// must be a valid shape (sizes > 0, finite pose, a mesh with triangles).
+/// must be a valid shape (sizes > 0, finite pose, a mesh with triangles). Frictionless and
+/// unweighted; the overload below takes every setting.
 std::unique_ptr<Effect> make_obstacle_contact(const std::vector<Obstacle>& obstacles, const ContactPenalty& penalty);
+
+/// An obstacle-contact effect's settings (scene `obstacle_contact` object, but the list of
+/// obstacles).
+struct ObstacleContactSettings {
+  /// The penalty ψ of the signed distance.
+  ContactPenalty penalty{};
+  /// Weigh each vertex's energy by its lumped rest area (stiffness per unit area: J/m⁴
+  /// quadratic, J/m⁵ cubic, J/m⁴ log barrier). Needs every vertex to be a triangle corner.
+  bool area_weighted = false;
+  /// Friction against the obstacles' surfaces, which move with the obstacles (a moving
+  /// obstacle drags what rests on it); none when absent.
+  std::optional<FrictionSettings> friction = std::nullopt;
+};
+
+/// Contact with kinematic obstacles, as above, with area weighting and friction as
+/// `settings` says (`model`: the vertices' rest areas).
+std::unique_ptr<Effect> make_obstacle_contact(const Model& model, const std::vector<Obstacle>& obstacles,
+                                              const ObstacleContactSettings& settings);
 
 }  // namespace pce::sim

@@ -70,6 +70,19 @@ struct ModelMesh {
 /// `kMaxVertices` vertices in all, or a vertex left without mass.
 Model build_model(const std::vector<ModelMesh>& meshes);
 
+/// Rest areas of a model's elements, for area-weighted contact (docs/simulation.md §4):
+/// each triangle's area, and the lumped areas of vertices (a third of every triangle they
+/// are a corner of) and edges (a third of every triangle they border). A vertex or edge of
+/// strands alone has lumped area 0.
+struct RestAreas {
+  Eigen::VectorXd vertex;    ///< per vertex (m²)
+  Eigen::VectorXd triangle;  ///< per triangle (m²)
+  Eigen::VectorXd edge;      ///< per edge, in `Model::edges` order (m²)
+};
+
+/// The rest areas of `model` (rest positions; see `RestAreas`).
+RestAreas rest_areas(const Model& model);
+
 /// What every effect may read when a time step begins.
 struct StepContext {
   int frame = 0;    ///< the frame being computed (1 for the first step)
