@@ -14,12 +14,20 @@ Steps, in this order (each writes JSON/CSV into the results folder):
   broad_phase  broad_phase.json/.csv: pce-broad-phase-bench, FCL vs Bullet vs brute force
   threads      threads.csv: pce-sim at 1 and 2 threads, stage times
   scenes       scenes.json/.csv: pce-sim per scene x strategy x mode x tolerance, deviation
-               from a tight-tolerance reference run
-  hammock      hammock.csv: pce-sim on the shipped hammock, frames 1-120, full Newton and
-               single solve, one thread, each run alone: ms per frame and its split, Newton
-               iterations, queries, factorisations, analyses, CG iterations. With --before
-               REV the same runs of commit REV's pce-sim (built from `git archive REV` in
-               build-before/REV), interleaved with this build's: a before/after table
+               from a tight-tolerance reference run (threads and scenes run the shipped scenes
+               without their friction objects)
+  hammock      hammock.csv: pce-sim on the shipped hammock without friction
+               (examples/scenes/hammock_frictionless.json: older pce-sim versions reject the
+               friction key, so a before/after compares like with like), frames 1-120, full
+               Newton and single solve, one thread, each run alone: ms per frame and its split,
+               Newton iterations, queries, factorisations, analyses, CG iterations. With
+               --before REV the same runs of commit REV's pce-sim (built from `git archive REV`
+               in build-before/REV), interleaved with this build's: a before/after table
+  friction     friction.csv: friction's cost on the hammock: hammock_frictionless.json, then
+               hammock.json (the same scene with friction), frames 1-120, full Newton, one
+               thread, each run alone: ms per frame, Newton iterations, friction ms and
+               friction contacts per frame (the *_friction_ms and *_friction_contacts counters),
+               line-search failures, iteration caps, frames with intersections
 then draws the PNG plots (next to the docs file, in images/benchmarks/) and writes the docs
 file, whose last section is benchmarks/guidance.md with its numbers recomputed from the
 results folder by benchmarks/guidance_numbers.py (when the results folder is
@@ -92,7 +100,10 @@ def scene_configs(quick):
     return out
 
 
-ALL_STEPS = ["pair_cost", "accuracy", "broad_phase", "threads", "scenes", "hammock"]
+ALL_STEPS = ["pair_cost", "accuracy", "broad_phase", "threads", "scenes", "hammock", "friction"]
+OPTIONAL_STEPS = {"friction"}  # steps whose missing results the page reports as not measured
+FRICTION_KINDS = ["vertex_face", "edge_edge", "obstacle"]  # the contact kinds' friction counters' prefixes
+FRICTION_SCENES = [("without friction", "hammock_frictionless.json"), ("with friction", "hammock.json")]
 REFERENCE = ("exact", "newton", 1e-5)      # the tight-tolerance reference of every scene
 NOISE_FLOOR = ("numerical", "newton", 1e-5)  # a second tight run: how far two converged runs differ
 HEADLINE_SCENE = ("hammock", {"frames": 20})  # full resolution, every strategy at the scene's tolerance
@@ -325,8 +336,12 @@ def step_broad_phase(ctx):
 
 
 def make_scene(ctx, name, base, changes):
-    """Writes a variant of a shipped scene into the results folder; returns its path."""
+    """Writes a variant of a shipped scene into the results folder; returns its path. Friction is
+    taken out: these runs compare the contact Hessian's strategies, tolerances and threads, and
+    the friction potential is the same whatever the strategy (its cost: the friction step)."""
     scene = json.loads((ROOT / "examples" / "scenes" / f"{base}.json").read_text())
+    for effect in scene.get("effects", []):
+        effect.pop("friction", None)
     if "frames" in changes:
         scene["frames"] = changes["frames"]
     if "resolution" in changes:
@@ -494,9 +509,11 @@ def hammock_row(label, exe, directory):
 
 
 def step_hammock(ctx):
-    """The shipped hammock, frames 1-120, one thread, full Newton and single solve, every run alone;
-    with --before, REV's pce-sim the same way, each mode's two runs one after the other."""
-    scene = ROOT / "examples" / "scenes" / ("twist.json" if ctx.quick else "hammock.json")
+    """The shipped hammock without friction (hammock_frictionless.json: older pce-sim versions
+    reject the friction key, so before and after run the same scene), frames 1-120, one thread,
+    full Newton and single solve, every run alone; with --before, REV's pce-sim the same way,
+    each mode's two runs one after the other. --quick: twist, 10 frames."""
+    scene = ROOT / "examples" / "scenes" / ("twist.json" if ctx.quick else "hammock_frictionless.json")
     frames = 10 if ctx.quick else 120
     builds = []
     if ctx.before:
@@ -527,13 +544,90 @@ def step_hammock(ctx):
     return {"scene": scene.name, "frames": frames, "before": ctx.before, "rows": rows}
 
 
+def friction_per_frame(records):
+    """Friction ms, contacts and sticking contacts per frame: each the sum over the contact kinds'
+    *_friction_<what> counters (0 where a record has none: no friction on that kind, or a
+    pce-sim without friction), averaged over the records."""
+    n = max(len(records), 1)
+    out = {}
+    for what in ("ms", "contacts", "sticking"):
+        out[f"friction_{what}_per_frame"] = sum(rec.get("counters", {}).get(f"{k}_friction_{what}") or 0
+                                                for rec in records for k in FRICTION_KINDS) / n
+    return out
+
+
+def step_friction(ctx):
+    """Friction's cost on the hammock: hammock_frictionless.json, then hammock.json (the same
+    scene with friction), frames 1-120 (--quick: 3), one thread, full Newton, each run alone."""
+    frames = 3 if ctx.quick else 120
+    exe = ctx.exe("pce-sim")
+    rows = []
+    for label, name in FRICTION_SCENES:
+        scene = ROOT / "examples" / "scenes" / name
+        out = ctx.results / "runs" / f"friction_{Path(name).stem}"
+        if out.exists():
+            shutil.rmtree(out)
+        cmd = [exe, scene, "--frames", str(frames), "--no-frames", "--threads", "1", "--out", out]
+        log(f"  friction: {name}")
+        run(cmd)
+        records = compare_runs.load(out)
+        r = compare_runs.row(label, records)
+        r.update(friction_per_frame(records))
+        r.update({"scene": name, "command": " ".join(str(c) for c in cmd[1:]).replace(str(ROOT) + "/", "")})
+        rows.append(r)
+    first = rows[0]
+    for r in rows:  # with friction / without, per frame
+        r["ms_ratio"] = r["ms_per_frame"] / first["ms_per_frame"] if first["ms_per_frame"] else float("nan")
+        r["newton_ratio"] = (r["newton_per_frame"] / first["newton_per_frame"] if first["newton_per_frame"]
+                             else float("nan"))
+    columns = ["run", "scene", "frames", "ms_per_frame", "ms_ratio", "newton_per_frame", "newton_ratio",
+               "friction_ms_per_frame", "friction_contacts_per_frame", "friction_sticking_per_frame",
+               "line_search_failures", "iteration_caps", "frames_with_intersections"] + compare_runs.STAGES
+    write_csv(ctx.results / "friction.csv", rows, columns)
+    return {"frames": frames, "scenes": [name for _, name in FRICTION_SCENES], "rows": rows}
+
+
+def write_friction_section(A, friction):
+    """Section 6: friction's cost on the hammock, from step_friction (not measured when its
+    results are missing)."""
+    A("## 6. Friction's cost on the hammock\n")
+    if not friction or not friction.get("rows"):
+        A("Not measured: the results folder has no `step_friction.json` "
+          "(`benchmarks/run_all --steps friction` measures it).\n")
+        return
+    rows = friction["rows"]
+    A("`pce-sim examples/scenes/SCENE --frames %d --no-frames --threads 1` (full Newton, `analytic`, the scene's "
+      "tolerance) with SCENE `%s`, then `%s` (the same scene with friction on its two self-contact effects), "
+      "each run alone on the machine. Per frame: wall time, Newton iterations, the time spent freezing the friction "
+      "contacts and evaluating their potential (part of the frame's time) and the contacts frozen with "
+      "friction for the step's last solve, each summed over the vertex-face, edge-edge and obstacle contacts "
+      "(`stats.jsonl` counters `*_friction_ms` and `*_friction_contacts`, 0 without friction); then line-search "
+      "failures, iteration caps and frames with intersecting triangle pairs over the run "
+      "(`benchmarks/results/friction.csv`).\n"
+      % (friction["frames"], rows[0]["scene"], rows[-1]["scene"]))
+    A(md_table(["scene", "ms/frame", "Newton it/frame", "friction ms/frame", "friction contacts/frame",
+                "ls failures", "caps", "intersecting frames"],
+               [[f"`{r['scene']}`", fmt(r["ms_per_frame"]), fmt(r["newton_per_frame"]),
+                 fmt(r["friction_ms_per_frame"]), fmt(r["friction_contacts_per_frame"]), r["line_search_failures"],
+                 r["iteration_caps"], r["frames_with_intersections"]] for r in rows]) + "\n")
+    if len(rows) >= 2:
+        a, b = rows[0], rows[-1]
+        ms = b["ms_per_frame"] / a["ms_per_frame"] if a["ms_per_frame"] else float("nan")
+        its = b["newton_per_frame"] / a["newton_per_frame"] if a["newton_per_frame"] else float("nan")
+        share = b["friction_ms_per_frame"] / b["ms_per_frame"] if b["ms_per_frame"] else float("nan")
+        A("With friction a frame takes %s× the time without (%s ms against %s ms) and %s× the Newton iterations "
+          "(%s against %s); friction's own evaluation is %s of a frame with friction.\n"
+          % (fmt(ms), fmt(b["ms_per_frame"]), fmt(a["ms_per_frame"]), fmt(its), fmt(b["newton_per_frame"]),
+             fmt(a["newton_per_frame"]), f"{100 * share:.0f} %" if math.isfinite(share) else "n/a"))
+
+
 def write_hammock_section(A, hammock):
     """Section 5: the hammock's rows from step_hammock, before and after when there is a before."""
     rows = hammock["rows"]
     before = hammock.get("before")
     A("## 5. The hammock, %s\n" % ("before and after" if before else "where a frame goes"))
     A("`pce-sim examples/scenes/%s --frames %d --no-frames --threads 1` (`analytic`, the scene's tolerance), full "
-      "Newton and `--single-solve`, each run alone on the machine%s. Per frame: wall time (*ratio* to the first "
+      "Newton and `--single-solve`, each run alone on the machine%s.%s Per frame: wall time (*ratio* to the first "
       "row of the same mode), Newton iterations, broad-phase queries per contact effect, CHOLMOD factorisations "
       "and symbolic analyses, CG iterations (`factor_reuse` only), the broad phase's share, the stages in ms, "
       "then iteration caps, line-search failures and frames with intersecting triangle pairs over the run "
@@ -541,7 +635,10 @@ def write_hammock_section(A, hammock):
       % (hammock["scene"], hammock["frames"],
          f"; the before rows are commit {before}'s `pce-sim` (`benchmarks/run_all --before {before}`), each "
          "mode's two runs one after the other" if before else
-         "; `benchmarks/run_all --steps hammock --before REV` adds the same runs of commit REV"))
+         "; `benchmarks/run_all --steps hammock --before REV` adds the same runs of commit REV",
+         " `hammock_frictionless.json` is the shipped `hammock.json` without its friction: older `pce-sim` "
+         "versions reject the `friction` key, so before and after run the same scene; what friction costs is "
+         "[section 6](#6-frictions-cost-on-the-hammock)." if hammock["scene"] == "hammock_frictionless.json" else ""))
     A(md_table(["run", "mode", "ms/frame", "ratio", "Newton it", "queries", "factorisations", "analyses", "CG it",
                 "broad phase"] + [STAGE_NAMES[k] + " ms" for k in compare_runs.STAGES] +
                ["caps", "ls failures", "intersecting frames"],
@@ -714,7 +811,7 @@ def broad_phase_exponents(bp, quick):
 # ---------------------------------------------------------------------------------------------
 # The report.
 
-def write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, total_s):
+def write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction, total_s):
     img = os.path.relpath(ctx.images, ctx.docs.parent)
     L = []
     A = L.append
@@ -727,7 +824,8 @@ def write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, total_s)
     A("It runs `pce-bench` (cost per pair), `pce-accuracy` (distance of each strategy's Hessian to the true "
       "nearest-PSD projection, computed in 50 digits), `pce-broad-phase-bench` (FCL, Bullet and brute force on "
       "crumpled cloths) and `pce-sim` (every shipped scene × strategy × mode × tolerance, and a thread count "
-      "sweep, and the shipped hammock's first 120 frames alone, before and after with `--before REV`), writes "
+      "sweep, and the shipped hammock's first 120 frames alone: without friction, before and after with "
+      "`--before REV`, and without and with friction), writes "
       "JSON and CSV into `benchmarks/results/`, draws the plots below and rewrites this page. "
       "Figures are medians, and ratios are taken within this one run: the machine is a shared VM whose speed "
       "drifts by 25 % between days, so compare numbers within this page, not across runs. No timing is "
@@ -796,7 +894,9 @@ def write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, total_s)
     # --- per scene ---
     A("## 2. Per scene: time against accuracy\n")
     A(f"![Pareto per scene]({img}/scene_pareto.png)\n")
-    A("Each scene runs with every Hessian strategy, in single-linearised-solve mode and with full Newton at "
+    A("Each scene runs without its friction (the friction potential is the same whatever the strategy; its cost "
+      "is [section 6](#6-frictions-cost-on-the-hammock)) with every Hessian strategy, in single-linearised-solve "
+      "mode and with full Newton at "
       "tolerances 0.1, 0.01 (the scenes' own) and 0.001 on max|Δx|/(h·ℓ), one thread, two runs at a time on "
       "the two cores. The reference is `%s` Newton at tolerance %g with up to 300 iterations; *deviation* is the "
       "RMS (and max) over vertices of the distance between a run's final state and the reference's. The dashed "
@@ -884,9 +984,10 @@ def write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, total_s)
                [[r["scene"], fmt(r["ms_per_frame"])] + [f"{100 * r[k] / r['ms_per_frame']:.0f} %" if r["ms_per_frame"] else "n/a"
                                                        for k in STAGES + ["other_ms"]] for r in shares]) + "\n")
     write_hammock_section(A, hammock)
+    write_friction_section(A, friction)
     A("## Files\n")
     A("`benchmarks/results/`: `machine.json`, `pce_bench.json`/`.csv`, `accuracy.json`/`.csv`, "
-      "`broad_phase.json`/`.csv`, `threads.csv`, `scenes.csv`, `hammock.csv`, `step_*.json` (each step's numbers as this page "
+      "`broad_phase.json`/`.csv`, `threads.csv`, `scenes.csv`, `hammock.csv`, `friction.csv`, `step_*.json` (each step's numbers as this page "
       "used them; `run_all --steps scenes` reruns one step and reads the others from there), and the scene "
       "variants in `scenes/`. The simulations' own outputs go to `runs/` (not kept in git).\n")
     ctx.docs.parent.mkdir(parents=True, exist_ok=True)
@@ -984,6 +1085,12 @@ def self_test():
         pass
     else:
         raise AssertionError("deviation accepted different vertex counts")
+    fr = friction_per_frame([{"counters": {"vertex_face_friction_ms": 1.0, "edge_edge_friction_ms": 2.0,
+                                           "obstacle_friction_contacts": 4.0}},
+                             {"counters": {"edge_edge_friction_ms": 3.0, "edge_edge_friction_contacts": None}},
+                             {"counters": {}}])
+    assert fr == {"friction_ms_per_frame": 2.0, "friction_contacts_per_frame": 4 / 3,
+                  "friction_sticking_per_frame": 0.0}, fr
     print("run_all self-test: ok")
 
 
@@ -1013,7 +1120,7 @@ def main():
     if unknown:
         raise ValueError(f"--steps: unknown step(s) {', '.join(unknown)} (steps: {', '.join(ALL_STEPS)})")
     needs = {"pair_cost": "pce-bench", "accuracy": "pce-accuracy", "broad_phase": "pce-broad-phase-bench",
-             "threads": "pce-sim", "scenes": "pce-sim", "hammock": "pce-sim"}
+             "threads": "pce-sim", "scenes": "pce-sim", "hammock": "pce-sim", "friction": "pce-sim"}
     if args.build is None:
         args.build = str(default_build([needs[x] for x in steps], args.jobs))
     if args.results is None:
@@ -1068,26 +1175,35 @@ def main():
         log("hammock before/after (one run at a time)" if ctx.before else "hammock (one run at a time)")
         t = time.monotonic()
         done("hammock", step_hammock(ctx), t)
+    if "friction" in steps:
+        log("friction: the hammock without and with friction (one run at a time)")
+        t = time.monotonic()
+        done("friction", step_friction(ctx), t)
     for name in ALL_STEPS:  # steps not run now: their last results
         if name not in data:
             f = ctx.results / f"step_{name}.json"
             if not f.exists():
+                if name in OPTIONAL_STEPS:  # the page says it was not measured
+                    log(f"WARNING: {f} is missing: the page reports step '{name}' as not measured")
+                    data[name] = None
+                    continue
                 raise RuntimeError(f"{f} is missing: run step '{name}' first")
             data[name] = json.loads(f.read_text())
             if name == "accuracy":
                 data[name]["rows"] = json.loads((ctx.results / "accuracy.json").read_text())["rows"]
-    cost, acc, bp, threads, scenes, hammock = (data[k] for k in ALL_STEPS)
+    cost, acc, bp, threads, scenes, hammock, friction = (data[k] for k in ALL_STEPS)
     total = time.monotonic() - t0
     # The page reports the time the whole pipeline takes: the steps' own times (accuracy and
     # broad phase run side by side, so the longer of the two counts).
     run_total = (data["pair_cost"].get("wall_s", 0) + max(acc.get("wall_s", 0), bp.get("wall_s", 0)) +
-                 threads.get("wall_s", 0) + scenes.get("wall_s", 0) + hammock.get("wall_s", 0))
+                 threads.get("wall_s", 0) + scenes.get("wall_s", 0) + hammock.get("wall_s", 0) +
+                 (friction or {}).get("wall_s", 0))
     log("plots and page")
     plot_pair(ctx, acc, cost)
     plot_scenes(ctx, scenes)
     plot_broad_phase(ctx, bp)
     plot_threads(ctx, threads, scenes)
-    write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, run_total)
+    write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction, run_total)
     missing = [p for p in [ctx.docs] + [ctx.images / f for f in ("pair_accuracy_cost.png", "scene_pareto.png",
                                                                    "broad_phase_scaling.png", "threads.png")]
                if not p.exists() or p.stat().st_size == 0]
@@ -1095,7 +1211,8 @@ def main():
         raise RuntimeError("missing outputs: " + ", ".join(map(str, missing)))
     page = ctx.docs.read_text()
     absent = [h for h in ("## What accuracy costs", "## 1. Per pair", "## 2. Per scene", "## 3. Broad phase",
-                          "## 4. Threads", "## 5. The hammock") if h not in page]
+                          "## 4. Threads", "## 5. The hammock", "## 6. Friction's cost on the hammock")
+              if h not in page]
     if absent:
         raise RuntimeError(f"{ctx.docs}: sections missing: {', '.join(absent)}")
     failures = [r for r in scenes["rows"] if r["exit_code"] not in (0,)]

@@ -45,10 +45,11 @@ const char* const kScene = R"({
       {"mesh": "hair", "box": {"min": [-1, -1, 0.449], "max": [1, 1, 1]}, "motion": {"velocity": [0.1, 0, 0]}}]},
     {"type": "damping", "coefficient": 0.1},
     {"type": "self_vertex_face", "penalty": {"type": "quadratic", "stiffness": 1000, "distance": 0.01},
-     "hessian": "exact"},
+     "hessian": "exact", "area_weighted": true, "friction": {"coefficient": 0.4}},
     {"type": "self_edge_edge", "penalty": {"type": "cubic", "stiffness": 1000, "distance": 0.01, "delta": 0.002},
-     "length": "signed"},
-    {"type": "obstacle_contact", "penalty": {"type": "log_barrier", "stiffness": 10, "distance": 0.01}}
+     "length": "signed", "friction": {"coefficient": 0.3, "slip_velocity": 0.002, "lagged_iterations": 2}},
+    {"type": "obstacle_contact", "penalty": {"type": "log_barrier", "stiffness": 10, "distance": 0.01},
+     "friction": {"coefficient": 0.5}}
   ]
 })";
 
@@ -82,10 +83,13 @@ void transcribe(Simulation& sim) {
   vf.penalty = {ContactPenalty::Kind::quadratic, 1000, 0.01, 0};
   vf.hessian = pce::Projection::exact;
   vf.broad_phase = BroadPhaseKind::bullet;
+  vf.area_weighted = true;
+  vf.friction = FrictionSettings{0.4};
   ContactSettings ee;
   ee.penalty = {ContactPenalty::Kind::cubic, 1000, 0.01, 0.002};
   ee.signed_length = true;
   ee.broad_phase = BroadPhaseKind::bullet;
+  ee.friction = FrictionSettings{0.3, 0.002, 2};
   sim.effects.push_back(make_gravity(m));
   sim.effects.push_back(make_stretching(m, 50));
   sim.effects.push_back(make_bending(m, 0.001));
@@ -95,7 +99,10 @@ void transcribe(Simulation& sim) {
   sim.effects.push_back(make_damping(m, 0.1));
   sim.effects.push_back(make_self_vertex_face(m, vf));
   sim.effects.push_back(make_self_edge_edge(m, ee));
-  sim.effects.push_back(make_obstacle_contact(sim.obstacles, {ContactPenalty::Kind::log_barrier, 10, 0.01, 0}));
+  ObstacleContactSettings oc;
+  oc.penalty = {ContactPenalty::Kind::log_barrier, 10, 0.01, 0};
+  oc.friction = FrictionSettings{0.5};
+  sim.effects.push_back(make_obstacle_contact(m, sim.obstacles, oc));
   sim.start_at_rest();
 }
 
@@ -138,14 +145,18 @@ TEST(EffectsApi, SceneAndItsCppTranscriptionSimulateBitForBitAlike) {
   EXPECT_EQ(a.model.rest, b.model.rest);
   EXPECT_EQ(a.model.mass, b.model.mass);
   EXPECT_EQ(a.model.edges, b.model.edges);
-  double obstacle = 0, self = 0, pinned_after_release = 0;
+  double obstacle = 0, self = 0, pinned_after_release = 0, friction = 0;
   for (int f = 1; f <= 14; ++f) {
     const FrameStats sa = a.step(), sb = b.step();
     ASSERT_EQ(a.x, b.x) << "frame " << f;  // exact equality: same builders, same arithmetic
     ASSERT_EQ(a.v, b.v) << "frame " << f;
     EXPECT_EQ(sa.newton_iterations, sb.newton_iterations);
-    for (const char* key : {"obstacle_contacts", "vertex_face_contacts", "edge_edge_contacts", "pinned_vertices"})
+    for (const char* key :
+         {"obstacle_contacts", "vertex_face_contacts", "edge_edge_contacts", "pinned_vertices",
+          "obstacle_friction_contacts", "vertex_face_friction_contacts", "edge_edge_friction_contacts"})
       EXPECT_EQ(sa.counters.at(key), sb.counters.at(key)) << key << ", frame " << f;
+    friction += sa.counters.at("obstacle_friction_contacts") + sa.counters.at("vertex_face_friction_contacts") +
+                sa.counters.at("edge_edge_friction_contacts");
     obstacle += sa.counters.at("obstacle_contacts");
     self += sa.counters.at("vertex_face_contacts") + sa.counters.at("edge_edge_contacts");
     if (f >= 8) pinned_after_release = sa.counters.at("pinned_vertices");
@@ -153,6 +164,7 @@ TEST(EffectsApi, SceneAndItsCppTranscriptionSimulateBitForBitAlike) {
   // The comparison is not vacuous: contacts of both kinds happened, and the release did.
   EXPECT_GT(obstacle, 0);
   EXPECT_GT(self, 0);
+  EXPECT_GT(friction, 0);
   EXPECT_EQ(pinned_after_release, 2);  // the two hair roots; the lower sheet's corner is released
   EXPECT_TRUE(a.x.allFinite());
 }
@@ -216,6 +228,33 @@ TEST(EffectsApi, ContactBuildersNameTheBadField) {
   const Model hair = build_model({{"hair", strands(1, 1, 1.0, 0.1, 0.0)}});  // one segment, no triangles
   EXPECT_EQ(field_of([&] { make_self_vertex_face(hair, ok); }), "");
   EXPECT_EQ(field_of([&] { make_self_edge_edge(hair, ok); }), "");
+  // friction and area weighting
+  EXPECT_EQ(field_of([&] { vf([](ContactSettings& s) { s.friction = FrictionSettings{0.3}; }); }), "(no error)");
+  EXPECT_EQ(field_of([&] { vf([](ContactSettings& s) { s.friction = FrictionSettings{-0.1}; }); }),
+            "friction.coefficient");
+  EXPECT_EQ(field_of([&] { vf([](ContactSettings& s) { s.friction = FrictionSettings{kNaN}; }); }),
+            "friction.coefficient");
+  EXPECT_EQ(field_of([&] { vf([](ContactSettings& s) {
+                             s.friction = FrictionSettings{0.3, 0.0};
+                           }); }),
+            "friction.slip_velocity");
+  EXPECT_EQ(field_of([&] { vf([](ContactSettings& s) {
+                             s.friction = FrictionSettings{0.3, 1e-3, 0};
+                           }); }),
+            "friction.lagged_iterations");
+  EXPECT_EQ(field_of([&] { vf([](ContactSettings& s) { s.area_weighted = true; }); }), "(no error)");
+  const Model mixed = build_model({{"cloth", grid(1.0, 1.0, 3, 3)}, {"hair", strands(1, 2, 1.0, 0.1, 0.0)}});
+  ContactSettings weighted = ok;
+  weighted.area_weighted = true;
+  EXPECT_EQ(field_of([&] { make_self_vertex_face(mixed, weighted); }), "(no error)");   // faces have area
+  EXPECT_EQ(field_of([&] { make_self_edge_edge(mixed, weighted); }), "area_weighted");  // segments have none
+  ObstacleContactSettings on_mixed;
+  on_mixed.penalty = {ContactPenalty::Kind::quadratic, 10, 0.01, 0};
+  on_mixed.area_weighted = true;
+  EXPECT_EQ(field_of([&] { make_obstacle_contact(mixed, {}, on_mixed); }), "area_weighted");
+  EXPECT_EQ(field_of([&] { make_obstacle_contact(m, {}, on_mixed); }), "(no error)");
+  on_mixed.friction = FrictionSettings{0.2, 2e6};
+  EXPECT_EQ(field_of([&] { make_obstacle_contact(m, {}, on_mixed); }), "friction.slip_velocity");
 
   Obstacle ball;
   ball.name = "ball";
@@ -266,6 +305,27 @@ TEST(EffectsApi, SceneErrorsFromTheBuildersNameTheJsonPath) {
   json j = base;
   j["effects"][5]["groups"][1]["box"] = {{"min", {0, 0, 1}}, {"max", {1, 1, 0}}};
   EXPECT_EQ(scene_error_at(j), "effects[5].groups[1].box.max");
+  j = base;
+  j["effects"][9]["friction"]["coefficient"] = -1;
+  EXPECT_EQ(scene_error_at(j), "effects[9].friction.coefficient");
+  j = base;
+  j["effects"][8]["friction"]["lagged_iterations"] = 0;
+  EXPECT_EQ(scene_error_at(j), "effects[8].friction.lagged_iterations");
+  j = base;
+  j["effects"][7]["friction"]["slip_velocity"] = 0;
+  EXPECT_EQ(scene_error_at(j), "effects[7].friction.slip_velocity");
+  j = base;
+  j["effects"][7]["friction"]["static"] = 0.5;
+  EXPECT_EQ(scene_error_at(j), "effects[7].friction.static");
+  j = base;
+  j["effects"][7]["friction"].erase("coefficient");
+  EXPECT_EQ(scene_error_at(j), "effects[7].friction.coefficient");
+  j = base;
+  j["effects"][8]["area_weighted"] = true;  // the hair's segments have no area
+  EXPECT_EQ(scene_error_at(j), "effects[8].area_weighted");
+  j = base;
+  j["effects"][9]["area_weighted"] = "yes";
+  EXPECT_EQ(scene_error_at(j), "effects[9].area_weighted");
   const json hair = json::parse(R"({
     "dt": 0.02, "frames": 1,
     "meshes": [{"name": "hair", "generator": {"type": "strands", "count": 2, "segments": 2, "length": 1, "spacing": 1}}],

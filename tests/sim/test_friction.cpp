@@ -11,6 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdint>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -241,4 +243,24 @@ TEST(Friction, MoreLaggedIterationsSolveAgainFromTheResult) {
   // solves' stopping point.
   EXPECT_NEAR(downhill(a, 10), downhill(b, 10), 1e-4);
   EXPECT_NE(a.centroid[10], b.centroid[10]);
+}
+
+TEST(Friction, FrictionlessScenesAreBitForBitUnchanged) {
+  // The shipped drape less its friction, 20 frames (the cloth lands on the sphere from frame
+  // ~8), one thread: the positions hash to what the last version without friction and area
+  // weighting (commit 970832e, `pce-sim drape.json --frames 20 --threads 1`) wrote, byte for
+  // byte (FNV-1a over the doubles of frame_0020.obj's vertices, in order).
+  std::ifstream in(std::string(PCE_SOURCE_DIR) + "/examples/scenes/drape.json");
+  json scene = json::parse(in);
+  for (json& e : scene["effects"]) e.erase("friction");
+  scene["frames"] = 20;
+  scene["solver"]["threads"] = 1;
+  auto s = load_scene_text(scene.dump(), "drape.json", PCE_TEST_TMP);
+  for (int f = 0; f < 20; ++f) s->simulation.step();
+  const Eigen::Matrix3Xd& x = s->simulation.x;
+  std::uint64_t hash = 0xcbf29ce484222325ULL;
+  const auto* bytes = reinterpret_cast<const unsigned char*>(x.data());
+  for (std::size_t i = 0; i < sizeof(double) * static_cast<std::size_t>(x.size()); ++i)
+    hash = (hash ^ bytes[i]) * 0x100000001b3ULL;
+  EXPECT_EQ(hash, 0x19f29f43a2f4a397ULL) << std::hex << hash;
 }
