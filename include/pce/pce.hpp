@@ -17,6 +17,9 @@
 /// distance between the primitives by whichever kind holds the closest points, and
 /// pce::mollified_pair_energy() fades the energy out at degenerate frames. The evaluating
 /// calls return a pce::Status and write their outputs only on `ok`.
+/// A contact's lagged smoothed Coulomb friction (pce::LaggedFriction, pce::friction_energy,
+/// pce::friction_gradient, pce::friction_hessian; weights and normal from a frame or a
+/// closest-feature evaluation by pce::friction_geometry) is in `friction/lagged_friction.hpp`.
 ///
 /// **Simulation** (`pce::sim`, the `pce-sim` tool's library): pce::sim::load_scene() builds a
 /// pce::sim::Simulation from a JSON scene; pce::sim::Simulation::step advances one frame
