@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <fstream>
 #include <string>
@@ -105,18 +106,22 @@ TEST(Friction, ASheetOnATiltedBoxSticksOrSlidesAsCoulombSays) {
   for (const json& f : {json(), friction(0.0)}) {
     const Trajectory r = simulate(incline_on_box(f), 0, 25);
     const double a = 2 * downhill(r, 100) / (T * T);
+    std::printf("box, friction %s: a = %.4f m/s^2 (g sin theta = %.4f)\n", f.dump().c_str(), a, kG * std::sin(kRad));
     EXPECT_NEAR(a, kG * std::sin(kRad), 0.05 * kG * std::sin(kRad)) << f.dump();
   }
   // μ = 0.2 < tan θ: sliding, g (sin θ − μ cos θ).
   {
     const Trajectory r = simulate(incline_on_box(friction(0.2)), 0, 25);
     const double expected = kG * (std::sin(kRad) - 0.2 * std::cos(kRad));
+    std::printf("box, mu 0.2: a = %.4f m/s^2 (expected %.4f)\n", 2 * downhill(r, 100) / (T * T), expected);
     EXPECT_NEAR(2 * downhill(r, 100) / (T * T), expected, 0.05 * expected);
   }
   // μ = 0.6 > tan θ: sticking, up to the creep of the mollified static friction.
   {
     const Trajectory r = simulate(incline_on_box(friction(0.6)), 0, 25);
     const double creep = creep_speed(0.6, 1e-3);  // 3.73e-4 m/s
+    std::printf("box, mu 0.6: %.3e m in 1 s, %.4e m/s over the last 0.5 s (creep %.4e m/s)\n", downhill(r, 100),
+                (downhill(r, 100) - downhill(r, 50)) / 0.5, creep);
     EXPECT_LT(downhill(r, 100), 1.05 * creep * T);
     EXPECT_GT(downhill(r, 100), 0.0);
     // The creep speed is the derived one (this is what the bound rests on).
@@ -158,16 +163,19 @@ TEST(Friction, ASheetOnATiltedPinnedSheetSticksOrSlidesAsCoulombSays) {
   const double T = 0.5;                  // frame 50: the free sheet is still over the pinned one
   {
     const Trajectory r = simulate(incline_on_sheet(friction(0.0)), first, count);
+    std::printf("sheet, mu 0: a = %.4f m/s^2\n", 2 * downhill(r, 50) / (T * T));
     EXPECT_NEAR(2 * downhill(r, 50) / (T * T), kG * std::sin(kRad), 0.05 * kG * std::sin(kRad));
   }
   {
     const Trajectory r = simulate(incline_on_sheet(friction(0.2)), first, count);
     const double expected = kG * (std::sin(kRad) - 0.2 * std::cos(kRad));
+    std::printf("sheet, mu 0.2: a = %.4f m/s^2 (expected %.4f)\n", 2 * downhill(r, 50) / (T * T), expected);
     EXPECT_NEAR(2 * downhill(r, 50) / (T * T), expected, 0.05 * expected);
     EXPECT_GT(r.stats.back().counters.at("vertex_face_friction_contacts"), 0);
   }
   {
     const Trajectory r = simulate(incline_on_sheet(friction(0.6)), first, count);
+    std::printf("sheet, mu 0.6: %.3e m in 1 s\n", downhill(r, 100));
     EXPECT_LT(downhill(r, 100), 1.05 * creep_speed(0.6, 1e-3) * 1.0);
     EXPECT_GT(downhill(r, 100), 0.0);
   }
@@ -185,6 +193,7 @@ TEST(Friction, AMovingBoxDragsASheetToItsVelocity) {
   scene["frames"] = 60;
   const Trajectory r = simulate(scene, 0, 25);
   const double v = (r.centroid[60] - r.centroid[59]).x() / 0.01;
+  std::printf("dragged sheet: %.6f m/s at t = 0.6 s (box 0.5)\n", v);
   EXPECT_NEAR(v, 0.5, 1e-3);  // within ε_v of the box's
   EXPECT_NEAR((r.centroid[60] - r.centroid[59]).y() / 0.01, 0.0, 1e-6);
   // Without friction the box slides away under it.
@@ -211,6 +220,7 @@ TEST(Friction, AreaWeightedContactRestsAtTheSameDepthAtEveryResolution) {
     return 0.05 + 0.01 - z;  // ε − d: how deep into the activation layer the sheet rests
   };
   const double w4 = depth(4, true), w8 = depth(8, true), u4 = depth(4, false), u8 = depth(8, false);
+  std::printf("resting depth: weighted %.4e / %.4e m, unweighted %.4e / %.4e m (4x4 / 8x8)\n", w4, w8, u4, u8);
   EXPECT_NEAR(w4, 0.1 * kG / 2000, 0.05 * 0.1 * kG / 2000);
   EXPECT_NEAR(w8 / w4, 1.0, 0.05);
   EXPECT_GT(u4 / u8, 2.0);  // unweighted: the finer sheet rests ~4× shallower
