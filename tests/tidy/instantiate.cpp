@@ -37,7 +37,19 @@ template <class Scalar, class Penalty> void every_kind(const Penalty& penalty) {
     (void)pce::energy_gradient(c);
     (void)pce::projected_hessian(c, pce::Projection::exact);
     (void)pce::feature_eigenvalues(c);
+    pce::LaggedFriction<Scalar, 4> f;
+    pce::Vec3<Scalar> n;
+    if (pce::friction_geometry(c, x, f.weights, n)) {
+      f.basis = pce::tangent_basis(n);
+      (void)pce::friction_energy(f, x);
+      (void)pce::friction_gradient(f, x);
+      (void)pce::friction_hessian(f, x);
+    }
   }
+  pce::LaggedFriction<Scalar, 1> one;
+  one.weights.setOnes();
+  one.basis = pce::tangent_basis(pce::Vec3<Scalar>::UnitZ().eval());
+  (void)pce::friction_tangent_block(one, pce::Vec3<Scalar>(x.template head<3>()));
 }
 
 template <class Scalar> void every_penalty() {
