@@ -39,8 +39,7 @@ template <int N> struct FrictionContact {
 /// A contact effect's friction counters of one frame.
 struct FrictionStats {
   double ms = 0;      ///< time spent freezing contacts and evaluating the potential
-  long contacts = 0;  ///< frozen contacts of the last solve
-  long sticking = 0;  ///< of those, slipping by less than ε_v h at the last evaluation
+  long sticking = 0;  ///< frozen contacts slipping by less than ε_v h at the last evaluation
 };
 
 /// Adds Σ D over `contacts` at positions `x` (displacements from `x_start`): returns the
