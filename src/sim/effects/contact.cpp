@@ -661,10 +661,7 @@ template <bool VF> class SelfContact final : public Effect {
   /// The penalty of candidate k: the effect's, with its stiffness times weight(k) when
   /// area weighted (ψ is linear in it).
   template <class Penalty> Penalty weighted(const Penalty& penalty, std::size_t k) const {
-    if (!spec_.area_weighted) return penalty;
-    Penalty p = penalty;
-    p.stiffness *= weight(k);
-    return p;
+    return spec_.area_weighted ? scaled(penalty, weight(k)) : penalty;
   }
 
   /// Freezes the friction of every candidate active at `x` (classify, then the pair's

@@ -66,12 +66,7 @@ double bounding_radius(const Obstacle& o) {
 }
 
 using Clock = std::chrono::steady_clock;
-
-/// `p` with its stiffness multiplied by `w` (ψ is linear in it).
-template <class Penalty> Penalty scaled(Penalty p, double w) {
-  p.stiffness *= w;
-  return p;
-}
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 class ObstacleContact final : public Effect {
  public:
@@ -101,7 +96,7 @@ class ObstacleContact final : public Effect {
     eps_ = friction_->slip_velocity * ctx.dt;
     rounds_ = 1;
     freeze(*ctx.x_start, true);
-    friction_stats_.ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    friction_stats_.ms += ms_since(t0);
   }
 
   bool update_lagged(const Eigen::Matrix3Xd& x) override {
@@ -109,7 +104,7 @@ class ObstacleContact final : public Effect {
     const auto t0 = Clock::now();
     ++rounds_;
     freeze(x, false);
-    friction_stats_.ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    friction_stats_.ms += ms_since(t0);
     return true;
   }
 
@@ -134,7 +129,7 @@ class ObstacleContact final : public Effect {
     if (friction_) {
       const auto t0 = Clock::now();
       energy += add_friction(frozen_, x, *x_start_, gradient, hessian, friction_stats_.sticking);
-      friction_stats_.ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      friction_stats_.ms += ms_since(t0);
     }
     return energy;
   }
@@ -286,12 +281,9 @@ void check_obstacle(const Obstacle& o, const std::string& at) {
 }  // namespace
 
 std::unique_ptr<Effect> make_obstacle_contact(const std::vector<Obstacle>& obstacles, const ContactPenalty& penalty) {
-  check_penalty(penalty, "penalty.");
-  for (std::size_t k = 0; k < obstacles.size(); ++k)
-    check_obstacle(obstacles[k], "obstacles[" + std::to_string(k) + "]");
   ObstacleContactSettings settings;
   settings.penalty = penalty;
-  return std::make_unique<ObstacleContact>(settings, obstacles, Eigen::VectorXd());
+  return make_obstacle_contact(Model{}, obstacles, settings);  // unweighted: the model is not read
 }
 
 std::unique_ptr<Effect> make_obstacle_contact(const Model& model, const std::vector<Obstacle>& obstacles,

@@ -52,6 +52,13 @@ inline void check_penalty_for_model(const ContactPenalty& s, const Model& model,
                             args::text(s.distance));
 }
 
+/// `p` with its stiffness multiplied by `w`: w ψ, since every penalty is linear in its
+/// stiffness (area-weighted contact).
+template <class Penalty> Penalty scaled(Penalty p, double w) {
+  p.stiffness *= w;
+  return p;
+}
+
 /// Calls `f(penalty)` with the pce penalty object the spec describes.
 template <class F> decltype(auto) visit_penalty(const ContactPenalty& s, F&& f) {
   switch (s.kind) {
