@@ -13,7 +13,8 @@
 /// a penalty (pce::QuadraticPenalty, pce::CubicPenalty, pce::LogBarrierPenalty) go into
 /// pce::pair_energy(), then pce::energy_gradient(), pce::energy_hessian(),
 /// pce::energy_eigensystem() and pce::projected_hessian() with a pce::Projection strategy; or
-/// everything at once with pce::evaluate(). pce::closest_feature_energy() evaluates the
+/// everything at once with pce::evaluate(), or for an array of pairs with pce::evaluate_batch()
+/// (pce::closest_feature_batch() by closest features). pce::closest_feature_energy() evaluates the
 /// distance between the primitives by whichever kind holds the closest points, and
 /// pce::mollified_pair_energy() fades the energy out at degenerate frames. The evaluating
 /// calls return a pce::Status and write their outputs only on `ok`.
@@ -36,6 +37,7 @@
 #include <pce/core/tridiagonal.hpp>
 #include <pce/core/types.hpp>
 #include <pce/energy/closest_feature.hpp>
+#include <pce/energy/evaluate_batch.hpp>
 #include <pce/energy/exact_projection.hpp>
 #include <pce/energy/mollified_energy.hpp>
 #include <pce/energy/pair_energy.hpp>
