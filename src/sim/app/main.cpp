@@ -13,107 +13,20 @@
 // current frame (everything written as at the end, plus a checkpoint); 1 anything else.
 #include <pce/sim/allocator.hpp>
 #include <pce/sim/checkpoint.hpp>
-#include <pce/sim/frames.hpp>
 #include <pce/sim/input_error.hpp>
-#include <pce/sim/intersections.hpp>
-#include <pce/sim/render.hpp>
+#include <pce/sim/run.hpp>
 #include <pce/sim/scene.hpp>
-#include <pce/sim/start_state.hpp>
 
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
-#include <sys/resource.h>
 
-#include <chrono>
 #include <csignal>
-#include <cmath>
 #include <cstdio>
-#include <fstream>
+#include <filesystem>
 #include <iostream>
-#include <sstream>
 
 namespace {
 
 using namespace pce::sim;
-using nlohmann::json;
-
-json frame_record(const FrameStats& s, long intersections) {
-  json r;
-  r["frame"] = s.frame;
-  r["wall_ms"] = s.wall_ms;
-  r["newton_iterations"] = s.newton_iterations;
-  r["residual"] = s.residual;
-  r["energy"] = s.energy;
-  r["line_search_failures"] = s.line_search_failures;
-  r["hit_iteration_cap"] = s.hit_iteration_cap;
-  r["broad_phase_ms"] = s.broad_phase_ms;
-  r["pair_ms"] = s.pair_ms;
-  r["assembly_ms"] = s.assembly_ms;
-  r["solve_ms"] = s.solve_ms;
-  r["line_search_ms"] = s.line_search_ms;
-  const auto counter = [&](const std::string& k, double fallback) {
-    return s.counters.has(k) ? s.counters.at(k) : fallback;
-  };
-  json contacts = json::object();
-  double min_distance = INFINITY;
-  for (const char* kind : {"vertex_face", "edge_edge", "obstacle"}) {
-    const std::string k = kind;
-    if (s.counters.has(k + "_contacts")) contacts[k] = static_cast<long>(counter(k + "_contacts", 0));
-    min_distance = std::min(min_distance, counter(k + "_min_distance", INFINITY));
-  }
-  r["contacts"] = contacts;
-  r["min_distance"] = std::isfinite(min_distance) ? json(min_distance) : json(nullptr);
-  r["intersecting_triangle_pairs"] = intersections;
-  json effects = json::object();
-  for (const auto& [name, ms] : s.effect_ms) effects[name] = ms;
-  r["effects"] = effects;
-  json counters = json::object();
-  for (const auto& [k, v] : s.counters.entries()) counters[k] = std::isfinite(v) ? json(v) : json(nullptr);
-  r["counters"] = counters;
-  json iterations = json::array();
-  for (const NewtonIteration& it : s.iterations)
-    iterations.push_back(
-        {{"residual", it.residual}, {"step_limit", it.step_limit}, {"limited_by", it.limited_by}, {"alpha", it.alpha}});
-  r["iterations"] = iterations;
-  return r;
-}
-
-void write_json(const std::filesystem::path& path, const json& j) {
-  std::ofstream out(path);
-  out << j.dump(1) << "\n";
-  if (!out) throw std::runtime_error(path.string() + ": cannot write");
-}
-
-std::vector<RenderMesh> scene_meshes(const Scene& scene) {
-  const Simulation& sim = scene.simulation;
-  std::vector<RenderMesh> meshes;
-  const Eigen::Vector3f palette[] = {{0.85f, 0.35f, 0.25f}, {0.25f, 0.55f, 0.85f}, {0.35f, 0.70f, 0.35f},
-                                     {0.90f, 0.70f, 0.20f}, {0.60f, 0.40f, 0.75f}, {0.30f, 0.70f, 0.70f}};
-  int k = 0;
-  for (const MeshRange& r : sim.model.meshes) {
-    RenderMesh m;
-    m.positions = sim.x.middleCols(r.first_vertex, r.vertex_count);
-    m.triangles = sim.model.triangles.middleCols(r.first_triangle, r.triangle_count).array() - r.first_vertex;
-    m.segments = sim.model.segments.middleCols(r.first_segment, r.segment_count).array() - r.first_vertex;
-    m.color = palette[k++ % 6];
-    meshes.push_back(std::move(m));
-  }
-  for (const Obstacle& o : sim.obstacles) {
-    const Mesh s = surface_mesh(o, o.pose(sim.time));
-    RenderMesh m;
-    m.positions = s.positions;
-    m.triangles = s.triangles;
-    m.color = Eigen::Vector3f(0.62f, 0.62f, 0.66f);
-    meshes.push_back(std::move(m));
-  }
-  return meshes;
-}
-
-double peak_memory_mib() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return static_cast<double>(u.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
-}
 
 /// Set by SIGINT / SIGTERM: the run ends after the current frame.
 volatile std::sig_atomic_t g_stop_signal = 0;
@@ -121,61 +34,6 @@ volatile std::sig_atomic_t g_stop_signal = 0;
 extern "C" void on_stop_signal(int signal_number) {
   g_stop_signal = signal_number;
   std::signal(signal_number, SIG_DFL);  // a second signal ends the run at once
-}
-
-/// The scene as the fingerprint sees it: its text and every option that changes the physics.
-std::string physics_key(const std::string& scene_file, const SceneOverrides& o) {
-  std::ifstream in(scene_file, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string key = text.str();
-  if (o.hessian) key += "\n--hessian " + *o.hessian;
-  if (o.broad_phase) key += "\n--broad-phase " + std::to_string(static_cast<int>(*o.broad_phase));
-  if (o.single_solve) key += "\n--single-solve";
-  if (o.tolerance) key += "\n--tolerance " + json(*o.tolerance).dump();
-  return key;
-}
-
-/// The records of `path` (one JSON object a line) with frame ≤ `last_frame`, in order; a
-/// line that does not parse (a record cut short by a kill) ends the list.
-json read_records(const std::filesystem::path& path, int last_frame) {
-  json records = json::array();
-  std::ifstream in(path);
-  std::string line;
-  while (std::getline(in, line)) {
-    const json r = json::parse(line, nullptr, false);
-    if (r.is_discarded() || !r.is_object() || !r.contains("frame")) break;
-    if (r["frame"].get<int>() > last_frame) break;
-    records.push_back(r);
-  }
-  return records;
-}
-
-json summary_of(const Simulation& sim, const std::string& scene_file, const json& stats, double total_s,
-                const std::string& failure, const char* stopped_by) {
-  json summary;
-  summary["scene"] = scene_file;
-  summary["frames_done"] = sim.frame;
-  summary["vertices"] = sim.model.vertex_count();
-  summary["triangles"] = sim.model.triangles.cols();
-  summary["segments"] = sim.model.segments.cols();
-  summary["dt"] = sim.solver.dt;
-  summary["mode"] = sim.solver.single_solve ? "single_solve" : "newton";
-  summary["total_s"] = total_s;
-  summary["peak_memory_mib"] = peak_memory_mib();
-  summary["failure"] = failure.empty() ? json(nullptr) : json(failure);
-  summary["stopped_by"] = stopped_by ? json(stopped_by) : json(nullptr);
-  double ms = 0, iters = 0;
-  long new_intersections = 0;
-  for (const auto& r : stats) {
-    ms += r["wall_ms"].get<double>();
-    iters += r["newton_iterations"].get<double>();
-    new_intersections += r.value("new_intersections", 0L);
-  }
-  summary["mean_ms_per_frame"] = stats.empty() ? 0.0 : ms / static_cast<double>(stats.size());
-  summary["mean_newton_iterations"] = stats.empty() ? 0.0 : iters / static_cast<double>(stats.size());
-  summary["new_intersections"] = new_intersections;
-  return summary;
 }
 
 }  // namespace
@@ -246,100 +104,66 @@ int main(int argc, char** argv) {
   if (resumed_from.empty()) {
     // The start state, before anything is written (a resumed state was checked when its run
     // started).
-    const StartStateReport start = check_start_state(sim);
-    if (!start.refusals.empty() && !scene->allow_initial_intersections) {
-      std::string line;
-      for (const auto& r : start.refusals) line += (line.empty() ? "" : "; ") + r;
-      std::cerr << "pce-sim: " << scene_file << ": " << line
-                << " (move the meshes apart, or set \"allow_initial_intersections\": true to run it anyway)\n";
+    try {
+      for (const auto& w : accept_start_state(*scene, scene_file)) std::cerr << "pce-sim: warning: " << w << "\n";
+    } catch (const InputError& e) {
+      std::cerr << "pce-sim: " << e.what() << "\n";
       return 2;
     }
-    for (const auto& r : start.refusals)
-      std::cerr << "pce-sim: warning: " << scene_file << ": " << r << " (allowed by allow_initial_intersections)\n";
-    for (const auto& w : start.warnings) std::cerr << "pce-sim: warning: " << scene_file << ": " << w << "\n";
   }
   const std::filesystem::path dir =
       !resume_dir.empty() ? std::filesystem::path(resume_dir)
       : out_dir.empty()   ? std::filesystem::path("pce-sim-out") / std::filesystem::path(scene_file).stem()
                           : std::filesystem::path(out_dir);
-  const auto started = std::chrono::steady_clock::now();
   int status = 0;
   std::string failure;
   const char* stopped_by = nullptr;
   try {
-    ensure_directory(dir.string());
-    // Records of the frames done: kept from the interrupted run up to its checkpoint, then
-    // appended as each frame ends (flushed, so a killed run keeps every completed frame).
-    json stats = json::array();
-    if (!resumed_from.empty()) stats = read_records(dir / "stats.jsonl", sim.frame);
-    std::ofstream jsonl(dir / "stats.jsonl", std::ios::trunc);
-    for (const auto& r : stats) jsonl << r.dump() << "\n";
-    jsonl.flush();
-    if (!jsonl) throw std::runtime_error((dir / "stats.jsonl").string() + ": cannot write");
-    if (!no_frames && resumed_from.empty())
-      write_frame(dir.string(), 0, sim.x, sim.model.triangles, sim.model.segments);
+    Run run(*scene, scene_file);
+    RunOutput output;
+    output.dir = dir;
+    output.write_frames = !no_frames;
+    output.checkpoint_every = checkpoint_every;
+    output.fingerprint = fingerprint;
+    output.resumed = !resumed_from.empty();
+    run.open(output);
     std::cerr << "pce-sim: " << scene_file << ": " << sim.model.vertex_count() << " vertices, " << sim.effects.size()
               << " effects, " << sim.frames << " frames, dt = " << sim.solver.dt << " s";
     if (!resumed_from.empty()) std::cerr << ", resumed at frame " << sim.frame << " from " << resumed_from.string();
     std::cerr << "\n";
     std::signal(SIGINT, on_stop_signal);
     std::signal(SIGTERM, on_stop_signal);
-    const bool count_intersections = sim.model.triangles.cols() > 1;
-    long intersections = count_intersections ? intersecting_triangle_pairs(sim.x, sim.model.triangles) : 0;
-    int last_written = resumed_from.empty() && !no_frames ? 0 : -1;
     while (sim.frame < sim.frames && !g_stop_signal) {
-      FrameStats s;
+      FrameReport r;
       try {
-        s = sim.step();
+        r = run.step();
       } catch (const SimulationError& e) {
         failure = scene_file + ": " + e.what();
         status = 3;
         break;
       }
+      const FrameStats& s = r.stats;
       const int f = sim.frame;
-      const long now = count_intersections ? intersecting_triangle_pairs(sim.x, sim.model.triangles) : 0;
-      const long fresh = std::max(0L, now - intersections);
-      intersections = now;
-      json record = frame_record(s, now);
-      record["new_intersections"] = fresh;
-      stats.push_back(record);
-      jsonl << record.dump() << "\n";
-      jsonl.flush();
-      if (!no_frames && (f % scene->output_every == 0 || f == sim.frames)) {
-        write_frame(dir.string(), f, sim.x, sim.model.triangles, sim.model.segments);
-        last_written = f;
-      }
-      if (checkpoint_every > 0 && f % checkpoint_every == 0)
-        write_checkpoint(checkpoint_path(dir.string(), f), sim, fingerprint);
       std::fprintf(stderr, "frame %d of %d: %.1f ms, %d Newton iterations, residual %.2e, %s%ld intersecting pairs\n",
                    f, sim.frames, s.wall_ms, s.newton_iterations, s.residual,
-                   s.hit_iteration_cap ? "iteration cap hit, " : "", now);
+                   s.hit_iteration_cap ? "iteration cap hit, " : "", r.intersections);
       if (s.line_search_failures > 0 && s.newton_iterations == 1)
         std::fprintf(stderr,
                      "pce-sim: warning: frame %d: the line search found no decrease at the first Newton iteration, so "
                      "the state did not move (in plane mode: a pair sits at the energy's jump, docs/simulation.md "
                      "section 10)\n",
                      f);
-      if (fresh > 0)
+      if (r.new_intersections > 0)
         std::fprintf(stderr, "pce-sim: warning: frame %d: %ld new intersecting triangle pairs (%ld in all)%s\n", f,
-                     fresh, now,
+                     r.new_intersections, r.intersections,
                      s.hit_iteration_cap ? "; Newton ended at the iteration cap"
                                          : (s.line_search_failures ? "; the line search found no decrease" : ""));
     }
-    if (!jsonl) throw std::runtime_error((dir / "stats.jsonl").string() + ": cannot write");
     if (g_stop_signal && status == 0) {
       stopped_by = g_stop_signal == SIGINT ? "SIGINT" : "SIGTERM";
       status = 128 + static_cast<int>(g_stop_signal);
-      write_checkpoint(checkpoint_path(dir.string(), sim.frame), sim, fingerprint);
     }
-    // The last finite frame is always on disk (after a failure, a signal or --no-frames).
-    if (last_written != sim.frame) write_frame(dir.string(), sim.frame, sim.x, sim.model.triangles, sim.model.segments);
-    RenderOptions ro;
-    ro.view_direction = scene->view_direction;
-    render_png((dir / "last_frame.png").string(), scene_meshes(*scene), ro);
-    write_json(dir / "stats.json", stats);
-    const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    write_json(dir / "summary.json", summary_of(sim, scene_file, stats, total_s, failure, stopped_by));
+    run.close(failure, stopped_by);
   } catch (const std::exception& e) {
     std::cerr << "pce-sim: " << e.what() << "\n";
     return 1;
