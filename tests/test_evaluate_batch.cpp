@@ -18,9 +18,9 @@
 
 namespace {
 
-constexpr pce::Projection kStrategies[] = {pce::Projection::none,         pce::Projection::analytic,
-                                           pce::Projection::numerical,    pce::Projection::gauss_newton,
-                                           pce::Projection::abs,          pce::Projection::exact};
+constexpr pce::Projection kStrategies[] = {pce::Projection::none,      pce::Projection::analytic,
+                                           pce::Projection::numerical, pce::Projection::gauss_newton,
+                                           pce::Projection::abs,       pce::Projection::exact};
 
 /// `n` pairs of `dofs` coordinates: random points in a small cube (most pairs are within the
 /// penalties' reach), then a few hard rows: a repeated point (the second and third; the first
@@ -54,11 +54,17 @@ template <class Scalar> struct Buffers {
   std::vector<Scalar> length, value, gradient, hessian, projected, eigenvalues;
   std::vector<pce::Feature> feature;
   Buffers(int n, int d, int f)
-      : status(n), length(n), value(n), gradient(n * d), hessian(n * d * d), projected(n * d * d),
-        eigenvalues(n * f), feature(n, pce::Feature::point_point) {}
+      : status(n),
+        length(n),
+        value(n),
+        gradient(n * d),
+        hessian(n * d * d),
+        projected(n * d * d),
+        eigenvalues(n * f),
+        feature(n, pce::Feature::point_point) {}
   pce::BatchOutput<Scalar> all() {
-    return {status.data(),    length.data(),    value.data(),       gradient.data(),
-            hessian.data(),   projected.data(), eigenvalues.data(), feature.data()};
+    return {status.data(),  length.data(),    value.data(),       gradient.data(),
+            hessian.data(), projected.data(), eigenvalues.data(), feature.data()};
   }
 };
 

@@ -50,6 +50,18 @@ template <class Scalar, class Penalty> void every_kind(const Penalty& penalty) {
   one.weights.setOnes();
   one.basis = pce::tangent_basis(pce::Vec3<Scalar>::UnitZ().eval());
   (void)pce::friction_tangent_block(one, pce::Vec3<Scalar>(x.template head<3>()));
+  pce::Status status[1];
+  Scalar value[1], gradient[12], projected[144], eigenvalues[9];
+  pce::Feature feature[1];
+  pce::BatchOutput<Scalar> out;
+  out.status = status;
+  out.value = value;
+  out.gradient = gradient;
+  out.projected = projected;
+  out.eigenvalues = eigenvalues;
+  pce::evaluate_batch<pce::EdgeEdge>(x.data(), 1, pce::SignedLength{}, penalty, pce::Projection::exact, out);
+  out.feature = feature;
+  pce::closest_feature_batch<pce::VertexFace>(x.data(), 1, penalty, pce::Projection::analytic, out);
 }
 
 template <class Scalar> void every_penalty() {

@@ -66,7 +66,8 @@ Status batch_store(const Energy& e, const Scalar& length, const Scalar& value, P
   int real = FrameDofs;
   bool finite = is_finite(length) && is_finite(value);
   if (out.gradient) finite = all_finite(g = energy_gradient(e)) && finite;
-  if (out.hessian || (out.projected && strategy == Projection::none)) finite = all_finite(H = energy_hessian(e)) && finite;
+  if (out.hessian || (out.projected && strategy == Projection::none))
+    finite = all_finite(H = energy_hessian(e)) && finite;
   if (out.projected && strategy != Projection::none) finite = all_finite(P = projected_hessian(e, strategy)) && finite;
   if (out.eigenvalues) {
     real = eigenvalues(e, lambda);

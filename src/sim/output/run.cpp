@@ -255,7 +255,8 @@ void Run::close(const std::string& failure, const char* stopped_by) {
   st.jsonl.close();
   if (stopped_by) write_checkpoint(checkpoint_path(out.dir.string(), sim.frame), sim, out.fingerprint);
   // The last finite frame is always on disk (after a failure, a stop or without frames).
-  if (st.last_written != sim.frame) write_frame(out.dir.string(), sim.frame, sim.x, sim.model.triangles, sim.model.segments);
+  if (st.last_written != sim.frame)
+    write_frame(out.dir.string(), sim.frame, sim.x, sim.model.triangles, sim.model.segments);
   RenderOptions ro;
   ro.view_direction = st.scene.view_direction;
   render_png((out.dir / "last_frame.png").string(), scene_meshes(st.scene), ro);

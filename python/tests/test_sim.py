@@ -1,0 +1,150 @@
+# SPDX-License-Identifier: MIT
+"""pce.sim: a run from Python writes what pce-sim writes and ends bit for bit where it ends;
+stepping, the state's copies, the records; scene errors carry pce-sim's message; bad
+arguments raise naming the argument."""
+
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import pce
+
+TIMINGS = {"wall_ms", "broad_phase_ms", "pair_ms", "assembly_ms", "solve_ms", "line_search_ms", "effects"}
+
+
+def without_timings(record):
+    """A stats record without its wall-clock fields (the counters' *_ms entries included)."""
+    r = {k: v for k, v in record.items() if k not in TIMINGS}
+    r["counters"] = {k: v for k, v in record["counters"].items() if not k.endswith("_ms")}
+    return r
+
+
+def obj_vertices(path):
+    return np.array([[float(t) for t in line.split()[1:4]] for line in open(path) if line.startswith("v ")])
+
+
+@pytest.mark.parametrize("scene, frames", [("drape", 4), ("strands", 3), ("twist", 5)])
+def test_a_run_from_python_ends_bit_for_bit_where_pce_sim_ends(pce_sim, scenes, tmp_path, scene, frames):
+    path = str(scenes / f"{scene}.json")
+    cpp, py = tmp_path / "pce-sim", tmp_path / "python"
+    subprocess.run(
+        [str(pce_sim), path, "--frames", str(frames), "--threads", "1", "--out", str(cpp)],
+        check=True, capture_output=True,
+    )  # fmt: skip
+    s = pce.sim.load(path, frames=frames, threads=1)
+    records = s.run(out=py)
+    assert s.frame == frames and len(records) == frames and s.stats == records[-1]
+    assert sorted(p.name for p in cpp.iterdir()) == sorted(p.name for p in py.iterdir())
+    for f in cpp.iterdir():
+        if f.suffix in (".obj", ".png"):
+            assert f.read_bytes() == (py / f.name).read_bytes(), f.name
+    a, b = (json.load(open(d / "stats.json")) for d in (cpp, py))
+    assert [without_timings(r) for r in a] == [without_timings(r) for r in b]
+    assert [without_timings(json.loads(line)) for line in open(py / "stats.jsonl")] == [without_timings(r) for r in b]
+    assert [without_timings(r) for r in records] == [without_timings(r) for r in b]
+    sa, sb = (json.load(open(d / "summary.json")) for d in (cpp, py))
+    for k in ("total_s", "peak_memory_mib", "mean_ms_per_frame"):
+        sa.pop(k), sb.pop(k)
+    assert sa == sb
+    last = sorted(py.glob("frame_*.obj"))[-1]
+    np.testing.assert_array_equal(s.positions, obj_vertices(last))
+
+
+def test_step_state_and_copies(scenes):
+    s = pce.sim.load(scenes / "twist.json", frames=3)
+    assert (s.frame, s.frames, s.stats) == (0, 3, None)
+    x0 = s.positions
+    assert x0.shape == (s.positions.shape[0], 3) and x0.dtype == np.float64
+    np.testing.assert_array_equal(s.velocities, 0 * x0)
+    x0[:] = 7.0  # a copy: the simulation does not move
+    assert not np.any(s.positions == 7.0)
+    record = s.step()
+    assert record["frame"] == 1 and s.frame == 1 and record is s.stats
+    assert record["newton_iterations"] >= 1 and "counters" in record and "intersecting_triangle_pairs" in record
+    assert s.time == pytest.approx(s.dt)
+    assert np.any(s.positions != pce.sim.load(scenes / "twist.json").positions)
+    assert s.run() and s.frame == 3 and s.run() == []  # up to the scene's frames, then nothing
+    assert len(s.run(frames=2)) == 2 and s.frame == 5
+    assert "twist.json" in repr(s)
+
+
+def scene_error_of_pce_sim(pce_sim, path):
+    r = subprocess.run([str(pce_sim), str(path), "--frames", "1"], capture_output=True, text=True)
+    assert r.returncode == 2
+    line = r.stderr.strip().splitlines()[-1]
+    assert line.startswith("pce-sim: ")
+    return line[len("pce-sim: ") :]
+
+
+def bad_scenes(scenes, tmp_path):
+    drape = json.load(open(scenes / "drape.json"))
+    yield tmp_path / "missing.json"
+    text = tmp_path / "text.json"
+    text.write_text("{ not json")
+    yield text
+    negative = json.loads(json.dumps(drape))
+    negative["dt"] = -1
+    p = tmp_path / "negative_dt.json"
+    p.write_text(json.dumps(negative))
+    yield p
+    unknown = json.loads(json.dumps(drape))
+    unknown["effects"].append({"type": "magnetism"})
+    p = tmp_path / "unknown_effect.json"
+    p.write_text(json.dumps(unknown))
+    yield p
+    overlap = json.loads(json.dumps(drape))
+    overlap["meshes"].append(json.loads(json.dumps(overlap["meshes"][0])))
+    misspelt = json.loads(json.dumps(overlap))
+    misspelt["meshes"][-1].setdefault("transform", {})["rotation_deg"] = [0, 0, 30]
+    p = tmp_path / "misspelt.json"
+    p.write_text(json.dumps(misspelt))
+    yield p
+    # The copy turned upright about its own centre crosses the sheet: the start state is refused.
+    overlap["meshes"][-1]["name"] = "upright"
+    transform = overlap["meshes"][-1].setdefault("transform", {})
+    transform["rotation"] = {"axis": [1, 0, 0], "degrees": 90}
+    p = tmp_path / "crossing.json"
+    p.write_text(json.dumps(overlap))
+    yield p
+
+
+def test_scene_errors_carry_pce_sims_message(pce_sim, scenes, tmp_path):
+    for path in bad_scenes(scenes, tmp_path):
+        expected = scene_error_of_pce_sim(pce_sim, path)
+        with pytest.raises(pce.sim.SceneError) as e:
+            pce.sim.load(path)
+        assert str(e.value) == expected, path.name
+        assert isinstance(e.value, ValueError)
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, name",
+    [
+        ({"frames": 0}, ValueError, "frames"),
+        ({"frames": 2.5}, ValueError, "frames"),
+        ({"hessian": "none"}, ValueError, "hessian"),
+        ({"broad_phase": "octree"}, ValueError, "broad_phase"),
+        ({"threads": -1}, ValueError, "threads"),
+        ({"single_solve": 1}, TypeError, "single_solve"),
+        ({"tolerance": 0.0}, ValueError, "tolerance"),
+        ({"tolerance": float("nan")}, ValueError, "tolerance"),
+    ],
+)
+def test_bad_load_arguments(scenes, kwargs, error, name):
+    with pytest.raises(error, match=rf"^{name}\b"):
+        pce.sim.load(scenes / "twist.json", **kwargs)
+
+
+def test_bad_run_arguments(scenes, tmp_path):
+    s = pce.sim.load(scenes / "twist.json", frames=2)
+    with pytest.raises(ValueError, match="^frames"):
+        s.run(frames=-1)
+    with pytest.raises(TypeError, match="^out"):
+        s.run(out=3)
+    with pytest.raises(ValueError, match="^checkpoint_every"):
+        s.run(out=tmp_path, checkpoint_every=-2)
+    with pytest.raises(TypeError, match="^scene"):
+        pce.sim.load(None)
+    assert s.frame == 0 and not any(tmp_path.iterdir())  # nothing ran, nothing written
