@@ -21,6 +21,12 @@ from . import _pce
 
 __version__: str = _pce.__version__
 
+#: glibc serves every block from its heap and keeps freed memory for reuse (process-wide,
+#: so opt in; ``pce-sim`` does it first thing). New output arrays then reuse the memory of
+#: freed ones instead of fresh pages the kernel must fault in and zero, which for large
+#: batches costs more than the evaluation (docs/python.md, "Speed"). Returns whether it took.
+keep_freed_memory = _pce.keep_freed_memory
+
 __all__ = [
     "Status",
     "Quadratic",
@@ -32,6 +38,7 @@ __all__ = [
     "PROJECTIONS",
     "OUTPUTS",
     "FEATURES",
+    "keep_freed_memory",
     "sim",
     "__version__",
 ]
@@ -110,6 +117,15 @@ OUTPUTS = ("length", "value", "gradient", "hessian", "projected", "eigenvalues")
 #: Closest features, in ``pce::Feature``'s order.
 FEATURES = ("point_plane", "line_line", "point_edge", "point_point")
 _PENALTIES = {Quadratic: 0, Cubic: 1, LogBarrier: 2}
+_MAX_THREADS = 1024
+
+
+def _cpus() -> int:
+    """The CPUs this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
 
 
 class Result:
@@ -150,22 +166,41 @@ class Result:
 
 
 def _coordinates(X, dofs: int, kind: str) -> np.ndarray:
-    """X as a C-contiguous float32 or float64 array of shape (N, dofs)."""
+    """X as a C-contiguous float32 or float64 array of shape (N, dofs): float32 and float64
+    kept, integers and float16 converted to float64; anything else is a TypeError."""
     if X is None or isinstance(X, (str, bytes)):
         raise TypeError(f"X: expected an (N, {dofs}) array of coordinates, got {X!r}")
-    if isinstance(X, np.ndarray) and X.dtype in (np.float32, np.float64):
-        a = X
-    else:
-        dtype = getattr(X, "dtype", None)
-        if dtype is not None and np.dtype(dtype).kind == "c":
-            raise TypeError(f"X: complex coordinates ({np.dtype(dtype)}) cannot be converted to float")
-        try:
-            a = np.asarray(X, dtype=np.float64)
-        except (TypeError, ValueError) as e:
-            raise TypeError(f"X: expected an array of real numbers convertible to float64 ({e})") from None
+    try:
+        a = np.asarray(X)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"X: expected an (N, {dofs}) array of real numbers ({e})") from None
+    if a.dtype not in (np.float32, np.float64):
+        if a.dtype.kind in "iu" or a.dtype == np.float16:
+            a = a.astype(np.float64)
+        elif a.dtype.kind == "f":
+            raise TypeError(f"X: {a.dtype} would be rounded; convert it to float64 or float32 first")
+        else:
+            raise TypeError(f"X: expected real numbers (float64, float32 or integers), got dtype {a.dtype}")
     if a.ndim != 2 or a.shape[1] != dofs:
         raise ValueError(f"X: expected shape (N, {dofs}) for {kind}, got {a.shape}")
     return np.ascontiguousarray(a)
+
+
+def _reused(out, name: str, shape, dtype) -> np.ndarray:
+    """`out`'s array `name`, checked to be a writable C-contiguous `shape` array of `dtype`."""
+    if not isinstance(out, Result):
+        raise TypeError(f"out: expected a pce.Result of an earlier call, got {type(out).__name__}")
+    a = getattr(out, name)
+    if (
+        not isinstance(a, np.ndarray)
+        or a.shape != shape
+        or a.dtype != dtype
+        or not a.flags.c_contiguous
+        or not a.flags.writeable
+    ):
+        got = "None" if a is None else f"{a.dtype} {a.shape}"
+        raise ValueError(f"out: its {name} must be a writable {np.dtype(dtype)} array of shape {shape}, got {got}")
+    return a
 
 
 def evaluate(
@@ -179,13 +214,15 @@ def evaluate(
     closest_feature: bool = False,
     outputs: Optional[Iterable[str]] = None,
     threads: int = 1,
+    out: Optional[Result] = None,
 ) -> Result:
     """Evaluates N pairs at once: energy, gradient, exact and PSD Hessians, eigenvalues.
 
     Args:
         kind: "vertex_face" (p, t0, t1, t2), "edge_edge" (ea0, ea1, eb0, eb1): X is (N, 12);
             "point_edge" (p, e0, e1): (N, 9); "point_point" (p, q): (N, 6).
-        X: coordinates, float64 or float32 (kept); other real arrays are converted to float64.
+        X: coordinates, float64 or float32 (kept); integers and float16 are converted to
+            float64; bool, complex, long double, strings and objects are a TypeError.
         penalty: :class:`Quadratic`, :class:`Cubic` or :class:`LogBarrier`.
         length: "unsigned" (the distance to the plane or line) or "signed" (plane kinds only).
         side: +1 or -1, the outside of a signed length.
@@ -193,7 +230,11 @@ def evaluate(
         closest_feature: evaluate the distance between the primitives by whichever kind holds
             the closest points (vertex_face / edge_edge, unsigned length); sets ``feature``.
         outputs: which of :data:`OUTPUTS` to compute (default: all); fewer is faster.
-        threads: threads for the rows (0: one per CPU); results do not depend on it.
+        threads: threads for the rows, at most 1024 (0: one per CPU this process may use);
+            results do not depend on it.
+        out: a :class:`Result` of an earlier call with the same N, dtype and outputs: its
+            arrays are written again and returned in a new Result (no allocation, no fresh
+            pages to fault in: what a solver that evaluates every iteration wants).
 
     Returns:
         A :class:`Result`; outputs have the dtype of X.
@@ -229,9 +270,11 @@ def evaluate(
         unknown = wanted.difference(OUTPUTS)
         if unknown:
             raise ValueError(f"outputs: unknown {sorted(unknown)}; expected a subset of {OUTPUTS}")
-    if isinstance(threads, bool) or not isinstance(threads, numbers.Integral) or threads < 0:
-        raise ValueError(f"threads: expected an integer >= 0, got {threads!r}")
-    threads = int(threads) or (os.cpu_count() or 1)
+    if isinstance(threads, bool) or not isinstance(threads, numbers.Integral):
+        raise TypeError(f"threads: expected an integer in [0, {_MAX_THREADS}], got {threads!r}")
+    if not 0 <= threads <= _MAX_THREADS:
+        raise ValueError(f"threads: expected an integer in [0, {_MAX_THREADS}], got {threads!r}")
+    threads = int(threads) or _cpus()
 
     n = x.shape[0]
     eig_width = 9 if closest_feature else frame_dofs
@@ -243,8 +286,12 @@ def evaluate(
         "projected": (n, dofs, dofs),
         "eigenvalues": (n, eig_width),
     }
-    arrays = {name: np.empty(shape, dtype=x.dtype) if name in wanted else None for name, shape in shapes.items()}
-    status = np.empty(n, dtype=np.int32)
+    if out is None:
+        arrays = {name: np.empty(shape, dtype=x.dtype) if name in wanted else None for name, shape in shapes.items()}
+        status = np.empty(n, dtype=np.int32)
+    else:
+        arrays = {name: _reused(out, name, shape, x.dtype) if name in wanted else None for name, shape in shapes.items()}
+        status = _reused(out, "status", (n,), np.dtype(np.int32))
     feature = np.zeros(n, dtype=np.int32) if closest_feature else None
     p = penalty
     params = {Quadratic: lambda: (p.k, p.eps, 0.0), Cubic: lambda: (p.k, p.eps, p.delta), LogBarrier: lambda: (p.k, p.dhat, 0.0)}

@@ -32,9 +32,12 @@ _BROAD_PHASES = ("fcl", "bullet", "brute")
 
 
 def _optional_int(name, value, low, high):
+    """None, or `value` as an int: TypeError if it is not an integer, ValueError if it is not in [low, high]."""
     if value is None:
         return None
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not low <= value <= high:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name}: expected an integer in [{low}, {high}], got {value!r}")
+    if not low <= value <= high:
         raise ValueError(f"{name}: expected an integer in [{low}, {high}], got {value!r}")
     return int(value)
 
@@ -63,6 +66,9 @@ def load(
         raise TypeError(f"scene: expected a path, got {scene!r}")
     frames = _optional_int("frames", frames, 1, 10_000_000)
     threads = _optional_int("threads", threads, 0, 1024)
+    for name, value in (("hessian", hessian), ("broad_phase", broad_phase)):
+        if value is not None and not isinstance(value, str):
+            raise TypeError(f"{name}: expected a string, got {value!r}")
     if hessian is not None and hessian not in _HESSIANS:
         raise ValueError(f"hessian: expected one of {', '.join(_HESSIANS)}, got {hessian!r}")
     if broad_phase is not None and broad_phase not in _BROAD_PHASES:
@@ -70,8 +76,10 @@ def load(
     if single_solve is not None and not isinstance(single_solve, bool):
         raise TypeError(f"single_solve: expected True or False, got {single_solve!r}")
     if tolerance is not None:
-        if isinstance(tolerance, bool) or not isinstance(tolerance, numbers.Real) or not 0 < tolerance < float("inf"):
-            raise ValueError(f"tolerance: expected a number > 0, got {tolerance!r}")
+        if isinstance(tolerance, bool) or not isinstance(tolerance, numbers.Real):
+            raise TypeError(f"tolerance: expected a number > 0, got {tolerance!r}")
+        if not 0 < tolerance < float("inf"):
+            raise ValueError(f"tolerance: expected a finite number > 0, got {tolerance!r}")
         tolerance = float(tolerance)
     return Simulation(_pce._load(os.fspath(scene), frames, hessian, broad_phase, threads, single_solve, tolerance))
 
@@ -82,6 +90,7 @@ class Simulation:
     def __init__(self, loaded):
         self._s = loaded
         self._stats: Optional[dict] = None
+        self._stats_text = ""
 
     @property
     def positions(self) -> np.ndarray:
@@ -118,6 +127,9 @@ class Simulation:
     def stats(self) -> Optional[dict]:
         """The last frame's record, as ``pce-sim`` writes it to ``stats.jsonl`` (None before
         the first step)."""
+        text = self._s.last_record
+        if text != self._stats_text:
+            self._stats, self._stats_text = json.loads(text), text
         return self._stats
 
     @property
@@ -130,8 +142,8 @@ class Simulation:
 
         Raises :class:`SimulationError` if the frame fails; the state is then the last finite one.
         """
-        self._stats = json.loads(self._s.step())
-        return self._stats
+        self._s.step()
+        return self.stats
 
     def run(self, frames: Optional[int] = None, out=None, *, write_frames: bool = True, checkpoint_every: int = 0):
         """Steps ``frames`` more frames (default: up to the scene's :attr:`frames`); with

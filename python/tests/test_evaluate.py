@@ -179,6 +179,8 @@ def test_conversions_of_X():
     np.testing.assert_array_equal(listed.value, base.value)
     ints = pce.evaluate("point_point", np.arange(12).reshape(2, 6), penalty=pce.Quadratic(1.0, 10.0))
     assert ints.value.dtype == np.float64 and ints.ok.all()
+    halves = pce.evaluate("point_point", np.arange(12, dtype=np.float16).reshape(2, 6), penalty=pce.Quadratic(1.0, 10.0))
+    np.testing.assert_array_equal(halves.value, ints.value)
     empty = pce.evaluate("vertex_face", np.empty((0, 12), np.float32), penalty=pce.Quadratic(1.0, 1.0))
     assert len(empty) == 0 and empty.hessian.shape == (0, 12, 12) and empty.value.dtype == np.float32
 
@@ -208,7 +210,12 @@ GOOD = dict(kind="vertex_face", X=np.zeros((2, 12)), penalty=pce.Quadratic(1.0, 
         ({"kind": "point_edge", "X": np.zeros((2, 9)), "closest_feature": True}, ValueError, "closest_feature"),
         ({"outputs": ("value", "grad")}, ValueError, "outputs"),
         ({"threads": -1}, ValueError, "threads"),
-        ({"threads": 1.5}, ValueError, "threads"),
+        ({"threads": 1.5}, TypeError, "threads"),
+        ({"threads": 1025}, ValueError, "threads"),
+        ({"X": np.zeros((2, 12), bool)}, TypeError, "X"),
+        ({"X": np.zeros((2, 12)).astype(str)}, TypeError, "X"),
+        ({"X": np.zeros((2, 12), np.longdouble)}, TypeError, "X"),
+        ({"X": np.zeros((2, 12), object)}, TypeError, "X"),
     ],
 )
 def test_bad_arguments_raise_naming_the_argument(change, error, name):
@@ -254,3 +261,26 @@ def test_the_compiled_entry_point_checks_sizes_itself():
 
 def test_version():
     assert pce.__version__.count(".") == 2
+
+
+def test_out_reuses_the_arrays_of_an_earlier_result():
+    X = pairs("vertex_face", np.float64, n=50, seed=3)
+    Y = pairs("vertex_face", np.float64, n=50, seed=4)
+    first = pce.evaluate("vertex_face", X, penalty=pce.Quadratic(5.0, 0.3), projection="exact")
+    arrays = {name: getattr(first, name) for name in pce.OUTPUTS}
+    again = pce.evaluate("vertex_face", Y, penalty=pce.Quadratic(5.0, 0.3), projection="exact", out=first)
+    fresh = pce.evaluate("vertex_face", Y, penalty=pce.Quadratic(5.0, 0.3), projection="exact")
+    for name in pce.OUTPUTS:
+        assert getattr(again, name) is arrays[name]  # written in place
+        np.testing.assert_array_equal(getattr(again, name), getattr(fresh, name))
+    np.testing.assert_array_equal(again.status, fresh.status)
+    lean = pce.evaluate("vertex_face", X, penalty=pce.Quadratic(5.0, 0.3), outputs=("value",), out=first)
+    assert lean.value is arrays["value"] and lean.hessian is None
+    with pytest.raises(ValueError, match=r"^out: its length"):
+        pce.evaluate("vertex_face", X, penalty=pce.Quadratic(5.0, 0.3), out=lean)
+    with pytest.raises(ValueError, match=r"^out: its value"):
+        pce.evaluate("vertex_face", X[:10], penalty=pce.Quadratic(5.0, 0.3), outputs=("value",), out=first)
+    with pytest.raises(ValueError, match=r"^out: its length must be a writable float32"):
+        pce.evaluate("vertex_face", X.astype(np.float32), penalty=pce.Quadratic(5.0, 0.3), out=first)
+    with pytest.raises(TypeError, match=r"^out"):
+        pce.evaluate("vertex_face", X, penalty=pce.Quadratic(5.0, 0.3), out={"value": np.empty(50)})

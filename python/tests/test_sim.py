@@ -123,13 +123,16 @@ def test_scene_errors_carry_pce_sims_message(pce_sim, scenes, tmp_path):
     "kwargs, error, name",
     [
         ({"frames": 0}, ValueError, "frames"),
-        ({"frames": 2.5}, ValueError, "frames"),
+        ({"frames": 2.5}, TypeError, "frames"),
+        ({"frames": "3"}, TypeError, "frames"),
+        ({"hessian": 1}, TypeError, "hessian"),
         ({"hessian": "none"}, ValueError, "hessian"),
         ({"broad_phase": "octree"}, ValueError, "broad_phase"),
         ({"threads": -1}, ValueError, "threads"),
         ({"single_solve": 1}, TypeError, "single_solve"),
         ({"tolerance": 0.0}, ValueError, "tolerance"),
         ({"tolerance": float("nan")}, ValueError, "tolerance"),
+        ({"tolerance": "1e-3"}, TypeError, "tolerance"),
     ],
 )
 def test_bad_load_arguments(scenes, kwargs, error, name):
@@ -145,6 +148,23 @@ def test_bad_run_arguments(scenes, tmp_path):
         s.run(out=3)
     with pytest.raises(ValueError, match="^checkpoint_every"):
         s.run(out=tmp_path, checkpoint_every=-2)
+    with pytest.raises(TypeError, match="^write_frames"):
+        s.run(out=tmp_path, write_frames="no")
     with pytest.raises(TypeError, match="^scene"):
         pce.sim.load(None)
     assert s.frame == 0 and not any(tmp_path.iterdir())  # nothing ran, nothing written
+
+
+def test_pce_sim_resumes_a_run_python_checkpointed(pce_sim, scenes, tmp_path):
+    """The fingerprint of a Python run's checkpoints is pce-sim's (single_solve=False is no
+    override): pce-sim --resume goes on from it and ends where an uninterrupted run ends."""
+    path = str(scenes / "twist.json")
+    straight, resumed = tmp_path / "straight", tmp_path / "resumed"
+    subprocess.run([str(pce_sim), path, "--frames", "4", "--threads", "1", "--out", str(straight)], check=True,
+                   capture_output=True)  # fmt: skip
+    s = pce.sim.load(path, frames=4, threads=1, single_solve=False)
+    s.run(frames=2, out=resumed, checkpoint_every=2)
+    assert (resumed / "checkpoint_0002.pcecp").is_file()
+    subprocess.run([str(pce_sim), path, "--frames", "4", "--threads", "1", "--resume", str(resumed)], check=True,
+                   capture_output=True)  # fmt: skip
+    assert (resumed / "frame_0004.obj").read_bytes() == (straight / "frame_0004.obj").read_bytes()

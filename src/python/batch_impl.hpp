@@ -18,6 +18,7 @@
 #include "batch.hpp"
 
 #include <algorithm>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -42,23 +43,28 @@ pce::BatchOutput<Scalar> rows_from(const pce::BatchOutput<Scalar>& out, std::siz
   return r;
 }
 
-/// `body(first, count)` over `count` rows in `threads` contiguous ranges (in this thread
-/// when one is enough).
+/// `body(first, count)` over `count` rows in `threads` contiguous ranges, the first in this
+/// thread. A range whose thread cannot be started (the system's limit) runs in this thread.
 template <class F> void in_threads(std::size_t count, int threads, F body) {
   const std::size_t t =
       std::min<std::size_t>(static_cast<std::size_t>(std::max(threads, 1)), std::max<std::size_t>(count, 1));
-  if (t == 1) {
-    body(std::size_t(0), count);
-    return;
-  }
-  std::vector<std::thread> pool;
-  pool.reserve(t - 1);
   const std::size_t chunk = (count + t - 1) / t;
+  std::vector<std::thread> pool;
+  std::vector<std::size_t> not_started;
+  pool.reserve(t - 1);
   for (std::size_t k = 1; k < t; ++k) {
     const std::size_t first = std::min(count, k * chunk), last = std::min(count, first + chunk);
-    pool.emplace_back([=] { body(first, last - first); });
+    try {
+      pool.emplace_back([=] { body(first, last - first); });
+    } catch (const std::system_error&) {
+      not_started.push_back(k);
+    }
   }
   body(std::size_t(0), std::min(count, chunk));
+  for (const std::size_t k : not_started) {
+    const std::size_t first = std::min(count, k * chunk), last = std::min(count, first + chunk);
+    body(first, last - first);
+  }
   for (auto& th : pool) th.join();
 }
 

@@ -42,11 +42,12 @@ class LoadedScene {
     run_ = std::make_unique<Run>(*scene_, file);
   }
 
-  /// One frame; its stats.jsonl record.
-  std::string step() {
+  /// One frame; its stats.jsonl record is kept as `last_record` (read after the call, so a
+  /// KeyboardInterrupt raised as the call returns loses nothing).
+  void step() {
     try {
       nb::gil_scoped_release release;
-      return run_->step().record;
+      last_record_ = run_->step().record;
     } catch (const SimulationError& e) {
       throw StepFailure(file_ + ": " + e.what());
     }
@@ -78,6 +79,7 @@ class LoadedScene {
   const Simulation& simulation() const { return scene_->simulation; }
   const std::string& file() const { return file_; }
   const std::vector<std::string>& warnings() const { return warnings_; }
+  const std::string& last_record() const { return last_record_; }
   bool is_open() const { return run_->is_open(); }
   std::string dir() const { return run_->dir().string(); }
 
@@ -87,6 +89,7 @@ class LoadedScene {
   std::unique_ptr<Run> run_;
   std::uint64_t fingerprint_ = 0;
   std::vector<std::string> warnings_;
+  std::string last_record_;
 };
 
 std::unique_ptr<LoadedScene> load(const std::string& file, std::optional<int> frames,
@@ -123,7 +126,8 @@ void bind_simulation(nb::module_& m) {
       .def_prop_ro("time", [](const LoadedScene& s) { return s.simulation().time; })
       .def_prop_ro("dt", [](const LoadedScene& s) { return s.simulation().solver.dt; })
       .def_prop_ro("file", &LoadedScene::file)
-      .def_prop_ro("warnings", &LoadedScene::warnings);
+      .def_prop_ro("warnings", &LoadedScene::warnings)
+      .def_prop_ro("last_record", &LoadedScene::last_record);
   m.def("_load", &load, nb::arg("file"), nb::arg("frames").none(), nb::arg("hessian").none(),
         nb::arg("broad_phase").none(), nb::arg("threads").none(), nb::arg("single_solve").none(),
         nb::arg("tolerance").none());

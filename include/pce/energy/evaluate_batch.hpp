@@ -15,6 +15,7 @@
 
 #include <cstddef>
 #include <limits>
+#include <type_traits>
 
 namespace pce {
 
@@ -52,6 +53,17 @@ template <class Scalar> void batch_nan_row(const BatchOutput<Scalar>& out, std::
   fill(out.eigenvalues, static_cast<std::size_t>(frame_dofs));
 }
 
+/// Whether every entry of `m` is finite. For the built-in floating types as one vectorised
+/// sum, Σ 0·mᵢⱼ, which is 0 exactly when every entry is finite (0·±∞ and 0·NaN are NaN); it
+/// costs about half of Eigen's `allFinite` per pair. Entry by entry for the other types.
+template <class Derived> bool batch_finite(const Eigen::MatrixBase<Derived>& m) {
+  using Scalar = typename Derived::Scalar;
+  if constexpr (std::is_floating_point_v<Scalar>)
+    return (m.array() * Scalar(0)).sum() == Scalar(0);
+  else
+    return all_finite(m);
+}
+
 /// The requested outputs of one evaluated pair, checked finite before anything is written
 /// (as `evaluate` checks): `overflow` and nothing written otherwise. `Energy` is any type
 /// with the `energy_gradient` / `energy_hessian` / `projected_hessian` overloads;
@@ -65,13 +77,13 @@ Status batch_store(const Energy& e, const Scalar& length, const Scalar& value, P
   VecN<Scalar, FrameDofs> lambda;
   int real = FrameDofs;
   bool finite = is_finite(length) && is_finite(value);
-  if (out.gradient) finite = all_finite(g = energy_gradient(e)) && finite;
+  if (out.gradient) finite = batch_finite(g = energy_gradient(e)) && finite;
   if (out.hessian || (out.projected && strategy == Projection::none))
-    finite = all_finite(H = energy_hessian(e)) && finite;
-  if (out.projected && strategy != Projection::none) finite = all_finite(P = projected_hessian(e, strategy)) && finite;
+    finite = batch_finite(H = energy_hessian(e)) && finite;
+  if (out.projected && strategy != Projection::none) finite = batch_finite(P = projected_hessian(e, strategy)) && finite;
   if (out.eigenvalues) {
     real = eigenvalues(e, lambda);
-    finite = all_finite(lambda.head(real)) && finite;
+    finite = batch_finite(lambda.head(real)) && finite;
   }
   if (!finite) return Status::overflow;
   const auto d = static_cast<std::size_t>(Dofs);

@@ -150,7 +150,7 @@ std::string physics_key(const std::filesystem::path& scene_file, const SceneOver
   std::string key = text.str();
   if (o.hessian) key += "\n--hessian " + *o.hessian;
   if (o.broad_phase) key += "\n--broad-phase " + std::to_string(static_cast<int>(*o.broad_phase));
-  if (o.single_solve) key += "\n--single-solve";
+  if (o.single_solve && *o.single_solve) key += "\n--single-solve";
   if (o.tolerance) key += "\n--tolerance " + json(*o.tolerance).dump();
   return key;
 }
