@@ -51,3 +51,8 @@ def pce_sim():
 @pytest.fixture(scope="session")
 def scenes():
     return REPO / "examples" / "scenes"
+
+
+@pytest.fixture(scope="session")
+def pce_bench():
+    return _require("PCE_BENCH", "benchmarks/pce-bench")

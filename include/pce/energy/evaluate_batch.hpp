@@ -80,7 +80,8 @@ Status batch_store(const Energy& e, const Scalar& length, const Scalar& value, P
   if (out.gradient) finite = batch_finite(g = energy_gradient(e)) && finite;
   if (out.hessian || (out.projected && strategy == Projection::none))
     finite = batch_finite(H = energy_hessian(e)) && finite;
-  if (out.projected && strategy != Projection::none) finite = batch_finite(P = projected_hessian(e, strategy)) && finite;
+  if (out.projected && strategy != Projection::none)
+    finite = batch_finite(P = projected_hessian(e, strategy)) && finite;
   if (out.eigenvalues) {
     real = eigenvalues(e, lambda);
     finite = batch_finite(lambda.head(real)) && finite;
@@ -101,16 +102,17 @@ Status batch_store(const Energy& e, const Scalar& length, const Scalar& value, P
 
 }  // namespace detail
 
-/// `evaluate<Pair>` for pairs `x[i·D .. i·D + D)`, i < `count` (D = `Pair::dofs`), into
-/// `out`: row i of each requested output holds pair i's, or NaN where its status is not
-/// ok. A pair whose requested outputs are not all finite (ψ included) is `overflow`.
+/// `evaluate<Pair>` for `count` pairs, pair i's D = `Pair::dofs` coordinates starting at
+/// x + i·D, into `out`: row i of each requested output holds pair i's, or NaN where its
+/// status is not ok. A pair whose requested outputs are not all finite (ψ included) is
+/// `overflow`.
 template <class Pair, class Scalar, class Length, class Penalty>
 void evaluate_batch(const Scalar* x, std::size_t count, const Length& length, const Penalty& penalty,
                     Projection strategy, const BatchOutput<Scalar>& out) {
   constexpr int D = Pair::dofs, F = Pair::frame_dofs;
-  const auto eigenvalues = [](const auto& e, VecN<Scalar, F>& v) {
+  const auto eigenvalues = [](const auto& e, VecN<Scalar, Pair::frame_dofs>& v) {
     v = energy_eigensystem(e).values;
-    return F;
+    return Pair::frame_dofs;
   };
   for (std::size_t i = 0; i < count; ++i) {
     const VecN<Scalar, D> xi = Eigen::Map<const VecN<Scalar, D>>(x + i * static_cast<std::size_t>(D));
@@ -122,9 +124,10 @@ void evaluate_batch(const Scalar* x, std::size_t count, const Length& length, co
   }
 }
 
-/// `closest_feature_energy<Pair>` (`VertexFace` or `EdgeEdge`; unsigned length) for pairs
-/// `x[12i .. 12i + 12)`, i < `count`, into `out`, with the kind evaluated in `out.feature`
-/// and the eigenvalues of that kind (9, 6 or 3, then NaN) in `out.eigenvalues` (width 9).
+/// `closest_feature_energy<Pair>` (`VertexFace` or `EdgeEdge`; unsigned length) for `count`
+/// pairs, pair i's 12 coordinates starting at x + 12i, into `out`, with the kind evaluated
+/// in `out.feature` and the eigenvalues of that kind (9, 6 or 3, then NaN) in
+/// `out.eigenvalues` (width 9).
 template <class Pair, class Scalar, class Penalty>
 void closest_feature_batch(const Scalar* x, std::size_t count, const Penalty& penalty, Projection strategy,
                            const BatchOutput<Scalar>& out) {
