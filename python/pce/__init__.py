@@ -266,7 +266,10 @@ def evaluate(
     else:
         if isinstance(outputs, str):
             outputs = (outputs,)
-        wanted = set(outputs)
+        try:
+            wanted = set(outputs)
+        except TypeError:
+            raise TypeError(f"outputs: expected names from {OUTPUTS}, got {outputs!r}") from None
         unknown = wanted.difference(OUTPUTS)
         if unknown:
             raise ValueError(f"outputs: unknown {sorted(unknown)}; expected a subset of {OUTPUTS}")
