@@ -48,9 +48,10 @@ template <class Pair> auto length() {
     return pce::UnsignedLength{};
 }
 
-/// What one benchmark measures (all include `pair_energy`, i.e. the frame, L and ψ).
+/// What one benchmark measures (all include the frame, L and ψ).
 enum class Quantity {
-  value_gradient,  ///< pair_energy + energy_gradient
+  value_only,      ///< value_only: E alone, from the lean frame
+  value_gradient,  ///< value_gradient: E and its gradient, from the lean frame
   exact_hessian,   ///< pair_energy + energy_gradient + energy_hessian
   eigensystem,     ///< pair_energy + energy_eigensystem (closed form, frame space)
   analytic,        ///< pair_energy + energy_gradient + projected_hessian(analytic)
@@ -58,10 +59,20 @@ enum class Quantity {
   exact,           ///< ... projected_hessian(exact): nearest PSD matrix via the <= 5x5 reduced problem
   gauss_newton,    ///< ... projected_hessian(gauss_newton)
   numerical,       ///< ... projected_hessian(numerical): 12x12 eigensolve + clamp (baseline)
+  batch_value_gradient,  ///< evaluate_batch over the pool (1024 pairs): value and gradient; time per pair
+  batch_exact_hessian,   ///< ... value, gradient and exact Hessian
+  batch_analytic,        ///< ... value, gradient and projected_hessian(analytic)
 };
+
+/// Whether a quantity is timed through `evaluate_batch` (per pair, in batches of kPoolSize).
+constexpr bool is_batched(Quantity q) {
+  return q == Quantity::batch_value_gradient || q == Quantity::batch_exact_hessian || q == Quantity::batch_analytic;
+}
 
 inline const char* to_string(Quantity q) {
   switch (q) {
+    case Quantity::value_only:
+      return "value_only";
     case Quantity::value_gradient:
       return "value_gradient";
     case Quantity::exact_hessian:
@@ -78,14 +89,22 @@ inline const char* to_string(Quantity q) {
       return "gauss_newton";
     case Quantity::numerical:
       return "numerical";
+    case Quantity::batch_value_gradient:
+      return "batch_value_gradient";
+    case Quantity::batch_exact_hessian:
+      return "batch_exact_hessian";
+    case Quantity::batch_analytic:
+      return "batch_analytic";
   }
   return "unknown";
 }
 
 /// Registration order within one (pair, scalar): cheap to expensive, PSD strategies last.
-inline constexpr Quantity kQuantities[] = {Quantity::value_gradient, Quantity::exact_hessian, Quantity::eigensystem,
-                                           Quantity::analytic,       Quantity::abs,           Quantity::exact,
-                                           Quantity::gauss_newton,   Quantity::numerical};
+inline constexpr Quantity kQuantities[] = {Quantity::value_only, Quantity::value_gradient, Quantity::exact_hessian,
+                                           Quantity::eigensystem, Quantity::analytic,      Quantity::abs,
+                                           Quantity::exact,       Quantity::gauss_newton,  Quantity::numerical,
+                                           Quantity::batch_value_gradient, Quantity::batch_exact_hessian,
+                                           Quantity::batch_analytic};
 
 template <class Scalar> constexpr const char* scalar_name();
 template <> constexpr const char* scalar_name<float>() { return "float"; }
@@ -271,6 +290,8 @@ inline pce::Projection projection_of(Quantity q) {
       return pce::Projection::gauss_newton;
     case Quantity::numerical:
       return pce::Projection::numerical;
+    case Quantity::batch_analytic:
+      return pce::Projection::analytic;
     default:
       return pce::Projection::none;
   }
@@ -283,10 +304,49 @@ template <class Pair, class Scalar, Quantity Q> void bench_pair(benchmark::State
   const std::vector<detail::X<Pair, Scalar>>& xs = pool<Pair, Scalar>().x;
   const auto len = length<Pair>();
   const auto pen = penalty();
+  if constexpr (is_batched(Q)) {
+    // the whole pool per call, into outputs allocated once; KeepRunningBatch counts its pairs,
+    // so the reported time is per pair
+    constexpr int D = Pair::dofs;
+    std::vector<Scalar> x(kPoolSize * D), value(kPoolSize), gradient(kPoolSize * D), hessian;
+    std::vector<pce::Status> status(kPoolSize);
+    for (std::size_t i = 0; i < kPoolSize; ++i)
+      for (int c = 0; c < D; ++c) x[i * D + c] = xs[i][c];
+    if (Q != Quantity::batch_value_gradient) hessian.resize(kPoolSize * D * D);
+    pce::BatchOutput<Scalar> out;
+    out.status = status.data();
+    out.value = value.data();
+    out.gradient = gradient.data();
+    if (Q == Quantity::batch_exact_hessian) out.hessian = hessian.data();
+    if (Q == Quantity::batch_analytic) out.projected = hessian.data();
+    while (state.KeepRunningBatch(static_cast<benchmark::IterationCount>(kPoolSize))) {
+      pce::evaluate_batch<Pair>(x.data(), kPoolSize, len, pen, projection_of(Q), out);
+      benchmark::ClobberMemory();
+    }
+    for (const pce::Status s : status)
+      if (s != pce::Status::ok) state.SkipWithError("a pool pair is not ok in evaluate_batch");
+    state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+    return;
+  }
   std::size_t i = 0;
   for (auto _ : state) {
     const detail::X<Pair, Scalar>& x = xs[i];
     i = (i + 1) & (kPoolSize - 1);
+    if constexpr (Q == Quantity::value_only) {
+      Scalar v = 0;
+      pce::Status s = pce::value_only<Pair>(x, len, pen, v);
+      benchmark::DoNotOptimize(s);
+      benchmark::DoNotOptimize(v);
+      continue;
+    } else if constexpr (Q == Quantity::value_gradient) {
+      Scalar v = 0;
+      detail::X<Pair, Scalar> g;
+      pce::Status s = pce::value_gradient<Pair>(x, len, pen, v, g);
+      benchmark::DoNotOptimize(s);
+      benchmark::DoNotOptimize(v);
+      benchmark::DoNotOptimize(g);
+      continue;
+    }
     typename Pair::template Energy<Scalar> e;
     pce::Status s = pce::pair_energy<Pair>(x, len, pen, e);
     benchmark::DoNotOptimize(s);
@@ -312,6 +372,7 @@ template <class Pair, class Scalar, Quantity Q> void bench_pair(benchmark::State
 template <class Pair, class Scalar> void register_scalar() {
   using Fn = void (*)(benchmark::State&);
   const Fn fns[] = {
+      &bench_pair<Pair, Scalar, Quantity::value_only>,
       &bench_pair<Pair, Scalar, Quantity::value_gradient>,
       &bench_pair<Pair, Scalar, Quantity::exact_hessian>,
       &bench_pair<Pair, Scalar, Quantity::eigensystem>,
@@ -320,6 +381,9 @@ template <class Pair, class Scalar> void register_scalar() {
       &bench_pair<Pair, Scalar, Quantity::exact>,
       &bench_pair<Pair, Scalar, Quantity::gauss_newton>,
       &bench_pair<Pair, Scalar, Quantity::numerical>,
+      &bench_pair<Pair, Scalar, Quantity::batch_value_gradient>,
+      &bench_pair<Pair, Scalar, Quantity::batch_exact_hessian>,
+      &bench_pair<Pair, Scalar, Quantity::batch_analytic>,
   };
   static_assert(sizeof(fns) / sizeof(fns[0]) == sizeof(kQuantities) / sizeof(kQuantities[0]));
   for (std::size_t k = 0; k < sizeof(fns) / sizeof(fns[0]); ++k)

@@ -150,11 +150,53 @@ void print_ratios(std::ostream& os, const Collected& c, bool cpu) {
   os.flush();
 }
 
+/// Batched (evaluate_batch over 1024 pairs, a packet of pairs at a time) against the same
+/// outputs one pair at a time: single ns / batched ns per pair.
+void print_batch_ratios(std::ostream& os, const Collected& c, bool cpu) {
+  const char* pairs[] = {"vertex_face", "edge_edge", "point_edge", "point_point"};
+  const char* scalars[] = {"double", "float"};
+  const char* rows[][2] = {{"value_gradient", "batch_value_gradient"},
+                           {"exact_hessian", "batch_exact_hessian"},
+                           {"analytic", "batch_analytic"}};
+  char line[512];
+  bool header = false;
+  for (const char* p : pairs)
+    for (const char* s : scalars) {
+      std::string cells;
+      bool any = false;
+      for (const auto& r : rows) {
+        double one = 0, batch = 0;
+        const bool ok = c.get(std::string(p) + "/" + r[0] + "/" + s, cpu, one) &&
+                        c.get(std::string(p) + "/" + r[1] + "/" + s, cpu, batch);
+        char cell[64];
+        if (ok)
+          std::snprintf(cell, sizeof cell, " %9.1f %9.1f %7.2fx", one, batch, one / batch);
+        else
+          std::snprintf(cell, sizeof cell, " %9s %9s %8s", "n/a", "n/a", "n/a");
+        cells += cell;
+        any = any || ok;
+      }
+      if (!any) continue;
+      if (!header) {
+        os << "\nBatched (evaluate_batch, 1024 pairs, " << (cpu ? "CPU" : "real")
+           << " time per pair) against one pair at a time, the same outputs:\n";
+        std::snprintf(line, sizeof line, "%-12s %-7s %9s %9s %8s %9s %9s %8s %9s %9s %8s\n", "pair", "scalar",
+                      "vg ns", "batch", "speedup", "hess ns", "batch", "speedup", "analyt ns", "batch", "speedup");
+        os << line;
+        header = true;
+      }
+      std::snprintf(line, sizeof line, "%-12s %-7s%s\n", p, s, cells.c_str());
+      os << line;
+    }
+  os.flush();
+}
+
 /// The real-time table; when real time exceeded CPU time noticeably (other processes
 /// took the CPU), also the CPU-time table, which is then the better estimate.
 void print_summary(std::ostream& os, const Collected& c) {
   if (c.single.empty() && c.best.empty()) return;  // nothing ran (--benchmark_list_tests, empty filter)
   print_ratios(os, c, false);
+  print_batch_ratios(os, c, false);
   if (c.worst_real_over_cpu > 1.1) {
     char line[512];
     std::snprintf(line, sizeof line,
@@ -165,6 +207,7 @@ void print_summary(std::ostream& os, const Collected& c) {
                   100.0 * (c.worst_real_over_cpu - 1.0), c.worst_name.c_str());
     os << line;
     print_ratios(os, c, true);
+    print_batch_ratios(os, c, true);
   }
 }
 

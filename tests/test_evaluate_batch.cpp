@@ -127,6 +127,121 @@ template <class Scalar> void check_all_kinds() {
 TEST(EvaluateBatch, RowsEqualEvaluateBitForBitDouble) { check_all_kinds<double>(); }
 TEST(EvaluateBatch, RowsEqualEvaluateBitForBitFloat) { check_all_kinds<float>(); }
 
+/// The outputs `evaluate_lanes` computes (no eigenvalues; `none`, `analytic` or `abs`), so the
+/// batch runs a packet at a time: every row against `evaluate`, bit for bit, on a batch whose
+/// count is not a multiple of the packet width and whose hard rows (degenerate, NaN, huge,
+/// tiny or huge but valid primitives that need rescaling, a vertex on the plane) fall in
+/// different lanes, so that lanes of one packet take different paths.
+template <class Pair, class Scalar> void check_vectorised(int& ok_rows) {
+  constexpr int D = 12;
+  const int n = 45;
+  std::vector<Scalar> x = pairs<Scalar>(D, n, 17);
+  const auto row = [&](int i) { return x.data() + static_cast<std::ptrdiff_t>(i) * D; };
+  for (int c = 0; c < D; ++c) row(9)[c] *= Scalar(std::ldexp(1.0, -40));  // rescaled (float and double)
+  for (int c = 0; c < D; ++c) row(14)[c] *= Scalar(std::ldexp(1.0, 40));
+  for (int c = 0; c < D; ++c) row(20)[c] *= Scalar(std::ldexp(1.0, -135));  // rescaled in double only
+  for (int j = 0; j < 3; ++j) row(27)[6 + j] = row(27)[3 + j];                // degenerate
+  row(30)[11] = std::numeric_limits<Scalar>::infinity();
+  for (int j = 0; j < 3; ++j) row(33)[j] = (row(33)[3 + j] + row(33)[6 + j]) / Scalar(2);  // on an edge: l = 0
+  const pce::QuadraticPenalty quadratic{10.0, 0.2};
+  const pce::LogBarrierPenalty barrier{10.0, 0.2};
+  const pce::Projection strategies[] = {pce::Projection::none, pce::Projection::analytic, pce::Projection::abs};
+  for (pce::Projection p : strategies) {
+    const auto check = [&](const auto& length, const auto& penalty) {
+      Buffers<Scalar> b(n, D, 9);
+      pce::BatchOutput<Scalar> out = b.all();
+      out.eigenvalues = nullptr;
+      pce::evaluate_batch<Pair>(x.data(), static_cast<std::size_t>(n), length, penalty, p, out);
+      for (int i = 0; i < n; ++i) {
+        SCOPED_TRACE(::testing::Message() << Pair::name << " row " << i << " " << pce::to_string(p));
+        pce::PairResult<Scalar, D, 9> r;
+        const pce::Status s = pce::evaluate<Pair>(pce::Vec12<Scalar>(Eigen::Map<const pce::Vec12<Scalar>>(row(i))),
+                                                  length, penalty, p, r);
+        ASSERT_EQ(b.status[i], s);
+        if (s != pce::Status::ok) {
+          EXPECT_TRUE(std::isnan(b.value[i]) && all_nan(&b.projected[i * D * D], D * D));
+          continue;
+        }
+        ++ok_rows;
+        const Eigen::Matrix<Scalar, D, D, Eigen::RowMajor> H = r.hessian, P = r.projected_hessian;
+        EXPECT_TRUE(same_bits(&b.length[i], &r.length, 1));
+        EXPECT_TRUE(same_bits(&b.value[i], &r.value, 1));
+        EXPECT_TRUE(same_bits(&b.gradient[i * D], r.gradient.data(), D));
+        EXPECT_TRUE(same_bits(&b.hessian[i * D * D], H.data(), D * D));
+        EXPECT_TRUE(same_bits(&b.projected[i * D * D], P.data(), D * D));
+      }
+    };
+    check(pce::UnsignedLength{}, quadratic);
+    check(pce::UnsignedLength{}, barrier);
+    check(pce::SignedLength{pce::Side::negative}, quadratic);
+    check(pce::SignedLength{pce::Side::positive}, barrier);
+  }
+}
+
+TEST(EvaluateBatch, VectorisedRowsEqualEvaluateBitForBit) {
+  // x86-64 always has SSE2, so these run two doubles or four floats per packet
+  EXPECT_GE(pce::lanes_width<double>, 2);
+  EXPECT_GE(pce::lanes_width<float>, 4);
+  int ok_rows = 0;
+  check_vectorised<pce::VertexFace, double>(ok_rows);
+  check_vectorised<pce::EdgeEdge, double>(ok_rows);
+  check_vectorised<pce::VertexFace, float>(ok_rows);
+  check_vectorised<pce::EdgeEdge, float>(ok_rows);
+  EXPECT_GT(ok_rows, 1000);
+}
+
+/// Rows of wildly different sizes (coordinates ±10^[−40, 40], zeros, repeated points, a point
+/// on the plane, ∞ and NaN), so that lanes of one packet take every path: each row bit for bit
+/// `evaluate`'s, in float and double.
+template <class Pair, class Scalar> void check_hard_mix(int& ok_rows) {
+  constexpr int D = 12;
+  const int n = 2003;
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), ex(-40.0, 40.0), pick(0.0, 1.0);
+  std::vector<Scalar> x(static_cast<std::size_t>(n * D));
+  for (int i = 0; i < n; ++i) {
+    Scalar* r = x.data() + static_cast<std::ptrdiff_t>(i) * D;
+    const double scale = std::pow(10.0, pick(rng) < 0.5 ? 0.0 : ex(rng));
+    for (int c = 0; c < D; ++c) r[c] = static_cast<Scalar>(u(rng) * scale);
+    const double what = pick(rng);
+    if (what < 0.03) r[5] = Scalar(0);
+    else if (what < 0.06) for (int j = 0; j < 3; ++j) r[6 + j] = r[3 + j];
+    else if (what < 0.08) r[9] = std::numeric_limits<Scalar>::infinity();
+    else if (what < 0.10) r[2] = std::numeric_limits<Scalar>::quiet_NaN();
+    else if (what < 0.13) for (int j = 0; j < 3; ++j) r[j] = r[3 + j] + (r[6 + j] - r[3 + j]) / Scalar(3);
+  }
+  const pce::QuadraticPenalty quadratic{1.0, 0.5};
+  for (pce::Projection p : {pce::Projection::analytic, pce::Projection::abs}) {
+    Buffers<Scalar> b(n, D, 9);
+    pce::BatchOutput<Scalar> out = b.all();
+    out.eigenvalues = nullptr;
+    pce::evaluate_batch<Pair>(x.data(), static_cast<std::size_t>(n), pce::UnsignedLength{}, quadratic, p, out);
+    for (int i = 0; i < n; ++i) {
+      pce::PairResult<Scalar, D, 9> r;
+      const pce::Status s = pce::evaluate<Pair>(
+          pce::Vec12<Scalar>(Eigen::Map<const pce::Vec12<Scalar>>(x.data() + static_cast<std::ptrdiff_t>(i) * D)),
+          pce::UnsignedLength{}, quadratic, p, r);
+      ASSERT_EQ(b.status[i], s) << Pair::name << " row " << i;
+      if (s != pce::Status::ok) continue;
+      ++ok_rows;
+      const Eigen::Matrix<Scalar, D, D, Eigen::RowMajor> H = r.hessian, P = r.projected_hessian;
+      EXPECT_TRUE(same_bits(&b.value[i], &r.value, 1) && same_bits(&b.gradient[i * D], r.gradient.data(), D) &&
+                  same_bits(&b.hessian[i * D * D], H.data(), D * D) &&
+                  same_bits(&b.projected[i * D * D], P.data(), D * D))
+          << Pair::name << " row " << i;
+    }
+  }
+}
+
+TEST(EvaluateBatch, VectorisedHardMixEqualsEvaluateBitForBit) {
+  int ok_rows = 0;
+  check_hard_mix<pce::VertexFace, double>(ok_rows);
+  check_hard_mix<pce::EdgeEdge, double>(ok_rows);
+  check_hard_mix<pce::VertexFace, float>(ok_rows);
+  check_hard_mix<pce::EdgeEdge, float>(ok_rows);
+  EXPECT_GT(ok_rows, 8000);
+}
+
 TEST(EvaluateBatch, StatusesOfHardRows) {
   const std::vector<double> x = pairs<double>(12, 4, 3);
   std::vector<pce::Status> status(4);

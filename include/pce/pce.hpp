@@ -45,6 +45,7 @@
 #include <pce/energy/point_edge_energy.hpp>
 #include <pce/energy/point_point_energy.hpp>
 #include <pce/energy/psd_projection.hpp>
+#include <pce/energy/value_gradient.hpp>
 #include <pce/frames/edge_edge.hpp>
 #include <pce/frames/frame.hpp>
 #include <pce/frames/point_edge.hpp>

@@ -8,6 +8,18 @@
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
+
+/// Forces a small per-pair function into its caller, so that a pair's values stay in registers
+/// from the frame to the outputs (an out-of-line call stores them to the stack and reloads
+/// them as wider packets, which stalls store forwarding).
+#if defined(__GNUC__) || defined(__clang__)
+#define PCE_ALWAYS_INLINE __attribute__((always_inline)) inline
+#elif defined(_MSC_VER)
+#define PCE_ALWAYS_INLINE __forceinline
+#else
+#define PCE_ALWAYS_INLINE inline
+#endif
 
 namespace pce {
 
@@ -81,14 +93,29 @@ template <class Scalar> inline bool is_finite(const Scalar& v) {
   return isfinite(v);
 }
 
+/// Whether every argument is finite: for the built-in floating types one sum `Σ 0·vᵢ`, which is
+/// 0 exactly when each vᵢ is finite (0·±∞ and 0·NaN are NaN), without a branch per value.
+template <class Scalar, class... More> PCE_ALWAYS_INLINE bool finite_all(const Scalar& v, const More&... more) {
+  if constexpr (std::is_floating_point_v<Scalar>)
+    return ((Scalar(0) * v) + ... + (Scalar(0) * Scalar(more))) == Scalar(0);
+  else
+    return (is_finite(v) && ... && is_finite(Scalar(more)));
+}
+
 /// `invalid_input` unless every coordinate is finite and within `max_coordinate`.
-template <class Derived> inline bool coordinates_valid(const Eigen::MatrixBase<Derived>& x) {
+template <class Derived> PCE_ALWAYS_INLINE bool coordinates_valid(const Eigen::MatrixBase<Derived>& x) {
   using std::abs;
   using Scalar = typename Derived::Scalar;
   const Scalar lim = Constants<Scalar>::max_coordinate();
-  for (Eigen::Index i = 0; i < x.size(); ++i)
-    if (!is_finite(x[i]) || abs(x[i]) > lim) return false;
-  return true;
+  if constexpr (std::is_floating_point_v<Scalar> && Derived::SizeAtCompileTime != Eigen::Dynamic) {
+    // two vectorised reductions: Σ 0·xᵢ = 0 iff all are finite, then the largest |xᵢ|
+    const auto a = x.derived().array();
+    return (a * Scalar(0)).sum() == Scalar(0) && a.abs().maxCoeff() <= lim;
+  } else {
+    bool ok = true;  // |x| <= lim is false for NaN and ±∞
+    for (Eigen::Index i = 0; i < x.size(); ++i) ok = ok & bool(abs(x[i]) <= lim);
+    return ok;
+  }
 }
 
 template <class Derived> inline bool all_finite(const Eigen::MatrixBase<Derived>& m) {

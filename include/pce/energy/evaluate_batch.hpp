@@ -2,14 +2,26 @@
 /// @file
 /// Batched evaluation: `evaluate` (or closest-feature evaluation) of `count` pairs held in
 /// one array, each output written into a caller-owned row-major array. Row `i` of every
-/// output is what the single-pair functions give for pair `i`, bit for bit: the loop calls
-/// `pair_energy` (or `closest_feature_energy`) and then only the functions whose outputs
-/// were asked for. Serial; callers thread it by handing disjoint row ranges to threads (the
-/// Python module does). No heap allocation.
+/// output is what the single-pair functions give for pair `i`, bit for bit.
+///
+/// For the plane kinds, when the outputs are among the length, value, gradient, exact Hessian
+/// and a projection by `analytic`, `abs` or `none`, the pairs go through a packet at a time,
+/// one per SIMD lane (`core/lanes.hpp`: 2 doubles or 4 floats with SSE2): the frame, the
+/// gradient and the Hessians run the same templated arithmetic as the single-pair functions
+/// (`frames/frame.hpp`, `energy/plane_assembly.hpp`), and ψ is the penalty's own scalar code,
+/// lane by lane, so the bits are the same. (Compiled with floating-point contraction into FMAs,
+/// e.g. `-march=native` with GCC's default `-ffp-contract=fast`, the two may contract
+/// differently and agree to rounding only.) A lane that the single-pair path would rescale, or
+/// orthogonalise twice, or that is not `ok`, is evaluated again by the single-pair functions.
+/// Otherwise the loop calls `pair_energy` (or `closest_feature_energy`) and then only the
+/// functions whose outputs were asked for. Serial; callers thread it by handing disjoint row
+/// ranges to threads (the Python module does). No heap allocation.
 #pragma once
 
+#include <pce/core/lanes.hpp>
 #include <pce/energy/closest_feature.hpp>
 #include <pce/energy/pair_energy.hpp>
+#include <pce/energy/plane_assembly.hpp>
 #include <pce/energy/point_edge_energy.hpp>
 #include <pce/energy/point_point_energy.hpp>
 
@@ -100,6 +112,192 @@ Status batch_store(const Energy& e, const Scalar& length, const Scalar& value, P
   return Status::ok;
 }
 
+/// Row `i` of `evaluate_batch` by the single-pair functions.
+template <class Pair, class Scalar, class Length, class Penalty>
+void batch_row(const Scalar* x, std::size_t i, const Length& length, const Penalty& penalty, Projection strategy,
+               const BatchOutput<Scalar>& out) {
+  constexpr int D = Pair::dofs, F = Pair::frame_dofs;
+  const auto eigenvalues = [](const auto& e, VecN<Scalar, Pair::frame_dofs>& v) {
+    v = energy_eigensystem(e).values;
+    return Pair::frame_dofs;
+  };
+  const VecN<Scalar, D> xi = Eigen::Map<const VecN<Scalar, D>>(x + i * static_cast<std::size_t>(D));
+  typename Pair::template Energy<Scalar> e;
+  Status s = pair_energy<Pair>(xi, length, penalty, e);
+  if (s == Status::ok) s = batch_store<D, F>(e, e.length, e.psi.value, strategy, out, i, eigenvalues);
+  if (s != Status::ok) batch_nan_row(out, i, D, F);
+  if (out.status) out.status[i] = s;
+}
+
+/// Whether `evaluate_batch` evaluates these pairs a packet at a time (`evaluate_lanes`): the plane
+/// kinds, a scalar Eigen vectorises, valid penalty parameters, and outputs the lanes compute (not
+/// the eigenvalues; a projection only by `analytic`, `abs` or `none`).
+template <class Pair, class Scalar, class Penalty>
+bool batch_vectorises(const Penalty& penalty, Projection strategy, const BatchOutput<Scalar>& out) {
+  if constexpr (!(std::is_same_v<Pair, VertexFace> || std::is_same_v<Pair, EdgeEdge>) ||
+                !std::is_floating_point_v<Scalar> || lanes_width<Scalar> < 2) {
+    (void)penalty, (void)strategy, (void)out;
+    return false;
+  } else {
+    if (!penalty_valid(penalty) || out.eigenvalues) return false;
+    return !out.projected || strategy == Projection::analytic || strategy == Projection::abs ||
+           strategy == Projection::none;
+  }
+}
+
+/// Index of entry (r, c) of a symmetric 12×12 matrix in `UpperTriangle12`.
+constexpr int upper_index(int r, int c) {
+  const int lo = r < c ? r : c, hi = r < c ? c : r;
+  return lo * 12 - lo * (lo - 1) / 2 + (hi - lo);
+}
+
+/// Pairs `first … first + W − 1` (W = `lanes_width<Scalar>`), one per lane of `Lanes<Scalar>`,
+/// through the same arithmetic as the single-pair functions (`frame_arithmetic`, the penalty
+/// lane by lane, `plane_exact_hessian`, `plane_filtered_hessian`). A lane is finished here only
+/// if its single-pair evaluation would take the same path and end `ok`: valid coordinates,
+/// edges of moderate size (no rescaling), a frame with one Gram–Schmidt pass, ψ defined and
+/// finite, finite outputs. Returns the bits of the lanes it left for the scalar path.
+template <class Pair, class Scalar, class Length, class Penalty>
+unsigned evaluate_lanes(const Scalar* x, std::size_t first, const Length& length, const Penalty& penalty,
+                        Projection strategy, const BatchOutput<Scalar>& out) {
+  using T = Lanes<Scalar>;
+  constexpr int W = lanes_width<Scalar>;
+  constexpr unsigned every = (1u << W) - 1u;
+  const T zero(Scalar(0));
+  T X[12];
+  for (int c = 0; c < 12; ++c) X[c] = T::gather(x + first * 12 + c, 12);
+  const T lim(Constants<Scalar>::max_coordinate());
+  auto ok = abs(X[0]) <= lim;
+  for (int c = 1; c < 12; ++c) ok = ok && (abs(X[c]) <= lim);
+  const Mat34<Scalar> D = Pair::template edge_map<Scalar>();
+  T e[3][3];
+  for (int k = 0; k < 3; ++k) {
+    int head = 0, tail = 0;
+    for (int j = 0; j < 4; ++j) {
+      if (D(k, j) > Scalar(0)) head = j;
+      if (D(k, j) < Scalar(0)) tail = j;
+    }
+    for (int i = 0; i < 3; ++i) e[k][i] = X[3 * head + i] - X[3 * tail + i];
+  }
+  T big = zero;
+  for (int k = 0; k < 2; ++k)
+    for (int i = 0; i < 3; ++i) big = select(abs(e[k][i]) > big, abs(e[k][i]), big);
+  const Scalar bound = unit_scale_bound<Scalar>();
+  ok = ok && (big > zero) && (big >= T(Scalar(1) / bound)) && (big <= T(bound));
+  FrameArithmetic<T> a;
+  frame_arithmetic(e, a);
+  PlaneValues<T> f;
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 4; ++j) f.P[k][j] = frame_coefficient(D, k, j, a.alpha, a.beta, a.gamma);
+  ok = ok && (a.mm > zero) && (a.a00 > zero) && (a.nb2 > zero) && (a.nb2 > T(Scalar(0.25)) * a.mm);
+  T z = ((zero * a.alpha + zero * a.beta) + (zero * a.gamma + zero * a.ls));
+  for (int j = 0; j < 4; ++j) z = z + zero * f.P[2][j];
+  ok = ok && (z == zero);
+  for (int i = 0; i < 3; ++i) f.n[i] = a.n[i], f.t[0][i] = a.t0[i], f.t[1][i] = a.t1[i];
+  f.l = a.ls;
+  f.a[0] = a.a0s;
+  f.a[1] = a.a1s;
+  T sigma;
+  if constexpr (is_signed_length<Length>())
+    sigma = T(length.side == Side::negative ? Scalar(-1) : Scalar(1));
+  else
+    sigma = select(f.l < zero, T(Scalar(-1)), T(Scalar(1)));
+  const T L = sigma * f.l;
+  // ψ lane by lane, by the penalty's own scalar code (user penalties need nothing more)
+  unsigned bits = mask_bits(ok);
+  alignas(64) Scalar Ls[W], pv[W], p1[W], p2[W];
+  L.store(Ls);
+  for (int i = 0; i < W; ++i) {
+    pv[i] = p1[i] = p2[i] = Scalar(0);
+    PenaltyDerivatives<Scalar> psi;
+    if (!((bits >> i) & 1u) || evaluate_penalty(penalty, Ls[i], psi) != Status::ok) {
+      bits &= ~(1u << i);
+      continue;
+    }
+    pv[i] = psi.value, p1[i] = psi.first, p2[i] = psi.second;
+  }
+  if (bits == 0) return every;
+  const T value = T::gather(pv, 1), psi2 = T::gather(p2, 1);
+  const T c1 = sigma * T::gather(p1, 1);
+  // Finiteness: a sum of the entries is finite whenever each is; a finite sum that overflows
+  // only sends the lane to the scalar path, which decides. Four independent sums.
+  const auto add_all = [&zero](const T* v, int n) {
+    T s0 = zero, s1 = zero, s2 = zero, s3 = zero;
+    int i = 0;
+    for (; i + 4 <= n; i += 4) s0 = s0 + v[i], s1 = s1 + v[i + 1], s2 = s2 + v[i + 2], s3 = s3 + v[i + 3];
+    for (; i < n; ++i) s0 = s0 + v[i];
+    return (s0 + s1) + (s2 + s3);
+  };
+  T fin = L + value;
+  T g[12];
+  if (out.gradient) {
+    for (int j = 0; j < 4; ++j) {
+      const T cj = c1 * f.P[2][j];
+      for (int i = 0; i < 3; ++i) g[3 * j + i] = cj * a.m_hat[i];
+    }
+    fin = fin + add_all(g, 12);
+  }
+  const bool want_h = out.hessian || (out.projected && strategy == Projection::none);
+  const bool want_p = out.projected && strategy != Projection::none;
+  UpperTriangle12<T> H, Pr;
+  if (want_h) {
+    plane_exact_hessian(f, c1, psi2, H);
+    fin = fin + add_all(H.h, 78);
+  }
+  if (want_p) {
+    plane_filtered_hessian(f, c1, psi2, strategy == Projection::abs, T(family_big_t<Scalar>()), Pr);
+    fin = fin + add_all(Pr.h, 78);
+  }
+  bits &= mask_bits(zero * fin == zero);
+  // Every lane's rows are written; those of the lanes left to the scalar path are written
+  // again there (outputs or NaN), so nothing of them stays.
+  const auto lane_rows = [&](Scalar* dst, std::size_t width, std::size_t offset, Scalar* (&ptr)[W]) {
+    for (int p = 0; p < W; ++p) ptr[p] = dst + (first + static_cast<std::size_t>(p)) * width + offset;
+  };
+  const auto matrix_rows = [&](const UpperTriangle12<T>& tri, Scalar* dst) {
+    if constexpr (12 % W == 0) {
+      for (int r = 0; r < 12; ++r)
+        for (int c0 = 0; c0 < 12; c0 += W) {
+          T v[W];
+          for (int k = 0; k < W; ++k) v[k] = tri.h[upper_index(r, c0 + k)];
+          Scalar* ptr[W];
+          lane_rows(dst, 144, static_cast<std::size_t>(12 * r + c0), ptr);
+          store_transposed(v, ptr);
+        }
+    } else {
+      alignas(64) Scalar tmp[78][W];
+      for (int idx = 0; idx < 78; ++idx) tri.h[idx].store(tmp[idx]);
+      for (int p = 0; p < W; ++p) {
+        Scalar* row = dst + (first + static_cast<std::size_t>(p)) * 144;
+        int idx = 0;
+        for (int r = 0; r < 12; ++r)
+          for (int c = r; c < 12; ++c, ++idx) row[12 * r + c] = row[12 * c + r] = tmp[idx][p];
+      }
+    }
+  };
+  if (out.length) L.store(out.length + first);
+  if (out.value) value.store(out.value + first);
+  if (out.gradient) {
+    if constexpr (12 % W == 0) {
+      for (int c0 = 0; c0 < 12; c0 += W) {
+        Scalar* ptr[W];
+        lane_rows(out.gradient, 12, static_cast<std::size_t>(c0), ptr);
+        store_transposed(g + c0, ptr);
+      }
+    } else {
+      alignas(64) Scalar tmp[12][W];
+      for (int c = 0; c < 12; ++c) g[c].store(tmp[c]);
+      for (int p = 0; p < W; ++p)
+        for (int c = 0; c < 12; ++c) out.gradient[(first + static_cast<std::size_t>(p)) * 12 + c] = tmp[c][p];
+    }
+  }
+  if (out.hessian) matrix_rows(H, out.hessian);
+  if (out.projected) matrix_rows(want_p ? Pr : H, out.projected);
+  if (out.status)
+    for (int p = 0; p < W; ++p) out.status[first + static_cast<std::size_t>(p)] = Status::ok;
+  return every & ~bits;
+}
+
 }  // namespace detail
 
 /// `evaluate<Pair>` for `count` pairs, pair i's D = `Pair::dofs` coordinates starting at
@@ -109,19 +307,17 @@ Status batch_store(const Energy& e, const Scalar& length, const Scalar& value, P
 template <class Pair, class Scalar, class Length, class Penalty>
 void evaluate_batch(const Scalar* x, std::size_t count, const Length& length, const Penalty& penalty,
                     Projection strategy, const BatchOutput<Scalar>& out) {
-  constexpr int D = Pair::dofs, F = Pair::frame_dofs;
-  const auto eigenvalues = [](const auto& e, VecN<Scalar, Pair::frame_dofs>& v) {
-    v = energy_eigensystem(e).values;
-    return Pair::frame_dofs;
-  };
-  for (std::size_t i = 0; i < count; ++i) {
-    const VecN<Scalar, D> xi = Eigen::Map<const VecN<Scalar, D>>(x + i * static_cast<std::size_t>(D));
-    typename Pair::template Energy<Scalar> e;
-    Status s = pair_energy<Pair>(xi, length, penalty, e);
-    if (s == Status::ok) s = detail::batch_store<D, F>(e, e.length, e.psi.value, strategy, out, i, eigenvalues);
-    if (s != Status::ok) detail::batch_nan_row(out, i, D, F);
-    if (out.status) out.status[i] = s;
+  std::size_t i = 0;
+  if constexpr (std::is_same_v<Pair, VertexFace> || std::is_same_v<Pair, EdgeEdge>) {
+    constexpr std::size_t W = static_cast<std::size_t>(lanes_width<Scalar>);
+    if (detail::batch_vectorises<Pair>(penalty, strategy, out))
+      for (; i + W <= count; i += W) {
+        const unsigned left = detail::evaluate_lanes<Pair>(x, i, length, penalty, strategy, out);
+        for (std::size_t k = 0; k < W; ++k)
+          if ((left >> k) & 1u) detail::batch_row<Pair>(x, i + k, length, penalty, strategy, out);
+      }
   }
+  for (; i < count; ++i) detail::batch_row<Pair>(x, i, length, penalty, strategy, out);
 }
 
 /// `closest_feature_energy<Pair>` (`VertexFace` or `EdgeEdge`; unsigned length) for `count`

@@ -21,6 +21,7 @@
 #pragma once
 
 #include <pce/core/jacobi.hpp>
+#include <pce/energy/plane_assembly.hpp>
 #include <pce/energy/plane_eigenpairs.hpp>
 #include <pce/frames/frame.hpp>
 
@@ -96,15 +97,15 @@ template <class Scalar> struct PlaneReducedProblem {
   }
 };
 
-/// Exact projection of a plane kind's Hessian `Jᵀ(c2 ggᵀ + c1 H_l)J` (c1 = σψ′, c2 = ψ″);
-/// `hessian_terms()` returns the terms that Hessian is the sum of (`energy_hessian`), and is
+/// Exact projection of a plane kind's Hessian `Jᵀ(c2 ggᵀ + c1 H_l)J` (c1 = σψ′, c2 = ψ″) into `out`;
+/// `hessian_terms(H)` adds the terms that Hessian is the sum of (`energy_hessian`) into `H`, and is
 /// called only when they are used: when σψ′ ≠ 0 and ψ″ ≥ 0, S has exactly two negative
 /// eigenvalues (§9.3) and the result is `∇²E − Σ λ_k (Q q_k)(Q q_k)ᵀ` from
 /// `plane_negative_eigenpairs`; otherwise, or if that cannot prove its answer,
 /// `Q proj(S) Qᵀ` by the QR algorithm.
-template <class Scalar, class HessianTerms> Mat12<Scalar> exact_projection(const Frame<Scalar>& f, const Scalar& c1,
-                                                                           const Scalar& c2,
-                                                                           const HessianTerms& hessian_terms) {
+template <class Scalar, class HessianTerms>
+void exact_projection(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2, const HessianTerms& hessian_terms,
+                      Mat12<Scalar>& out) {
   static const Eigen::Matrix<Scalar, 3, 4> h = helmert_basis<Scalar, 4>();
   const PlaneReducedProblem<Scalar> pr(f, c1, c2);
   const Eigen::Matrix<Scalar, 1, 4> p2 = f.P.row(2) / pr.p2_norm;
@@ -120,14 +121,16 @@ template <class Scalar, class HessianTerms> Mat12<Scalar> exact_projection(const
     Scalar lambda[2];
     VecN<Scalar, 5> q[2];
     if (plane_negative_eigenpairs(pr.R, pr.d, pr.e, lambda, q)) {
-      SymmetricSum<Scalar, 12> hessian = hessian_terms();
+      DenseSymmetric12<Scalar> hessian{out};
+      hessian_terms(hessian);
       for (int k = 0; k < 2; ++k) hessian.rank_one(Scalar(-lambda[k]), to_x(q[k]));
-      return hessian.matrix();
+      hessian.mirror();
+      return;
     }
   }
   Eigen::Matrix<Scalar, 12, 5> Q;
   for (int i = 0; i < 5; ++i) Q.col(i) = to_x(VecN<Scalar, 5>::Unit(i));
-  return projected_in_basis(Q, pr.matrix());
+  out = projected_in_basis(Q, pr.matrix());
 }
 
 /// Exact projection of `Jᵀ Hc J` for a dense frame Hessian `Hc` (the mollified energy,

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <pce/energy/exact_projection.hpp>
+#include <pce/energy/plane_assembly.hpp>
 #include <pce/energy/psd_projection.hpp>
 #include <pce/frames/edge_edge.hpp>
 #include <pce/frames/vertex_face.hpp>
@@ -70,13 +71,20 @@ template <class Scalar> struct PairEnergy {
 };
 
 namespace detail {
+/// `c Jᵀ(0,0,m̂)`: vertex j gets `(c P(2,j)) m̂`.
+template <class Scalar, class Row>
+PCE_ALWAYS_INLINE Vec12<Scalar> plane_gradient(const Scalar& c, const Row& p2, const Vec3<Scalar>& m) {
+  Vec12<Scalar> g;
+  for (int j = 0; j < 4; ++j) g.template segment<3>(3 * j) = (c * p2[j]) * m;
+  return g;
+}
 /// ψ, ψ′, ψ″ at `L`: `out_of_domain` where the penalty is undefined, `overflow` when a
 /// derivative is not finite; `psi` is written only on `ok`.
 template <class Penalty, class Scalar>
-Status evaluate_penalty(const Penalty& penalty, const Scalar& L, PenaltyDerivatives<Scalar>& psi) {
+PCE_ALWAYS_INLINE Status evaluate_penalty(const Penalty& penalty, const Scalar& L, PenaltyDerivatives<Scalar>& psi) {
   if (!penalty_in_domain(penalty, L)) return Status::out_of_domain;
   const PenaltyDerivatives<Scalar> v = penalty.template evaluate<Scalar>(L);
-  if (!is_finite(v.value) || !is_finite(v.first) || !is_finite(v.second)) return Status::overflow;
+  if (!finite_all(v.value, v.first, v.second)) return Status::overflow;
   psi = v;
   return Status::ok;
 }
@@ -115,12 +123,10 @@ Status pair_energy(const Vec12<Scalar>& x, const Length& length, const Penalty& 
   return Status::ok;
 }
 
-/// ∇E = σψ′ Jᵀ(0,0,n̂): vertex j gets σψ′ P(2,j) n̂.
+/// ∇E = σψ′ Jᵀ(0,0,n̂): vertex j gets σψ′ P(2,j) n̂ (with n̂ = `Frame::m_hat`, the normal l is
+/// computed with; `value_gradient` gives the same bits without the rest of the frame).
 template <class Scalar> Vec12<Scalar> energy_gradient(const PairEnergy<Scalar>& e) {
-  const Scalar c = e.sigma * e.psi.first;
-  Vec12<Scalar> g;
-  for (int j = 0; j < 4; ++j) g.template segment<3>(3 * j) = (c * e.frame.P(2, j)) * e.frame.n;
-  return g;
+  return detail::plane_gradient(Scalar(e.sigma * e.psi.first), e.frame.P.row(2), e.frame.m_hat);
 }
 
 /// Frame-space Hessian `ψ″ggᵀ + σψ′H_l` (blocks with exact zeros).
@@ -129,30 +135,15 @@ template <class Scalar> FrameBlocks<Scalar> energy_frame_hessian(const PairEnerg
 }
 
 namespace detail {
-/// The x-space vectors `Jᵀ(d in slot k) = P.row(k) ⊗ d` the plane kinds' Hessians are made of.
-template <class Scalar> struct PlaneVectors {
-  Vec12<Scalar> w[3];  ///< w_k = p_k ⊗ n̂ (w_2 = ∇l)
-  Vec12<Scalar> u[2];  ///< u_k = p_2 ⊗ ê_k
-  explicit PlaneVectors(const Frame<Scalar>& f) {
-    for (int k = 0; k < 3; ++k) w[k] = kron<Scalar>(f.P.row(k), f.n);
-    u[0] = kron<Scalar>(f.P.row(2), f.t0);
-    u[1] = kron<Scalar>(f.P.row(2), f.t1);
-  }
-};
-
-/// The terms of `energy_hessian(e)`, not yet summed (`Projection::exact` adds two more).
-template <class Scalar> SymmetricSum<Scalar, 12> hessian_terms(const PairEnergy<Scalar>& e) {
-  const Frame<Scalar>& f = e.frame;
-  const PlaneVectors<Scalar> v(f);
-  const Scalar c1 = e.sigma * e.psi.first;
-  const Scalar a[2] = {f.a0, f.a1};
-  SymmetricSum<Scalar, 12> sum;
-  sum.rank_one(e.psi.second, v.w[2]);
-  for (int k = 0; k < 2; ++k) {
-    const Scalar m = -c1 * ((f.l / a[k]) / a[k]), mu = -c1 / a[k];
-    sum.rank_two(v.w[k], (Scalar(m / Scalar(2)) * v.w[k] + mu * v.u[k]).eval());
-  }
-  return sum;
+/// The terms of `energy_hessian(e)`, summed entry by entry (`energy/plane_assembly.hpp`);
+/// `Projection::exact` adds two more.
+template <class Scalar> void hessian_terms(const PairEnergy<Scalar>& e, DenseSymmetric12<Scalar>& H) {
+  plane_exact_hessian(PlaneValues<Scalar>(e.frame), Scalar(e.sigma * e.psi.first), e.psi.second, H);
+}
+/// 1/√ε, beyond which √(1+t²) rounds to t (`length_family`).
+template <class Scalar> Scalar family_big_t() {
+  using std::sqrt;
+  return Scalar(1) / sqrt(Constants<Scalar>::epsilon());
 }
 }  // namespace detail
 
@@ -160,7 +151,11 @@ template <class Scalar> SymmetricSum<Scalar, 12> hessian_terms(const PairEnergy<
 /// is (`docs/math.md` §6): `ψ″ w₂w₂ᵀ + Σ_k [m_k w_k w_kᵀ + μ_k (w_k u_kᵀ + u_k w_kᵀ)]` with
 /// `m_k = −σψ′ l/a_k²`, `μ_k = −σψ′/a_k` (the families of (M14); exact zeros stay zero).
 template <class Scalar> Mat12<Scalar> energy_hessian(const PairEnergy<Scalar>& e) {
-  return detail::hessian_terms(e).matrix();
+  Mat12<Scalar> M;
+  detail::DenseSymmetric12<Scalar> H{M};
+  detail::hessian_terms(e, H);
+  H.mirror();
+  return M;
 }
 
 /// Closed-form eigensystem of the frame Hessian `ψ″ggᵀ + σψ′H_l` (9×9, frame space),
@@ -169,56 +164,41 @@ template <class Scalar> FrameEigensystem<Scalar> energy_eigensystem(const PairEn
   return detail::frame_eigensystem(e.frame, Scalar(e.sigma * e.psi.first), e.psi.second);
 }
 
-namespace detail {
-
-/// x-space `Jᵀ [f(ψ″) ggᵀ + Σ f(σψ′λ) q qᵀ] J` assembled from rank-one terms
-/// `f(μ) (Jᵀq)(Jᵀq)ᵀ` (terms with f(μ) = 0 cost nothing: one per family for `analytic`).
-template <class Scalar, class F> Mat12<Scalar> filtered_hessian(const PairEnergy<Scalar>& e, F f) {
-  const Frame<Scalar>& fr = e.frame;
-  const PlaneVectors<Scalar> v(fr);
-  SymmetricSum<Scalar, 12> sum;
-  const Scalar c2 = f(e.psi.second);
-  if (c2 != Scalar(0)) sum.rank_one(c2, v.w[2]);
-  const Scalar c1 = e.sigma * e.psi.first;
-  if (c1 == Scalar(0)) return sum.matrix();
-  const Scalar a[2] = {fr.a0, fr.a1};
-  for (int k = 0; k < 2; ++k) {
-    const LengthFamily<Scalar> fam = length_family(fr.l, a[k]);
-    const Scalar mb = f(Scalar(c1 * fam.lambda_big)), ms = f(Scalar(c1 * fam.lambda_small));
-    // q_big = (s, w)√n2 and q_small = (w, −s)√n2 in the basis (w_k, u_k); the √n2 goes
-    // into the weight, so no square root is taken.
-    if (mb != Scalar(0)) sum.rank_one(Scalar(mb * fam.n2), (fam.s * v.w[k] + fam.w * v.u[k]).eval());
-    if (ms != Scalar(0)) sum.rank_one(Scalar(ms * fam.n2), (fam.w * v.w[k] - fam.s * v.u[k]).eval());
-  }
-  return sum.matrix();
-}
-
-}  // namespace detail
-
 /// PSD (except for `none`) Hessian of the pair by the chosen strategy; see `Projection`.
 template <class Scalar> Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>& e, Projection strategy) {
-  using std::abs;
   const auto clamp = [](const Scalar& v) { return v > Scalar(0) ? v : Scalar(0); };
-  const auto flip = [](const Scalar& v) { return Scalar(abs(v)); };
+  Mat12<Scalar> M;  // the one object returned, so that it is built in the caller's (no copy)
+  detail::DenseSymmetric12<Scalar> H{M};
+  const Scalar c1 = e.sigma * e.psi.first;
   switch (strategy) {
-    case Projection::none:
-      return energy_hessian(e);
-    case Projection::numerical:
-      return project_psd(energy_hessian(e));
     case Projection::analytic:
-      return detail::filtered_hessian(e, clamp);
     case Projection::abs:
-      return detail::filtered_hessian(e, flip);
+      detail::plane_filtered_hessian(detail::PlaneValues<Scalar>(e.frame), c1, e.psi.second,
+                                     strategy == Projection::abs, detail::family_big_t<Scalar>(), H);
+      H.mirror();
+      break;
     case Projection::exact:
-      return detail::exact_projection(e.frame, Scalar(e.sigma * e.psi.first), e.psi.second,
-                                      [&e] { return detail::hessian_terms(e); });
+      detail::exact_projection(e.frame, c1, e.psi.second,
+                               [&e](detail::DenseSymmetric12<Scalar>& S) { detail::hessian_terms(e, S); }, M);
+      break;
     case Projection::gauss_newton: {  // rank one: max(ψ″,0) ∇L∇Lᵀ, ∇L = σ Jᵀ g
       Vec12<Scalar> gL;
-      for (int j = 0; j < 4; ++j) gL.template segment<3>(3 * j) = (e.sigma * e.frame.P(2, j)) * e.frame.n;
-      return clamp(e.psi.second) * gL * gL.transpose();
+      for (int j = 0; j < 4; ++j) gL.template segment<3>(3 * j) = (e.sigma * e.frame.P(2, j)) * e.frame.m_hat;
+      M.noalias() = clamp(e.psi.second) * gL * gL.transpose();
+      break;
     }
+    case Projection::numerical:
+      detail::hessian_terms(e, H);
+      H.mirror();
+      M = project_psd(M);
+      break;
+    case Projection::none:
+    default:
+      detail::hessian_terms(e, H);
+      H.mirror();
+      break;
   }
-  return energy_hessian(e);
+  return M;
 }
 
 /// All outputs of one pair (`Dofs` coordinates, `FrameDofs` frame coordinates: 12 and 9

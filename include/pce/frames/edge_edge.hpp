@@ -21,15 +21,21 @@ struct EdgeEdge {
   /// The evaluated energy of this kind (`energy/pair_energy.hpp`).
   template <class Scalar> using Energy = PairEnergy<Scalar>;
 
-  /// Builds the reduced frame of `x = (ea0, ea1, eb0, eb1)`; `invalid_input` for
-  /// non-finite or absurd coordinates, `degenerate` for parallel or zero-length edges; on
-  /// failure `f` is untouched.
-  template <class Scalar> static Status frame(const Vec12<Scalar>& x, Frame<Scalar>& f) {
+  /// The edge map `D`: rows e0, e1, e2 as combinations of the four vertices.
+  template <class Scalar> static Mat34<Scalar> edge_map() {
     Mat34<Scalar> D;
     D << Scalar(-1), Scalar(1), Scalar(0), Scalar(0),  //
         Scalar(0), Scalar(0), Scalar(-1), Scalar(1),   //
         Scalar(-1), Scalar(0), Scalar(1), Scalar(0);
-    return detail::frame_from_vertices(x, D, f);
+    return D;
+  }
+
+  /// Builds the reduced frame of `x = (ea0, ea1, eb0, eb1)`; `invalid_input` for
+  /// non-finite or absurd coordinates, `degenerate` for parallel or zero-length edges; on
+  /// failure `f` is untouched.
+  /// `Out` may also be `detail::GradientFrame`, the part of the frame `value_gradient` needs.
+  template <class Scalar, class Out> PCE_ALWAYS_INLINE static Status frame(const Vec12<Scalar>& x, Out& f) {
+    return detail::frame_from_vertices(x, edge_map<Scalar>(), f);
   }
 };
 

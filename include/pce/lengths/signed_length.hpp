@@ -29,10 +29,10 @@ template <class Scalar, class Length> Scalar length_value(const Frame<Scalar>& f
   return len.sigma(f) * f.l;
 }
 
-/// Frame gradient `∂L/∂c = σ (0, 0, n̂)` (supplement Eq. 13).
+/// Frame gradient `∂L/∂c = σ (0, 0, n̂)` (supplement Eq. 13), n̂ = `Frame::m_hat`.
 template <class Scalar, class Length> Vec9<Scalar> length_gradient(const Frame<Scalar>& f, const Length& len) {
   Vec9<Scalar> g = Vec9<Scalar>::Zero();
-  g.template segment<3>(6) = len.sigma(f) * f.n;
+  g.template segment<3>(6) = len.sigma(f) * f.m_hat;
   return g;
 }
 
