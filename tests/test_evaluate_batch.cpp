@@ -14,6 +14,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <type_traits>
 #include <vector>
 
 namespace {
@@ -209,6 +210,14 @@ template <class Pair, class Scalar> void check_hard_mix(int& ok_rows) {
     else if (what < 0.08) r[9] = std::numeric_limits<Scalar>::infinity();
     else if (what < 0.10) r[2] = std::numeric_limits<Scalar>::quiet_NaN();
     else if (what < 0.13) for (int j = 0; j < 3; ++j) r[j] = r[3 + j] + (r[6 + j] - r[3 + j]) / Scalar(3);
+    else if (what < 0.25) {  // a sliver or nearly parallel edges, within rounding of each other:
+      // n̂ then needs a second Gram–Schmidt pass, or the frame does not exist
+      const double tiny = scale * std::pow(10.0, -2.0 - 16.0 * pick(rng));
+      const int from = std::is_same_v<Pair, pce::VertexFace> ? 3 : 6;  // t0 (VF) or eb0 (EE)
+      const int dir0 = std::is_same_v<Pair, pce::VertexFace> ? 3 : 0, dir1 = dir0 + 3;
+      for (int j = 0; j < 3; ++j)
+        r[9 + j] = static_cast<Scalar>(r[from + j] + 0.37 * (r[dir1 + j] - r[dir0 + j]) + tiny * (j + 1));
+    }
   }
   const pce::QuadraticPenalty quadratic{1.0, 0.5};
   for (pce::Projection p : {pce::Projection::analytic, pce::Projection::abs}) {
