@@ -69,6 +69,17 @@ template <class Scalar> struct Buffers {
   }
 };
 
+/// Row i of `b`'s length, value, gradient, Hessian and projected Hessian against `r`, bit for bit.
+template <class Scalar, int D, int F>
+void expect_row_equals(const Buffers<Scalar>& b, int i, const pce::PairResult<Scalar, D, F>& r) {
+  const Eigen::Matrix<Scalar, D, D, Eigen::RowMajor> H = r.hessian, P = r.projected_hessian;
+  EXPECT_TRUE(same_bits(&b.length[i], &r.length, 1));
+  EXPECT_TRUE(same_bits(&b.value[i], &r.value, 1));
+  EXPECT_TRUE(same_bits(&b.gradient[i * D], r.gradient.data(), D));
+  EXPECT_TRUE(same_bits(&b.hessian[i * D * D], H.data(), D * D));
+  EXPECT_TRUE(same_bits(&b.projected[i * D * D], P.data(), D * D));
+}
+
 /// Row i of `b` against `evaluate<Pair>` of the same pair.
 template <class Pair, class Scalar, class Length, class Penalty>
 void check_against_evaluate(const std::vector<Scalar>& x, int n, const Length& length, const Penalty& penalty,
@@ -89,12 +100,7 @@ void check_against_evaluate(const std::vector<Scalar>& x, int n, const Length& l
       continue;
     }
     ++ok_rows;
-    const Eigen::Matrix<Scalar, D, D, Eigen::RowMajor> H = r.hessian, P = r.projected_hessian;
-    EXPECT_TRUE(same_bits(&b.length[i], &r.length, 1));
-    EXPECT_TRUE(same_bits(&b.value[i], &r.value, 1));
-    EXPECT_TRUE(same_bits(&b.gradient[i * D], r.gradient.data(), D));
-    EXPECT_TRUE(same_bits(&b.hessian[i * D * D], H.data(), D * D));
-    EXPECT_TRUE(same_bits(&b.projected[i * D * D], P.data(), D * D));
+    expect_row_equals(b, i, r);
     EXPECT_TRUE(same_bits(&b.eigenvalues[i * F], r.eigen.values.data(), F));
   }
 }
@@ -164,12 +170,7 @@ template <class Pair, class Scalar> void check_vectorised(int& ok_rows) {
           continue;
         }
         ++ok_rows;
-        const Eigen::Matrix<Scalar, D, D, Eigen::RowMajor> H = r.hessian, P = r.projected_hessian;
-        EXPECT_TRUE(same_bits(&b.length[i], &r.length, 1));
-        EXPECT_TRUE(same_bits(&b.value[i], &r.value, 1));
-        EXPECT_TRUE(same_bits(&b.gradient[i * D], r.gradient.data(), D));
-        EXPECT_TRUE(same_bits(&b.hessian[i * D * D], H.data(), D * D));
-        EXPECT_TRUE(same_bits(&b.projected[i * D * D], P.data(), D * D));
+        expect_row_equals(b, i, r);
       }
     };
     check(pce::UnsignedLength{}, quadratic);
@@ -233,11 +234,8 @@ template <class Pair, class Scalar> void check_hard_mix(int& ok_rows) {
       ASSERT_EQ(b.status[i], s) << Pair::name << " row " << i;
       if (s != pce::Status::ok) continue;
       ++ok_rows;
-      const Eigen::Matrix<Scalar, D, D, Eigen::RowMajor> H = r.hessian, P = r.projected_hessian;
-      EXPECT_TRUE(same_bits(&b.value[i], &r.value, 1) && same_bits(&b.gradient[i * D], r.gradient.data(), D) &&
-                  same_bits(&b.hessian[i * D * D], H.data(), D * D) &&
-                  same_bits(&b.projected[i * D * D], P.data(), D * D))
-          << Pair::name << " row " << i;
+      SCOPED_TRACE(::testing::Message() << Pair::name << " row " << i << " " << pce::to_string(p));
+      expect_row_equals(b, i, r);
     }
   }
 }

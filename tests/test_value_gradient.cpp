@@ -81,7 +81,9 @@ void check(const Length& length, const Penalty& penalty, int& ok_rows, int& stat
     ++ok_rows;
     EXPECT_TRUE(std::memcmp(&v, &e.psi.value, sizeof v) == 0) << Pair::name;
     EXPECT_TRUE(std::memcmp(&w, &e.psi.value, sizeof w) == 0) << Pair::name;
-    if (sg == pce::Status::ok) EXPECT_TRUE(same_bits(g, ge)) << Pair::name << "\n" << g.transpose() << "\n" << ge.transpose();
+    if (sg == pce::Status::ok) {
+      EXPECT_TRUE(same_bits(g, ge)) << Pair::name << "\n" << g.transpose() << "\n" << ge.transpose();
+    }
   }
 }
 

@@ -171,14 +171,7 @@ unsigned evaluate_lanes(const Scalar* x, std::size_t first, const Length& length
   for (int c = 1; c < 12; ++c) ok = ok && (abs(X[c]) <= lim);
   const Mat34<Scalar> D = Pair::template edge_map<Scalar>();
   T e[3][3];
-  for (int k = 0; k < 3; ++k) {
-    int head = 0, tail = 0;
-    for (int j = 0; j < 4; ++j) {
-      if (D(k, j) > Scalar(0)) head = j;
-      if (D(k, j) < Scalar(0)) tail = j;
-    }
-    for (int i = 0; i < 3; ++i) e[k][i] = X[3 * head + i] - X[3 * tail + i];
-  }
+  edge_vectors(D, [&X](int c) { return X[c]; }, e);
   T big = zero;
   for (int k = 0; k < 2; ++k)
     for (int i = 0; i < 3; ++i) big = select(abs(e[k][i]) > big, abs(e[k][i]), big);

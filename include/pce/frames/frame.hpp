@@ -309,6 +309,20 @@ PCE_ALWAYS_INLINE Status make_frame(const Scalar (&e)[3][3], const Mat34<Scalar>
   return Status::ok;
 }
 
+/// The edge vectors `e[k] = x_head(k) − x_tail(k)` of the rows of `D` (entries 0, ±1), from the
+/// coordinates `coordinate(c)`, c = 0 … 11 (scalars, or `Lanes` of several pairs).
+template <class Scalar, class Coordinate, class T>
+PCE_ALWAYS_INLINE void edge_vectors(const Mat34<Scalar>& D, Coordinate coordinate, T (&e)[3][3]) {
+  for (int k = 0; k < 3; ++k) {
+    int head = 0, tail = 0;
+    for (int j = 0; j < 4; ++j) {
+      if (D(k, j) > Scalar(0)) head = j;
+      if (D(k, j) < Scalar(0)) tail = j;
+    }
+    for (int i = 0; i < 3; ++i) e[k][i] = coordinate(3 * head + i) - coordinate(3 * tail + i);
+  }
+}
+
 /// `invalid_input` unless every coordinate is finite and within `max_coordinate`.
 template <class Scalar> Status check_coordinates(const Vec12<Scalar>& x) {
   return coordinates_valid(x) ? Status::ok : Status::invalid_input;
@@ -322,14 +336,7 @@ PCE_ALWAYS_INLINE Status frame_from_vertices(const Vec12<Scalar>& x, const Mat34
   const Status s = check_coordinates(x);
   if (s != Status::ok) return s;
   Scalar e[3][3];
-  for (int k = 0; k < 3; ++k) {
-    int head = 0, tail = 0;
-    for (int j = 0; j < 4; ++j) {
-      if (D(k, j) > Scalar(0)) head = j;
-      if (D(k, j) < Scalar(0)) tail = j;
-    }
-    for (int i = 0; i < 3; ++i) e[k][i] = x[3 * head + i] - x[3 * tail + i];
-  }
+  edge_vectors(D, [&x](int c) { return x[c]; }, e);
   return make_frame<Scalar>(e, D, f);
 }
 
