@@ -84,17 +84,19 @@ template <int Dofs, int FrameDofs, class Scalar, class Energy, class Eigenvalues
 Status batch_store(const Energy& e, const Scalar& length, const Scalar& value, Projection strategy,
                    const BatchOutput<Scalar>& out, std::size_t i, Eigenvalues eigenvalues) {
   using RowMajor = Eigen::Matrix<Scalar, Dofs, Dofs, Eigen::RowMajor>;
-  VecN<Scalar, Dofs> g;
+  VecN<Scalar, Dofs> g = VecN<Scalar, Dofs>::Zero();  // (zeroed: GCC cannot tell it is stored only if computed)
   MatN<Scalar, Dofs> H, P;
-  VecN<Scalar, FrameDofs> lambda;
+  VecN<Scalar, FrameDofs> lambda = VecN<Scalar, FrameDofs>::Zero();
   int real = FrameDofs;
+  // the requests as local flags, so that the compiler sees each output stored only if computed
+  const bool want_g = out.gradient != nullptr, want_l = out.eigenvalues != nullptr;
+  const bool want_h = out.hessian != nullptr || (out.projected != nullptr && strategy == Projection::none);
+  const bool want_p = out.projected != nullptr && strategy != Projection::none;
   bool finite = is_finite(length) && is_finite(value);
-  if (out.gradient) finite = batch_finite(g = energy_gradient(e)) && finite;
-  if (out.hessian || (out.projected && strategy == Projection::none))
-    finite = batch_finite(H = energy_hessian(e)) && finite;
-  if (out.projected && strategy != Projection::none)
-    finite = batch_finite(P = projected_hessian(e, strategy)) && finite;
-  if (out.eigenvalues) {
+  if (want_g) finite = batch_finite(g = energy_gradient(e)) && finite;
+  if (want_h) finite = batch_finite(H = energy_hessian(e)) && finite;
+  if (want_p) finite = batch_finite(P = projected_hessian(e, strategy)) && finite;
+  if (want_l) {
     real = eigenvalues(e, lambda);
     finite = batch_finite(lambda.head(real)) && finite;
   }
@@ -102,10 +104,11 @@ Status batch_store(const Energy& e, const Scalar& length, const Scalar& value, P
   const auto d = static_cast<std::size_t>(Dofs);
   if (out.length) out.length[i] = length;
   if (out.value) out.value[i] = value;
-  if (out.gradient) Eigen::Map<VecN<Scalar, Dofs>>(out.gradient + i * d) = g;
-  if (out.hessian) Eigen::Map<RowMajor>(out.hessian + i * d * d) = H;
-  if (out.projected) Eigen::Map<RowMajor>(out.projected + i * d * d) = strategy == Projection::none ? H : P;
-  if (out.eigenvalues) {
+  if (want_g) Eigen::Map<VecN<Scalar, Dofs>>(out.gradient + i * d) = g;
+  if (want_h && out.hessian) Eigen::Map<RowMajor>(out.hessian + i * d * d) = H;
+  if (want_h && out.projected) Eigen::Map<RowMajor>(out.projected + i * d * d) = H;
+  if (want_p) Eigen::Map<RowMajor>(out.projected + i * d * d) = P;
+  if (want_l) {
     for (int j = real; j < FrameDofs; ++j) lambda[j] = std::numeric_limits<Scalar>::quiet_NaN();
     Eigen::Map<VecN<Scalar, FrameDofs>>(out.eigenvalues + i * static_cast<std::size_t>(FrameDofs)) = lambda;
   }
