@@ -13,7 +13,9 @@
 /// a penalty (pce::QuadraticPenalty, pce::CubicPenalty, pce::LogBarrierPenalty) go into
 /// pce::pair_energy(), then pce::energy_gradient(), pce::energy_hessian(),
 /// pce::energy_eigensystem() and pce::projected_hessian() with a pce::Projection strategy; or
-/// everything at once with pce::evaluate(), or for an array of pairs with pce::evaluate_batch()
+/// everything at once with pce::evaluate(); the energy alone or with its gradient, from the
+/// part of the frame they need, with pce::value_only() and pce::value_gradient(); or for an
+/// array of pairs, a SIMD packet of pairs at a time where it can, with pce::evaluate_batch()
 /// (pce::closest_feature_batch() by closest features). pce::closest_feature_energy() evaluates the
 /// distance between the primitives by whichever kind holds the closest points, and
 /// pce::mollified_pair_energy() fades the energy out at degenerate frames. The evaluating
