@@ -50,15 +50,15 @@ template <class Pair> auto length() {
 
 /// What one benchmark measures (all include the frame, L and ψ).
 enum class Quantity {
-  value_only,      ///< value_only: E alone, from the lean frame
-  value_gradient,  ///< value_gradient: E and its gradient, from the lean frame
-  exact_hessian,   ///< pair_energy + energy_gradient + energy_hessian
-  eigensystem,     ///< pair_energy + energy_eigensystem (closed form, frame space)
-  analytic,        ///< pair_energy + energy_gradient + projected_hessian(analytic)
-  abs,             ///< ... projected_hessian(abs)
-  exact,           ///< ... projected_hessian(exact): nearest PSD matrix via the <= 5x5 reduced problem
-  gauss_newton,    ///< ... projected_hessian(gauss_newton)
-  numerical,       ///< ... projected_hessian(numerical): 12x12 eigensolve + clamp (baseline)
+  value_only,            ///< value_only: E alone, from the lean frame
+  value_gradient,        ///< value_gradient: E and its gradient, from the lean frame
+  exact_hessian,         ///< pair_energy + energy_gradient + energy_hessian
+  eigensystem,           ///< pair_energy + energy_eigensystem (closed form, frame space)
+  analytic,              ///< pair_energy + energy_gradient + projected_hessian(analytic)
+  abs,                   ///< ... projected_hessian(abs)
+  exact,                 ///< ... projected_hessian(exact): nearest PSD matrix via the <= 5x5 reduced problem
+  gauss_newton,          ///< ... projected_hessian(gauss_newton)
+  numerical,             ///< ... projected_hessian(numerical): 12x12 eigensolve + clamp (baseline)
   batch_value_gradient,  ///< evaluate_batch over the pool (1024 pairs): value and gradient; time per pair
   batch_exact_hessian,   ///< ... value, gradient and exact Hessian
   batch_analytic,        ///< ... value, gradient and projected_hessian(analytic)
@@ -100,10 +100,17 @@ inline const char* to_string(Quantity q) {
 }
 
 /// Registration order within one (pair, scalar): cheap to expensive, PSD strategies last.
-inline constexpr Quantity kQuantities[] = {Quantity::value_only, Quantity::value_gradient, Quantity::exact_hessian,
-                                           Quantity::eigensystem, Quantity::analytic,      Quantity::abs,
-                                           Quantity::exact,       Quantity::gauss_newton,  Quantity::numerical,
-                                           Quantity::batch_value_gradient, Quantity::batch_exact_hessian,
+inline constexpr Quantity kQuantities[] = {Quantity::value_only,
+                                           Quantity::value_gradient,
+                                           Quantity::exact_hessian,
+                                           Quantity::eigensystem,
+                                           Quantity::analytic,
+                                           Quantity::abs,
+                                           Quantity::exact,
+                                           Quantity::gauss_newton,
+                                           Quantity::numerical,
+                                           Quantity::batch_value_gradient,
+                                           Quantity::batch_exact_hessian,
                                            Quantity::batch_analytic};
 
 template <class Scalar> constexpr const char* scalar_name();

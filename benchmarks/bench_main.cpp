@@ -180,8 +180,8 @@ void print_batch_ratios(std::ostream& os, const Collected& c, bool cpu) {
       if (!header) {
         os << "\nBatched (evaluate_batch, 1024 pairs, " << (cpu ? "CPU" : "real")
            << " time per pair) against one pair at a time, the same outputs:\n";
-        std::snprintf(line, sizeof line, "%-12s %-7s %9s %9s %8s %9s %9s %8s %9s %9s %8s\n", "pair", "scalar",
-                      "vg ns", "batch", "speedup", "hess ns", "batch", "speedup", "analyt ns", "batch", "speedup");
+        std::snprintf(line, sizeof line, "%-12s %-7s %9s %9s %8s %9s %9s %8s %9s %9s %8s\n", "pair", "scalar", "vg ns",
+                      "batch", "speedup", "hess ns", "batch", "speedup", "analyt ns", "batch", "speedup");
         os << line;
         header = true;
       }

@@ -147,7 +147,7 @@ template <class Pair, class Scalar> void check_vectorised(int& ok_rows) {
   for (int c = 0; c < D; ++c) row(9)[c] *= Scalar(std::ldexp(1.0, -40));  // rescaled (float and double)
   for (int c = 0; c < D; ++c) row(14)[c] *= Scalar(std::ldexp(1.0, 40));
   for (int c = 0; c < D; ++c) row(20)[c] *= Scalar(std::ldexp(1.0, -135));  // rescaled in double only
-  for (int j = 0; j < 3; ++j) row(27)[6 + j] = row(27)[3 + j];                // degenerate
+  for (int j = 0; j < 3; ++j) row(27)[6 + j] = row(27)[3 + j];              // degenerate
   row(30)[11] = std::numeric_limits<Scalar>::infinity();
   for (int j = 0; j < 3; ++j) row(33)[j] = (row(33)[3 + j] + row(33)[6 + j]) / Scalar(2);  // on an edge: l = 0
   const pce::QuadraticPenalty quadratic{10.0, 0.2};
@@ -206,11 +206,16 @@ template <class Pair, class Scalar> void check_hard_mix(int& ok_rows) {
     const double scale = std::pow(10.0, pick(rng) < 0.5 ? 0.0 : ex(rng));
     for (int c = 0; c < D; ++c) r[c] = static_cast<Scalar>(u(rng) * scale);
     const double what = pick(rng);
-    if (what < 0.03) r[5] = Scalar(0);
-    else if (what < 0.06) for (int j = 0; j < 3; ++j) r[6 + j] = r[3 + j];
-    else if (what < 0.08) r[9] = std::numeric_limits<Scalar>::infinity();
-    else if (what < 0.10) r[2] = std::numeric_limits<Scalar>::quiet_NaN();
-    else if (what < 0.13) for (int j = 0; j < 3; ++j) r[j] = r[3 + j] + (r[6 + j] - r[3 + j]) / Scalar(3);
+    if (what < 0.03)
+      r[5] = Scalar(0);
+    else if (what < 0.06)
+      for (int j = 0; j < 3; ++j) r[6 + j] = r[3 + j];
+    else if (what < 0.08)
+      r[9] = std::numeric_limits<Scalar>::infinity();
+    else if (what < 0.10)
+      r[2] = std::numeric_limits<Scalar>::quiet_NaN();
+    else if (what < 0.13)
+      for (int j = 0; j < 3; ++j) r[j] = r[3 + j] + (r[6 + j] - r[3 + j]) / Scalar(3);
     else if (what < 0.25) {  // a sliver or nearly parallel edges, within rounding of each other:
       // n̂ then needs a second Gram–Schmidt pass, or the frame does not exist
       const double tiny = scale * std::pow(10.0, -2.0 - 16.0 * pick(rng));

@@ -49,7 +49,8 @@ template <class Scalar, int D> std::vector<pce::VecN<Scalar, D>> cases(unsigned 
     xs.push_back(y);
     if constexpr (D == 12) {  // nearly parallel: the fourth point along the first edge
       y = x;
-      y.template segment<3>(9) = y.template segment<3>(3) + Scalar(2) * (y.template segment<3>(6) - y.template segment<3>(3)) +
+      y.template segment<3>(9) = y.template segment<3>(3) +
+                                 Scalar(2) * (y.template segment<3>(6) - y.template segment<3>(3)) +
                                  pce::Vec3<Scalar>::Constant(Scalar(std::ldexp(1.0, -45)));
       xs.push_back(y);
     }
@@ -128,8 +129,9 @@ TEST(ValueGradient, FiftyDigitsAgreeWithDouble) {
     if (pce::value_gradient<pce::VertexFace>(x, pce::UnsignedLength{}, barrier, v, g) != pce::Status::ok) continue;
     HP vh;
     pce::Vec12<HP> gh;
-    ASSERT_EQ(pce::value_gradient<pce::VertexFace>(pce::Vec12<HP>(x.cast<HP>()), pce::UnsignedLength{}, barrier, vh, gh),
-              pce::Status::ok);
+    ASSERT_EQ(
+        pce::value_gradient<pce::VertexFace>(pce::Vec12<HP>(x.cast<HP>()), pce::UnsignedLength{}, barrier, vh, gh),
+        pce::Status::ok);
     // relative to the gradient's size, a few hundred ulps (the log barrier's ψ′ near L = 0)
     const double scale = g.norm();
     EXPECT_NEAR(v, static_cast<double>(vh), 1e-12 * std::abs(v) + 1e-300);

@@ -29,8 +29,7 @@
 namespace pce {
 
 /// Lanes per packet for `Scalar`: 1 when Eigen has no packet for it.
-template <class Scalar>
-inline constexpr int lanes_width =
+template <class Scalar> inline constexpr int lanes_width =
     Eigen::internal::unpacket_traits<typename Eigen::internal::packet_traits<Scalar>::type>::size;
 
 /// The result of comparing two `Lanes`: all bits set in the lanes where it holds.
@@ -117,7 +116,8 @@ template <class Scalar> LaneMask<Scalar> operator||(const LaneMask<Scalar>& a, c
 }
 
 /// Per lane: `a` where `m` holds, else `b`.
-template <class Scalar> Lanes<Scalar> select(const LaneMask<Scalar>& m, const Lanes<Scalar>& a, const Lanes<Scalar>& b) {
+template <class Scalar>
+Lanes<Scalar> select(const LaneMask<Scalar>& m, const Lanes<Scalar>& a, const Lanes<Scalar>& b) {
   return Lanes<Scalar>(Eigen::internal::pselect(m.p, a.p, b.p));
 }
 /// The scalar `select`: `m ? a : b`.
@@ -153,7 +153,7 @@ template <class Scalar> void store_transposed(const Lanes<Scalar>* v, Scalar* co
 /// Whether `m` holds in some lane / in every lane.
 template <class Scalar> bool any(const LaneMask<Scalar>& m) { return detail::mask_bits(m) != 0; }
 template <class Scalar> bool all(const LaneMask<Scalar>& m) {
-  return detail::mask_bits(m) == (1u << lanes_width<Scalar>) - 1u;
+  return detail::mask_bits(m) == (1u << lanes_width<Scalar>)-1u;
 }
 /// The scalar `any` and `all`: `m`.
 inline bool any(bool m) { return m; }

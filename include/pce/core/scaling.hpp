@@ -29,8 +29,8 @@ template <class Scalar> bool moderate_exponent(const Scalar& big, int& ex, Scala
   using Limits = std::numeric_limits<Scalar>;
   if constexpr (std::is_same_v<Scalar, double> || std::is_same_v<Scalar, float>) {
     using Bits = std::conditional_t<std::is_same_v<Scalar, double>, std::uint64_t, std::uint32_t>;
-    constexpr int mant = Limits::digits - 1;          // stored mantissa bits: 52, 23
-    constexpr int bias = Limits::max_exponent - 1;    // 1023, 127
+    constexpr int mant = Limits::digits - 1;        // stored mantissa bits: 52, 23
+    constexpr int bias = Limits::max_exponent - 1;  // 1023, 127
     Bits b;
     std::memcpy(&b, &big, sizeof b);
     const int biased = static_cast<int>((b >> mant) & ((Bits(1) << (sizeof(Scalar) * 8 - 1 - mant)) - 1));

@@ -174,7 +174,8 @@ unsigned evaluate_lanes(const Scalar* x, std::size_t first, const Length& length
   for (int c = 1; c < 12; ++c) ok = ok && (abs(X[c]) <= lim);
   const Mat34<Scalar> D = Pair::template edge_map<Scalar>();
   T e[3][3];
-  edge_vectors(D, [&X](int c) { return X[c]; }, e);
+  edge_vectors(
+      D, [&X](int c) { return X[c]; }, e);
   T big = zero;
   for (int k = 0; k < 2; ++k)
     for (int i = 0; i < 3; ++i) big = select(abs(e[k][i]) > big, abs(e[k][i]), big);
@@ -247,7 +248,7 @@ unsigned evaluate_lanes(const Scalar* x, std::size_t first, const Length& length
   bits &= mask_bits(zero * fin == zero);
   // Every lane's rows are written; those of the lanes left to the scalar path are written
   // again there (outputs or NaN), so nothing of them stays.
-  const auto lane_rows = [&](Scalar* dst, std::size_t width, std::size_t offset, Scalar* (&ptr)[W]) {
+  const auto lane_rows = [&](Scalar* dst, std::size_t width, std::size_t offset, Scalar*(&ptr)[W]) {
     for (int p = 0; p < W; ++p) ptr[p] = dst + (first + static_cast<std::size_t>(p)) * width + offset;
   };
   const auto matrix_rows = [&](const UpperTriangle12<T>& tri, Scalar* dst) {

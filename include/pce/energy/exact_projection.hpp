@@ -103,9 +103,9 @@ template <class Scalar> struct PlaneReducedProblem {
 /// eigenvalues (§9.3) and the result is `∇²E − Σ λ_k (Q q_k)(Q q_k)ᵀ` from
 /// `plane_negative_eigenpairs`; otherwise, or if that cannot prove its answer,
 /// `Q proj(S) Qᵀ` by the QR algorithm.
-template <class Scalar, class HessianTerms>
-void exact_projection(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2, const HessianTerms& hessian_terms,
-                      Mat12<Scalar>& out) {
+template <class Scalar, class HessianTerms> void exact_projection(const Frame<Scalar>& f, const Scalar& c1,
+                                                                  const Scalar& c2, const HessianTerms& hessian_terms,
+                                                                  Mat12<Scalar>& out) {
   static const Eigen::Matrix<Scalar, 3, 4> h = helmert_basis<Scalar, 4>();
   const PlaneReducedProblem<Scalar> pr(f, c1, c2);
   const Eigen::Matrix<Scalar, 1, 4> p2 = f.P.row(2) / pr.p2_norm;

@@ -178,8 +178,8 @@ template <class Scalar> Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>
       H.mirror();
       break;
     case Projection::exact:
-      detail::exact_projection(e.frame, c1, e.psi.second,
-                               [&e](detail::DenseSymmetric12<Scalar>& S) { detail::hessian_terms(e, S); }, M);
+      detail::exact_projection(
+          e.frame, c1, e.psi.second, [&e](detail::DenseSymmetric12<Scalar>& S) { detail::hessian_terms(e, S); }, M);
       break;
     case Projection::gauss_newton: {  // rank one: max(ψ″,0) ∇L∇Lᵀ, ∇L = σ Jᵀ g
       Vec12<Scalar> gL;

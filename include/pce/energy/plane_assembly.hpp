@@ -26,11 +26,11 @@ namespace pce::detail {
 
 /// What the plane kinds' Hessian kernels read of a frame, as plain values of `T`.
 template <class T> struct PlaneValues {
-  T P[3][4];   ///< the frame coefficients
-  T n[3];      ///< n̂
-  T t[2][3];   ///< ê0, ê1
-  T l;         ///< the signed length l
-  T a[2];      ///< |e0|, |e1⊥|
+  T P[3][4];  ///< the frame coefficients
+  T n[3];     ///< n̂
+  T t[2][3];  ///< ê0, ê1
+  T l;        ///< the signed length l
+  T a[2];     ///< |e0|, |e1⊥|
 
   PlaneValues() = default;
   /// From a scalar frame.
@@ -182,9 +182,9 @@ PCE_ALWAYS_INLINE void plane_exact_hessian(const PlaneValues<T>& f, const T& c1,
 
 /// The clamped (`flip` false: f = max(·, 0)) or flipped (`flip` true: f = |·|) closed-form
 /// Hessian of a plane kind into `H`; c1 = σψ′, c2 = ψ″. `big_t` = 1/√ε of the scalar.
-template <class T, class Acc>
-PCE_ALWAYS_INLINE void plane_filtered_hessian(const PlaneValues<T>& f, const T& c1, const T& c2, bool flip,
-                                              const T& big_t, Acc& H) {
+template <class T, class Acc> PCE_ALWAYS_INLINE void plane_filtered_hessian(const PlaneValues<T>& f, const T& c1,
+                                                                            const T& c2, bool flip, const T& big_t,
+                                                                            Acc& H) {
   using std::abs;
   const auto filter = [flip](const T& v) { return flip ? T(abs(v)) : select(v > T(0), v, T(0)); };
   T w2[12];

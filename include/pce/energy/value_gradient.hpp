@@ -34,8 +34,8 @@ template <class Length, class Scalar> Scalar length_sigma(const Length& length, 
 /// The plane kinds' lean evaluation: the status, L, ψ (ψ′, ψ″) and the part of the frame the
 /// gradient needs, in the order and with the checks of `pair_energy`.
 template <class Pair, class Scalar, class Length, class Penalty>
-PCE_ALWAYS_INLINE Status lean_plane_energy(const Vec12<Scalar>& x, const Length& length, const Penalty& penalty, GradientFrame<Scalar>& f,
-                         Scalar& sigma, PenaltyDerivatives<Scalar>& psi) {
+PCE_ALWAYS_INLINE Status lean_plane_energy(const Vec12<Scalar>& x, const Length& length, const Penalty& penalty,
+                                           GradientFrame<Scalar>& f, Scalar& sigma, PenaltyDerivatives<Scalar>& psi) {
   if (!penalty_valid(penalty)) return Status::invalid_input;
   const Status s = Pair::frame(x, f);
   if (s != Status::ok) return s;

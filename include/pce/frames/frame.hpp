@@ -27,7 +27,7 @@ namespace pce {
 template <class Scalar> struct Frame {
   /// Frame coefficients: `e0 = Σ P(0,j) x_j`, `e1⊥ = Σ P(1,j) x_j`, `e2⊥ = Σ P(2,j) x_j`.
   Mat34<Scalar> P;
-  Vec3<Scalar> n;   ///< n̂ = (e0 × e1)/|e0 × e1|, the unit normal; e2⊥ = l n̂ (orthonormalised against ê0)
+  Vec3<Scalar> n;  ///< n̂ = (e0 × e1)/|e0 × e1|, the unit normal; e2⊥ = l n̂ (orthonormalised against ê0)
   /// m/|m| (m = e0 × e1) as computed, before n̂'s Gram–Schmidt pass: ∂l/∂e2⊥, the direction of
   /// the gradient, and the normal l, β and γ are computed with (it differs from n̂ by rounding).
   Vec3<Scalar> m_hat;
@@ -131,7 +131,9 @@ template <class T> PCE_ALWAYS_INLINE void cross3(const T* a, const T* b, T* c) {
   c[1] = a[2] * b[0] - a[0] * b[2];
   c[2] = a[0] * b[1] - a[1] * b[0];
 }
-template <class T> PCE_ALWAYS_INLINE T dot3(const T* a, const T* b) { return (a[0] * b[0] + a[1] * b[1]) + a[2] * b[2]; }
+template <class T> PCE_ALWAYS_INLINE T dot3(const T* a, const T* b) {
+  return (a[0] * b[0] + a[1] * b[1]) + a[2] * b[2];
+}
 
 /// The frame's quantities as plain values of `T` (a scalar, or `Lanes<Scalar>` for one pair per
 /// lane), in the coordinates rescaled by `PowerOfTwoScale`: what `frame_arithmetic` computes.
@@ -189,8 +191,8 @@ template <class T> PCE_ALWAYS_INLINE void frame_arithmetic(const T (&E)[3][3], F
 
 /// Row `k` of the frame coefficients `P` from the edge map `D` (entries 0, ±1): `P.row(0) = D.row(0)`,
 /// `P.row(1) = D.row(1) − α D.row(0)`, `P.row(2) = D.row(2) − β D.row(0) − γ D.row(1)`.
-template <class T, class Dmat> T frame_coefficient(const Dmat& D, int k, int j, const T& alpha, const T& beta,
-                                                  const T& gamma) {
+template <class T, class Dmat>
+T frame_coefficient(const Dmat& D, int k, int j, const T& alpha, const T& beta, const T& gamma) {
   using S = typename Dmat::Scalar;
   const T d0 = T(S(D(0, j))), d1 = T(S(D(1, j))), d2 = T(S(D(2, j)));
   if (k == 0) return d0;
@@ -336,7 +338,8 @@ PCE_ALWAYS_INLINE Status frame_from_vertices(const Vec12<Scalar>& x, const Mat34
   const Status s = check_coordinates(x);
   if (s != Status::ok) return s;
   Scalar e[3][3];
-  edge_vectors(D, [&x](int c) { return x[c]; }, e);
+  edge_vectors(
+      D, [&x](int c) { return x[c]; }, e);
   return make_frame<Scalar>(e, D, f);
 }
 
