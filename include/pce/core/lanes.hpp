@@ -34,12 +34,14 @@ template <class Scalar> inline constexpr int lanes_width =
 
 /// The result of comparing two `Lanes`: all bits set in the lanes where it holds.
 template <class Scalar> struct LaneMask {
+  /// Eigen's packet of `Scalar`.
   using Packet = typename Eigen::internal::packet_traits<Scalar>::type;
   Packet p;  ///< all ones (true) or all zeros (false) per lane
 };
 
 /// One packet of `Scalar`s, one per pair, with a scalar's arithmetic.
 template <class Scalar> struct Lanes {
+  /// Eigen's packet of `Scalar`.
   using Packet = typename Eigen::internal::packet_traits<Scalar>::type;
   static constexpr int size = lanes_width<Scalar>;  ///< number of lanes
   Packet p;                                         ///< the lanes
@@ -64,6 +66,8 @@ template <class Scalar> struct Lanes {
     return v[i];
   }
 
+  ///@{
+  /// Lane-wise arithmetic, as the scalar operators (Eigen's `padd`, `psub`, `pmul`, `pdiv`).
   friend Lanes operator+(const Lanes& a, const Lanes& b) { return Lanes(Eigen::internal::padd(a.p, b.p)); }
   friend Lanes operator-(const Lanes& a, const Lanes& b) { return Lanes(Eigen::internal::psub(a.p, b.p)); }
   friend Lanes operator*(const Lanes& a, const Lanes& b) { return Lanes(Eigen::internal::pmul(a.p, b.p)); }
@@ -77,6 +81,7 @@ template <class Scalar> struct Lanes {
   Lanes& operator-=(const Lanes& b) { return *this = *this - b; }
   Lanes& operator*=(const Lanes& b) { return *this = *this * b; }
   Lanes& operator/=(const Lanes& b) { return *this = *this / b; }
+  ///@}
   /// Correctly rounded square root per lane (as `std::sqrt`). Eigen's packet square root is the
   /// hardware's for SSE and AVX doubles; for floats and AVX-512 doubles under `EIGEN_FAST_MATH`
   /// (Eigen's default) it is a reciprocal square-root estimate refined by a Newton step, within
@@ -95,14 +100,18 @@ template <class Scalar> struct Lanes {
   /// |a| per lane.
   friend Lanes abs(const Lanes& a) { return Lanes(Eigen::internal::pabs(a.p)); }
 
+  ///@{
+  /// Lane-wise comparison into a `LaneMask` (false in a lane where either is NaN, but `!=`).
   friend LaneMask<Scalar> operator<(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_lt(a.p, b.p)}; }
   friend LaneMask<Scalar> operator<=(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_le(a.p, b.p)}; }
   friend LaneMask<Scalar> operator>(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_lt(b.p, a.p)}; }
   friend LaneMask<Scalar> operator>=(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_le(b.p, a.p)}; }
   friend LaneMask<Scalar> operator==(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_eq(a.p, b.p)}; }
   friend LaneMask<Scalar> operator!=(const Lanes& a, const Lanes& b) { return !(a == b); }
+  ///@}
 };
 
+///@{
 /// Lane-wise not, and, or.
 template <class Scalar> LaneMask<Scalar> operator!(const LaneMask<Scalar>& m) {
   using P = typename LaneMask<Scalar>::Packet;
@@ -114,6 +123,7 @@ template <class Scalar> LaneMask<Scalar> operator&&(const LaneMask<Scalar>& a, c
 template <class Scalar> LaneMask<Scalar> operator||(const LaneMask<Scalar>& a, const LaneMask<Scalar>& b) {
   return {Eigen::internal::por(a.p, b.p)};
 }
+///@}
 
 /// Per lane: `a` where `m` holds, else `b`.
 template <class Scalar>
@@ -150,14 +160,18 @@ template <class Scalar> void store_transposed(const Lanes<Scalar>* v, Scalar* co
   for (int p = 0; p < n; ++p) Eigen::internal::pstoreu(dst[p], block.packet[p]);
 }
 
+///@{
 /// Whether `m` holds in some lane / in every lane.
 template <class Scalar> bool any(const LaneMask<Scalar>& m) { return detail::mask_bits(m) != 0; }
 template <class Scalar> bool all(const LaneMask<Scalar>& m) {
   return detail::mask_bits(m) == (1u << lanes_width<Scalar>)-1u;
 }
+///@}
+///@{
 /// The scalar `any` and `all`: `m`.
 inline bool any(bool m) { return m; }
 inline bool all(bool m) { return m; }
+///@}
 
 }  // namespace pce
 

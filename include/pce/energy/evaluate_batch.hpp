@@ -258,7 +258,8 @@ unsigned evaluate_lanes(const Scalar* x, std::size_t first, const Length& length
           T v[W];
           for (int k = 0; k < W; ++k) v[k] = tri.h[upper_index(r, c0 + k)];
           Scalar* ptr[W];
-          lane_rows(dst, 144, static_cast<std::size_t>(12 * r + c0), ptr);
+          lane_rows(dst, 144, static_cast<std::size_t>(12) * static_cast<std::size_t>(r) + static_cast<std::size_t>(c0),
+                    ptr);
           store_transposed(v, ptr);
         }
     } else {
