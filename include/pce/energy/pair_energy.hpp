@@ -183,7 +183,7 @@ template <class Scalar> Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>
       break;
     case Projection::gauss_newton: {  // rank one: max(ψ″,0) ∇L∇Lᵀ, ∇L = σ Jᵀ g
       Vec12<Scalar> gL;
-      for (int j = 0; j < 4; ++j) gL.template segment<3>(3 * j) = (e.sigma * e.frame.P(2, j)) * e.frame.m_hat;
+      for (int j = 0; j < 4; ++j) gL.template segment<3>(3 * j) = (e.sigma * e.frame.P(2, j)) * e.frame.n;
       M.noalias() = clamp(e.psi.second) * gL * gL.transpose();
       break;
     }
