@@ -26,7 +26,7 @@ template <class Scalar, int N> bool same_bits(const pce::VecN<Scalar, N>& a, con
 }
 
 /// Random pairs near each other (most within the penalties' reach) and hard ones.
-template <class Scalar, int D> std::vector<pce::VecN<Scalar, D>> cases(unsigned seed) {
+template <class Pair, class Scalar, int D = Pair::dofs> std::vector<pce::VecN<Scalar, D>> cases(unsigned seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-0.3, 0.3);
   std::vector<pce::VecN<Scalar, D>> xs;
@@ -47,12 +47,20 @@ template <class Scalar, int D> std::vector<pce::VecN<Scalar, D>> cases(unsigned 
     y = x;
     y[1] = std::numeric_limits<Scalar>::quiet_NaN();
     xs.push_back(y);
-    if constexpr (D == 12) {  // nearly parallel: the fourth point along the first edge
-      y = x;
-      y.template segment<3>(9) = y.template segment<3>(3) +
-                                 Scalar(2) * (y.template segment<3>(6) - y.template segment<3>(3)) +
-                                 pce::Vec3<Scalar>::Constant(Scalar(std::ldexp(1.0, -45)));
-      xs.push_back(y);
+    if constexpr (D == 12) {
+      // nearly parallel: e1 = 0.37 e0 + δ (1, 2, 3) (vertex-face: a sliver triangle; edge-edge:
+      // parallel edges), δ = 2^-20 … 2^-60 relative. Near the scalar's rounding the normal is
+      // mostly rounding error, and some of these need a second Gram–Schmidt pass (or are
+      // degenerate).
+      const int tail = std::is_same_v<Pair, pce::VertexFace> ? 3 : 6,
+                e0 = std::is_same_v<Pair, pce::VertexFace> ? 3 : 0;
+      for (int ex = -20; ex >= -60; --ex) {
+        y = x;
+        y.template segment<3>(9) = y.template segment<3>(tail) +
+                                   Scalar(0.37) * (y.template segment<3>(e0 + 3) - y.template segment<3>(e0)) +
+                                   pce::Vec3<Scalar>(1, 2, 3) * Scalar(std::ldexp(1.0, ex));
+        xs.push_back(y);
+      }
     }
   }
   return xs;
@@ -61,7 +69,7 @@ template <class Scalar, int D> std::vector<pce::VecN<Scalar, D>> cases(unsigned 
 template <class Pair, class Scalar, class Length, class Penalty>
 void check(const Length& length, const Penalty& penalty, int& ok_rows, int& statuses) {
   constexpr int D = Pair::dofs;
-  for (const pce::VecN<Scalar, D>& x : cases<Scalar, D>(5)) {
+  for (const pce::VecN<Scalar, D>& x : cases<Pair, Scalar>(5)) {
     typename Pair::template Energy<Scalar> e;
     const pce::Status s = pce::pair_energy<Pair>(x, length, penalty, e);
     Scalar v = Scalar(-7), w = Scalar(-7);

@@ -160,7 +160,8 @@ constexpr int upper_index(int r, int c) {
 /// if its single-pair evaluation would take the same path and end `ok`: valid coordinates,
 /// edges of moderate size (no rescaling), a frame with one Gram–Schmidt pass, ψ defined and
 /// finite, finite outputs. Returns the bits of the lanes it left for the scalar path.
-template <class Pair, class Scalar, class Length, class Penalty>
+/// Without `Basis` (no Hessian asked for) the frame's orthonormal basis is not built.
+template <class Pair, bool Basis, class Scalar, class Length, class Penalty>
 unsigned evaluate_lanes(const Scalar* x, std::size_t first, const Length& length, const Penalty& penalty,
                         Projection strategy, const BatchOutput<Scalar>& out) {
   using T = Lanes<Scalar>;
@@ -182,7 +183,7 @@ unsigned evaluate_lanes(const Scalar* x, std::size_t first, const Length& length
   const Scalar bound = unit_scale_bound<Scalar>();
   ok = ok && (big > zero) && (big >= T(Scalar(1) / bound)) && (big <= T(bound));
   FrameArithmetic<T> a;
-  frame_arithmetic(e, a);
+  frame_arithmetic<Basis>(e, a);
   PlaneValues<T> f;
   for (int k = 0; k < 3; ++k)
     for (int j = 0; j < 4; ++j) f.P[k][j] = frame_coefficient(D, k, j, a.alpha, a.beta, a.gamma);
@@ -190,10 +191,12 @@ unsigned evaluate_lanes(const Scalar* x, std::size_t first, const Length& length
   T z = ((zero * a.alpha + zero * a.beta) + (zero * a.gamma + zero * a.ls));
   for (int j = 0; j < 4; ++j) z = z + zero * f.P[2][j];
   ok = ok && (z == zero);
-  for (int i = 0; i < 3; ++i) f.n[i] = a.n[i], f.t[0][i] = a.t0[i], f.t[1][i] = a.t1[i];
+  if constexpr (Basis) {
+    for (int i = 0; i < 3; ++i) f.n[i] = a.n[i], f.t[0][i] = a.t0[i], f.t[1][i] = a.t1[i];
+    f.a[0] = a.a0s;
+    f.a[1] = a.a1s;
+  }
   f.l = a.ls;
-  f.a[0] = a.a0s;
-  f.a[1] = a.a1s;
   T sigma;
   if constexpr (is_signed_length<Length>())
     sigma = T(length.side == Side::negative ? Scalar(-1) : Scalar(1));
@@ -234,8 +237,8 @@ unsigned evaluate_lanes(const Scalar* x, std::size_t first, const Length& length
     }
     fin = fin + add_all(g, 12);
   }
-  const bool want_h = out.hessian || (out.projected && strategy == Projection::none);
-  const bool want_p = out.projected && strategy != Projection::none;
+  const bool want_h = Basis && (out.hessian || (out.projected && strategy == Projection::none));
+  const bool want_p = Basis && out.projected && strategy != Projection::none;
   UpperTriangle12<T> H, Pr;
   if (want_h) {
     plane_exact_hessian(f, c1, psi2, H);
@@ -289,8 +292,10 @@ unsigned evaluate_lanes(const Scalar* x, std::size_t first, const Length& length
         for (int c = 0; c < 12; ++c) out.gradient[(first + static_cast<std::size_t>(p)) * 12 + c] = tmp[c][p];
     }
   }
-  if (out.hessian) matrix_rows(H, out.hessian);
-  if (out.projected) matrix_rows(want_p ? Pr : H, out.projected);
+  if constexpr (Basis) {
+    if (out.hessian) matrix_rows(H, out.hessian);
+    if (out.projected) matrix_rows(want_p ? Pr : H, out.projected);
+  }
   if (out.status)
     for (int p = 0; p < W; ++p) out.status[first + static_cast<std::size_t>(p)] = Status::ok;
   return every & ~bits;
@@ -310,7 +315,9 @@ void evaluate_batch(const Scalar* x, std::size_t count, const Length& length, co
     constexpr std::size_t W = static_cast<std::size_t>(lanes_width<Scalar>);
     if (detail::batch_vectorises<Pair>(penalty, strategy, out))
       for (; i + W <= count; i += W) {
-        const unsigned left = detail::evaluate_lanes<Pair>(x, i, length, penalty, strategy, out);
+        const unsigned left = (out.hessian || out.projected)
+                                  ? detail::evaluate_lanes<Pair, true>(x, i, length, penalty, strategy, out)
+                                  : detail::evaluate_lanes<Pair, false>(x, i, length, penalty, strategy, out);
         for (std::size_t k = 0; k < W; ++k)
           if ((left >> k) & 1u) detail::batch_row<Pair>(x, i + k, length, penalty, strategy, out);
       }

@@ -156,8 +156,11 @@ template <class T> struct FrameArithmetic {
 /// operations: 1/|m|² and √|m|² are taken side by side (1/|m| = √|m|²·(1/|m|²)), β, γ and α
 /// use the squared norms, and n̂ is orthogonalised against e0 before it is normalised. The
 /// callers check the results (`make_frame`); divisions by a zero |m| or |e0| give non-finite
-/// values they refuse.
-template <class T> PCE_ALWAYS_INLINE void frame_arithmetic(const T (&E)[3][3], FrameArithmetic<T>& f) {
+/// values they refuse. With `Basis = false` the orthonormal basis (`n`, `t0`, `t1`) and the
+/// lengths `a0s`, `a1s` are left unset and their square roots untaken (what `value_gradient`
+/// needs); everything else is the same arithmetic, bit for bit.
+template <bool Basis = true, class T>
+PCE_ALWAYS_INLINE void frame_arithmetic(const T (&E)[3][3], FrameArithmetic<T>& f) {
   using std::sqrt;
   T m[3], c21[3], c02[3];
   cross3(E[0], E[1], m);
@@ -168,25 +171,29 @@ template <class T> PCE_ALWAYS_INLINE void frame_arithmetic(const T (&E)[3][3], F
   f.a00 = a00;
   const T rmm = T(1) / mm, ra00 = T(1) / a00;
   f.mn = sqrt(mm);
-  f.a0s = sqrt(a00);
-  const T rmn = f.mn * rmm, ra0 = f.a0s * ra00;
+  const T rmn = f.mn * rmm;
   f.beta = dot3(c21, m) * rmm;
   f.gamma = dot3(c02, m) * rmm;
   f.alpha = dot3(E[0], E[1]) * ra00;
   T e2p[3];
   for (int i = 0; i < 3; ++i) e2p[i] = (E[2][i] - f.beta * E[0][i]) - f.gamma * E[1][i];
   f.ls = dot3(e2p, m) * rmn;
-  for (int i = 0; i < 3; ++i) f.m_hat[i] = m[i] * rmn, f.t0[i] = E[0][i] * ra0;
+  for (int i = 0; i < 3; ++i) f.m_hat[i] = m[i] * rmn;
   // n̂ ∝ m − (m·e0/|e0|²) e0, of norm nn relative to |m|
   const T me = dot3(m, E[0]) * ra00;
   T nb[3];
   for (int i = 0; i < 3; ++i) nb[i] = m[i] - me * E[0][i];
   const T nb2 = dot3(nb, nb);
   f.nb2 = nb2;
-  const T rnb = sqrt(nb2) * (T(1) / nb2);  // 1/|nb|, the square root beside the division
-  for (int i = 0; i < 3; ++i) f.n[i] = nb[i] * rnb;
-  cross3(f.n, f.t0, f.t1);
-  f.a1s = f.mn * ra0;
+  if constexpr (Basis) {
+    f.a0s = sqrt(a00);
+    const T ra0 = f.a0s * ra00;
+    for (int i = 0; i < 3; ++i) f.t0[i] = E[0][i] * ra0;
+    const T rnb = sqrt(nb2) * (T(1) / nb2);  // 1/|nb|, the square root beside the division
+    for (int i = 0; i < 3; ++i) f.n[i] = nb[i] * rnb;
+    cross3(f.n, f.t0, f.t1);
+    f.a1s = f.mn * ra0;
+  }
 }
 
 /// Row `k` of the frame coefficients `P` from the edge map `D` (entries 0, ±1): `P.row(0) = D.row(0)`,
@@ -235,8 +242,9 @@ template <class Scalar> struct GradientFrame {
 /// `degenerate` when `e0 × e1` vanishes (in the rescaled coordinates), `overflow` when the
 /// third edge is beyond the scalar's range relative to the primitive; `f` is written only on
 /// `ok`. `Out` is `Frame` or `GradientFrame`: both run the same arithmetic and checks, so they
-/// agree on the status and on what both hold, bit for bit; for a `GradientFrame` the compiler
-/// drops what it does not hold.
+/// agree on the status and on what both hold, bit for bit. A `GradientFrame` skips the basis
+/// (`frame_arithmetic<false>`), and builds the full frame only for the rare pair whose normal
+/// needs a second Gram–Schmidt pass, whose outcome decides the status.
 template <class Scalar, class Out>
 PCE_ALWAYS_INLINE Status make_frame(const Scalar (&e)[3][3], const Mat34<Scalar>& D, Out& f) {
   using std::abs;
@@ -250,12 +258,12 @@ PCE_ALWAYS_INLINE Status make_frame(const Scalar (&e)[3][3], const Mat34<Scalar>
   const bool unit = unit_scale(big);
   const PowerOfTwoScale<Scalar> sc(unit ? Scalar(1) : big);
   if (unit) {
-    frame_arithmetic(e, a);
+    frame_arithmetic<full>(e, a);
   } else {
     Scalar E[3][3];
     for (int k = 0; k < 3; ++k)
       for (int i = 0; i < 3; ++i) E[k][i] = sc.down(e[k][i]);
-    frame_arithmetic(E, a);
+    frame_arithmetic<full>(E, a);
   }
   // (|m|² > 0 and |e0|² > 0, i.e. |m| > 0 and |e0| > 0, without waiting for the square roots)
   if (!(a.mm > Scalar(0)) || !(a.a00 > Scalar(0))) return Status::degenerate;
@@ -278,18 +286,31 @@ PCE_ALWAYS_INLINE Status make_frame(const Scalar (&e)[3][3], const Mat34<Scalar>
   // Symmetric Eigenvalue Problem, Sec. 6.9); it moves n̂ by no more than its own error, and
   // α, β, γ, l above keep the plain m/|m|.
   if (!(a.nb2 > Scalar(0))) return Status::degenerate;  // m ∥ e0: only for m of pure rounding
-  const Vec3<Scalar> t0(a.t0[0], a.t0[1], a.t0[2]);
-  Vec3<Scalar> nb(a.n[0], a.n[1], a.n[2]);
-  bool second = false;
-  if (!(a.nb2 > Scalar(0.25) * a.mm)) {
-    nb -= nb.dot(t0) * t0;
-    const Scalar nn = sqrt(nb.squaredNorm());
-    if (!(nn > Scalar(0))) return Status::degenerate;
-    nb /= nn;
-    second = true;
-  }
-  f.l = l;
-  if constexpr (full) {
+  if constexpr (!full) {
+    // The second Gram–Schmidt pass changes n̂ and ê1 only, but it decides whether the pair is
+    // degenerate, and it needs the basis the lean arithmetic did not build: for nearly
+    // parallel edges only, the full frame is built for its status.
+    if (!(a.nb2 > Scalar(0.25) * a.mm)) {
+      Frame<Scalar> full_frame;
+      const Status s = make_frame<Scalar>(e, D, full_frame);
+      if (s != Status::ok) return s;
+    }
+    f.l = l;
+    for (int i = 0; i < 3; ++i) f.m_hat[i] = a.m_hat[i];
+    for (int j = 0; j < 4; ++j) f.p2[j] = p2[j];
+    return Status::ok;
+  } else {
+    const Vec3<Scalar> t0(a.t0[0], a.t0[1], a.t0[2]);
+    Vec3<Scalar> nb(a.n[0], a.n[1], a.n[2]);
+    bool second = false;
+    if (!(a.nb2 > Scalar(0.25) * a.mm)) {
+      nb -= nb.dot(t0) * t0;
+      const Scalar nn = sqrt(nb.squaredNorm());
+      if (!(nn > Scalar(0))) return Status::degenerate;
+      nb /= nn;
+      second = true;
+    }
+    f.l = l;
     f.m_hat = Vec3<Scalar>(a.m_hat[0], a.m_hat[1], a.m_hat[2]);
     f.alpha = a.alpha;
     f.beta = a.beta;
@@ -304,11 +325,8 @@ PCE_ALWAYS_INLINE Status make_frame(const Scalar (&e)[3][3], const Mat34<Scalar>
       f.P(1, j) = frame_coefficient(D, 1, j, a.alpha, a.beta, a.gamma);
       f.P(2, j) = p2[j];
     }
-  } else {
-    for (int i = 0; i < 3; ++i) f.m_hat[i] = a.m_hat[i];
-    for (int j = 0; j < 4; ++j) f.p2[j] = p2[j];
+    return Status::ok;
   }
-  return Status::ok;
 }
 
 /// The edge vectors `e[k] = x_head(k) − x_tail(k)` of the rows of `D` (entries 0, ±1), from the
