@@ -24,6 +24,10 @@
 /// pce::friction_gradient, pce::friction_hessian; weights and normal from a frame or a
 /// closest-feature evaluation by pce::friction_geometry) is in `friction/lagged_friction.hpp`.
 ///
+/// **Per tetrahedron** (`volumes/`): a rest shape (pce::tet_rest) and the stable Neo-Hookean
+/// energy (pce::StableNeoHookean) give pce::snh_tet_energy(), with its Hessian made PSD through
+/// the closed-form eigensystem pce::snh_eigensystem() (pce::VolumeProjection).
+///
 /// **Simulation** (`pce::sim`, the `pce-sim` tool's library): pce::sim::load_scene() builds a
 /// pce::sim::Simulation from a JSON scene; pce::sim::Simulation::step advances one frame
 /// by projected Newton over the declared pce::sim::Effect terms; contact effects find
@@ -61,3 +65,5 @@
 #include <pce/penalties/log_barrier.hpp>
 #include <pce/penalties/penalty.hpp>
 #include <pce/penalties/quadratic.hpp>
+#include <pce/volumes/stable_neo_hookean.hpp>
+#include <pce/volumes/tet_deformation.hpp>
