@@ -24,13 +24,15 @@
 /// elasticity of the given Lamé parameters at small strain (`from_lame`, `from_young_poisson`).
 #pragma once
 
+#include <pce/core/jacobi.hpp>
 #include <pce/core/types.hpp>
 #include <pce/volumes/tet_deformation.hpp>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <Eigen/SVD>
 
 #include <cmath>
+#include <utility>
 
 namespace pce {
 
@@ -113,54 +115,119 @@ template <class Scalar> struct SnhEigensystem {
   Mat9<Scalar> vectors;  ///< the eigenvectors on vec(F), one per column
 };
 
-/// The rotation-variant SVD `F = U diag(sigma) Vᵀ`: U and V rotations; the smallest singular
-/// value carries det F's sign.
+/// The rotation-variant SVD `F = U diag(sigma) Vᵀ`: U and V rotations, |σ₀| ≥ |σ₁| ≥ |σ₂|,
+/// σ₀, σ₁ ≥ 0, and σ₂ carrying det F's sign. One-sided Jacobi (Hestenes; Demmel & Veselić,
+/// "Jacobi's method is more accurate than QR", SIMAX 13(4), 1992): plane rotations from the
+/// right make F's columns orthogonal, `W = F V`, until every pair is orthogonal to ε relative;
+/// then `u₀ = w₀/|w₀|`, `u₁` = w₁ orthogonalised against u₀ and normalised (any unit vector
+/// orthogonal to u₀ if nothing is left), `u₂ = u₀ × u₁`, and `σ_i = u_i·w_i`. U is orthonormal
+/// to rounding whatever the singular values (flat and inverted F included), and
+/// `F = U Σ Vᵀ` to about ε‖F‖. For |F| below about 1e150 (double; its squared column norms
+/// must not overflow).
 template <class Scalar>
 void rotation_variant_svd(const Mat3<Scalar>& F, Mat3<Scalar>& U, Vec3<Scalar>& sigma, Mat3<Scalar>& V) {
-  const Eigen::JacobiSVD<Mat3<Scalar>, Eigen::NoQRPreconditioner> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  U = svd.matrixU();
-  V = svd.matrixV();
-  sigma = svd.singularValues();
-  if (U.determinant() < Scalar(0)) U.col(2) = -U.col(2), sigma[2] = -sigma[2];
-  if (V.determinant() < Scalar(0)) V.col(2) = -V.col(2), sigma[2] = -sigma[2];
+  using std::abs;
+  using std::sqrt;
+  const Scalar eps = Constants<Scalar>::epsilon(), eps2 = eps * eps;
+  Mat3<Scalar> W = F;
+  V.setIdentity();
+  constexpr int pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  for (int sweep = 0; sweep < 16; ++sweep) {
+    bool rotated = false;
+    for (const auto& pq : pairs) {
+      const int p = pq[0], q = pq[1];
+      const Scalar a = W.col(p).squaredNorm(), b = W.col(q).squaredNorm(), c = W.col(p).dot(W.col(q));
+      if (!(c * c > eps2 * (a * b))) continue;  // orthogonal to rounding (also 0 or NaN)
+      rotated = true;
+      // the rotation that zeroes w_p·w_q (Golub & Van Loan, Sec. 8.5.2): ζ = (b − a)/(2c)
+      const Scalar zeta = (b - a) / (Scalar(2) * c);
+      const Scalar t = (zeta >= Scalar(0) ? Scalar(1) : Scalar(-1)) / (abs(zeta) + sqrt(Scalar(1) + zeta * zeta));
+      const Scalar cs = Scalar(1) / sqrt(Scalar(1) + t * t), sn = cs * t;
+      const Vec3<Scalar> wp = W.col(p), vp = V.col(p);
+      W.col(p) = cs * wp - sn * W.col(q);
+      W.col(q) = sn * wp + cs * W.col(q);
+      V.col(p) = cs * vp - sn * V.col(q);
+      V.col(q) = sn * vp + cs * V.col(q);
+    }
+    if (!rotated) break;
+  }
+  // columns by decreasing norm, then V a rotation (F = W Vᵀ is unchanged by flipping a
+  // column of both)
+  Vec3<Scalar> n2(W.col(0).squaredNorm(), W.col(1).squaredNorm(), W.col(2).squaredNorm());
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2 - i; ++j)
+      if (n2[j] < n2[j + 1]) {
+        std::swap(n2[j], n2[j + 1]);
+        W.col(j).swap(W.col(j + 1));
+        V.col(j).swap(V.col(j + 1));
+      }
+  if (V.determinant() < Scalar(0)) V.col(2) = -V.col(2), W.col(2) = -W.col(2);
+  const Scalar n0 = sqrt(n2[0]);
+  U.col(0) = n0 > Scalar(0) ? Vec3<Scalar>(W.col(0) / n0) : Vec3<Scalar>::UnitX();
+  Vec3<Scalar> u1 = W.col(1) - U.col(0).dot(W.col(1)) * U.col(0);
+  const Scalar n1 = u1.norm();
+  if (n1 > Scalar(0)) {
+    u1 /= n1;
+  } else {  // rank ≤ 1: any unit vector orthogonal to u₀
+    const int k =
+        abs(U(0, 0)) < abs(U(1, 0)) ? (abs(U(0, 0)) < abs(U(2, 0)) ? 0 : 2) : (abs(U(1, 0)) < abs(U(2, 0)) ? 1 : 2);
+    u1 = U.col(0).cross(Vec3<Scalar>::Unit(k)).normalized();
+  }
+  U.col(1) = u1;
+  U.col(2) = U.col(0).cross(u1);
+  for (int i = 0; i < 3; ++i) sigma[i] = U.col(i).dot(W.col(i));
 }
 
+namespace detail {
+/// What the eigensystem is made of: the rotation-variant SVD, `s = λ(J − 1) − μ`, the 3×3
+/// scaling block `A` and the vectors `vec(u_i v_jᵀ)`.
+template <class Scalar> struct SnhModes {
+  Mat3<Scalar> U, V;      ///< F = U diag(sigma) Vᵀ
+  Vec3<Scalar> sigma;     ///< signed singular values
+  Scalar s;               ///< λ(J − 1) − μ: twist μ + s σ_k, flip μ − s σ_k
+  Mat3<Scalar> A;         ///< ∂²Ψ/∂σ²
+  Vec9<Scalar> uv[3][3];  ///< vec(u_i v_jᵀ)
+  SnhModes(const StableNeoHookean& m, const Mat3<Scalar>& F) {
+    rotation_variant_svd(F, U, sigma, V);
+    const Scalar mu(m.mu), lambda(m.lambda), J = sigma[0] * sigma[1] * sigma[2];
+    s = lambda * (J - Scalar(1)) - mu;
+    const Scalar kappa = lambda * (Scalar(2) * J - Scalar(1)) - mu;
+    for (int i = 0; i < 3; ++i) {
+      const int j = (i + 1) % 3, k = (i + 2) % 3;
+      A(i, i) = mu + lambda * (sigma[j] * sigma[k]) * (sigma[j] * sigma[k]);
+      A(j, k) = A(k, j) = sigma[i] * kappa;
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) uv[i][j] = vec_outer<Scalar>(U.col(i), V.col(j));
+  }
+};
+/// The axis pairs (i, j) of the twist and flip modes, and the third axis k.
+inline constexpr int snh_pairs[3][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0}};
+}  // namespace detail
+
 /// The closed-form eigensystem of `snh_hessian(m, F)` (see the file comment): one 3×3 SVD
-/// and one 3×3 symmetric eigenproblem, no 9×9 solve.
+/// (`rotation_variant_svd`) and one 3×3 symmetric eigenproblem, no 9×9 solve.
 template <class Scalar> SnhEigensystem<Scalar> snh_eigensystem(const StableNeoHookean& m, const Mat3<Scalar>& F) {
   using std::sqrt;
-  Mat3<Scalar> U, V;
-  Vec3<Scalar> sg;
-  rotation_variant_svd(F, U, sg, V);
-  const Scalar mu(m.mu), lambda(m.lambda), J = sg[0] * sg[1] * sg[2];
-  const Scalar s = lambda * (J - Scalar(1)) - mu, kappa = lambda * (Scalar(2) * J - Scalar(1)) - mu;
-  const Scalar r = Scalar(1) / sqrt(Scalar(2));
+  const detail::SnhModes<Scalar> md(m, F);
+  const Scalar mu(m.mu), r = Scalar(1) / sqrt(Scalar(2));
   SnhEigensystem<Scalar> e;
-  constexpr int pairs[3][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0}};
   for (int p = 0; p < 3; ++p) {
-    const int i = pairs[p][0], j = pairs[p][1], k = pairs[p][2];
-    const Vec9<Scalar> a = detail::vec_outer<Scalar>(U.col(i), V.col(j)),
-                       b = detail::vec_outer<Scalar>(U.col(j), V.col(i));
-    e.values[p] = mu + s * sg[k];
-    e.vectors.col(p) = r * (a - b);
-    e.values[3 + p] = mu - s * sg[k];
-    e.vectors.col(3 + p) = r * (a + b);
+    const int i = detail::snh_pairs[p][0], j = detail::snh_pairs[p][1], k = detail::snh_pairs[p][2];
+    e.values[p] = mu + md.s * md.sigma[k];
+    e.vectors.col(p) = r * (md.uv[i][j] - md.uv[j][i]);
+    e.values[3 + p] = mu - md.s * md.sigma[k];
+    e.vectors.col(3 + p) = r * (md.uv[i][j] + md.uv[j][i]);
   }
-  Mat3<Scalar> A;
-  for (int i = 0; i < 3; ++i) {
-    const int j = (i + 1) % 3, k = (i + 2) % 3;
-    A(i, i) = mu + lambda * (sg[j] * sg[k]) * (sg[j] * sg[k]);
-    A(j, k) = A(k, j) = sg[i] * kappa;
-  }
-  // A by Eigen's 3×3 tridiagonal QR: its closed form (`computeDirect`, Cardano) loses
-  // digits in the eigenvectors of nearly repeated eigenvalues, which here made the analytic
-  // projection differ from the numerical one by up to 3700 ε‖H‖ (48 ε‖H‖ with QR)
-  const Eigen::SelfAdjointEigenSolver<Mat3<Scalar>> es(A);
+  // A by tridiagonal QR (`core/jacobi.hpp`): a closed form (Cardano, Eigen's `computeDirect`)
+  // loses digits in the eigenvectors of nearly repeated eigenvalues, which here made the
+  // analytic projection differ from the numerical one by up to 3700 ε‖H‖
+  Vec3<Scalar> a;
+  Mat3<Scalar> Q;
+  detail::symmetric_qr_eigen<Scalar, 3>(md.A, a, Q);
   for (int c = 0; c < 3; ++c) {
-    e.values[6 + c] = es.eigenvalues()[c];
-    Vec9<Scalar> q = Vec9<Scalar>::Zero();
-    for (int d = 0; d < 3; ++d) q += es.eigenvectors()(d, c) * detail::vec_outer<Scalar>(U.col(d), V.col(d));
-    e.vectors.col(6 + c) = q;
+    e.values[6 + c] = a[c];
+    e.vectors.col(6 + c) = Q(0, c) * md.uv[0][0] + Q(1, c) * md.uv[1][1] + Q(2, c) * md.uv[2][2];
   }
   return e;
 }
@@ -177,19 +244,40 @@ enum class VolumeProjection {
 template <class Scalar>
 Mat9<Scalar> snh_projected_hessian(const StableNeoHookean& m, const Mat3<Scalar>& F, VolumeProjection how) {
   if (how == VolumeProjection::none) return snh_hessian(m, F);
-  Vec9<Scalar> values;
-  Mat9<Scalar> vectors;
-  if (how == VolumeProjection::analytic) {
-    const SnhEigensystem<Scalar> e = snh_eigensystem(m, F);
-    values = e.values, vectors = e.vectors;
-  } else {
-    const Eigen::SelfAdjointEigenSolver<Mat9<Scalar>> es(snh_hessian(m, F));
-    values = es.eigenvalues(), vectors = es.eigenvectors();
-  }
   Mat9<Scalar> H = Mat9<Scalar>::Zero();
-  for (int i = 0; i < 9; ++i)
-    if (values[i] > Scalar(0)) H.noalias() += (values[i] * vectors.col(i)) * vectors.col(i).transpose();
-  return Scalar(0.5) * (H + H.transpose());
+  if (how == VolumeProjection::numerical) {
+    const Eigen::SelfAdjointEigenSolver<Mat9<Scalar>> es(snh_hessian(m, F));
+    for (int i = 0; i < 9; ++i)
+      if (es.eigenvalues()[i] > Scalar(0))
+        H.noalias() += (es.eigenvalues()[i] * es.eigenvectors().col(i)) * es.eigenvectors().col(i).transpose();
+    return Scalar(0.5) * (H + H.transpose());
+  }
+  // analytic: the twist and flip modes of each axis pair clamped in closed form; the scaling
+  // block as `M A⁺ Mᵀ` (M = [vec(u_d v_dᵀ)]), where A⁺ = A when A is positive definite (its
+  // Cholesky factorisation succeeds: no eigensolve), else A's eigenvalues clamped
+  const detail::SnhModes<Scalar> md(m, F);
+  const Scalar mu(m.mu), half(0.5);
+  for (const auto& ijk : detail::snh_pairs) {
+    const int i = ijk[0], j = ijk[1], k = ijk[2];
+    const Scalar twist = mu + md.s * md.sigma[k], flip = mu - md.s * md.sigma[k];
+    const Scalar lt = twist > Scalar(0) ? twist : Scalar(0), lf = flip > Scalar(0) ? flip : Scalar(0);
+    // λt t tᵀ + λf f fᵀ with t, f = (a ∓ b)/√2: ½(λt + λf)(a aᵀ + b bᵀ) + ½(λf − λt)(a bᵀ + b aᵀ)
+    const Vec9<Scalar>&a = md.uv[i][j], &b = md.uv[j][i];
+    const Scalar c0 = half * (lt + lf), c1 = half * (lf - lt);
+    H.noalias() += (c0 * a + c1 * b) * a.transpose() + (c0 * b + c1 * a) * b.transpose();
+  }
+  Mat3<Scalar> Ap = md.A;
+  if (Eigen::LLT<Mat3<Scalar>>(md.A).info() != Eigen::Success) {
+    Vec3<Scalar> a;
+    Mat3<Scalar> Q;
+    detail::symmetric_qr_eigen<Scalar, 3>(md.A, a, Q);
+    for (int c = 0; c < 3; ++c) a[c] = a[c] > Scalar(0) ? a[c] : Scalar(0);
+    Ap = Q * a.asDiagonal() * Q.transpose();
+  }
+  Eigen::Matrix<Scalar, 9, 3> M;
+  for (int d = 0; d < 3; ++d) M.col(d) = md.uv[d][d];
+  H.noalias() += (M * Ap) * M.transpose();
+  return half * (H + H.transpose());
 }
 
 /// One tetrahedron's elastic energy `E = V Ψ(F)`, and when asked (non-null) its gradient
