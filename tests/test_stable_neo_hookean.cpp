@@ -11,6 +11,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -216,4 +219,83 @@ TEST(StableNeoHookean, HardInputsGiveAStatusOrFiniteOutputs) {
     ASSERT_EQ(pce::snh_tet_energy(kMaterial, rest, x, pce::VolumeProjection::analytic, E, &g, &H), pce::Status::ok);
     EXPECT_TRUE(std::isfinite(E) && g.allFinite() && H.allFinite());
   }
+}
+
+// Fuzzed deformation gradients through a unit tetrahedron (Dm = I, so F = Ds): random
+// matrices over 16 decades of scale, inverted, flat (rank 2, 1, 0) and huge ones, each with
+// every output of every projection. `ok` must give finite outputs, and only a Ψ beyond
+// double's range may give `overflow`. PCE_SNH_FUZZ_COUNT sets the number of gradients (default
+// 20 000; `PCE_SNH_FUZZ_COUNT=1000000 tests/test_stable_neo_hookean --gtest_filter=*Fuzz*`
+// is the long run, docs/volumes.md).
+TEST(StableNeoHookean, FuzzedDeformationGradientsStayFinite) {
+  const char* env = std::getenv("PCE_SNH_FUZZ_COUNT");
+  const long count = env ? std::atol(env) : 20000;
+  std::mt19937_64 rng(20261127);
+  std::uniform_real_distribution<double> u(-1, 1), ex(-8, 8), pick(0, 1);
+  pce::Vec12<double> X;
+  X << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1;
+  pce::TetRest<double> rest;
+  ASSERT_EQ(pce::tet_rest(X, rest), pce::Status::ok);
+  long ok = 0, overflow = 0, compared = 0;
+  double worst = 0, worst_large = 0;
+  Mat3<double> worst_F = Mat3<double>::Zero();
+  for (long n = 0; n < count; ++n) {
+    Mat3<double> F;
+    for (int k = 0; k < 9; ++k) F.data()[k] = u(rng);
+    const double what = pick(rng);
+    if (what < 0.1)
+      F.col(2) = u(rng) * F.col(0) + u(rng) * F.col(1);  // flat: rank 2
+    else if (what < 0.15)
+      F.col(1) = u(rng) * F.col(0), F.col(2) = u(rng) * F.col(0);  // a line: rank 1
+    else if (what < 0.17)
+      F.setZero();
+    else if (what < 0.4)
+      F = Mat3<double>::Identity() + 1e-3 * F;  // near rest
+    if (pick(rng) < 0.3) F.col(0) = -F.col(0);  // inverted
+    const bool huge = pick(rng) < 0.02;
+    F *= huge ? std::pow(10.0, 40 + 80 * pick(rng)) : std::pow(10.0, ex(rng));
+    pce::Vec12<double> x = pce::Vec12<double>::Zero();
+    for (int c = 0; c < 3; ++c) x.segment<3>(3 * (c + 1)) = F.col(c);
+    for (const pce::VolumeProjection how :
+         {pce::VolumeProjection::none, pce::VolumeProjection::analytic, pce::VolumeProjection::numerical}) {
+      double E = 0;
+      pce::Vec12<double> g;
+      pce::Mat12<double> H;
+      const pce::Status s = pce::snh_tet_energy(kMaterial, rest, x, how, E, &g, &H);
+      if (s == pce::Status::overflow) {
+        ++overflow;
+        ASSERT_GT(F.norm(), 1e30) << "overflow for a moderate F:\n" << F;
+        continue;
+      }
+      ASSERT_EQ(s, pce::Status::ok) << F;
+      ++ok;
+      ASSERT_TRUE(std::isfinite(E) && g.allFinite() && H.allFinite()) << F;
+    }
+    if (!huge && n % 16 == 0) {  // the eigensystem itself, and analytic against numerical
+      const pce::SnhEigensystem<double> e = pce::snh_eigensystem(kMaterial, F);
+      ASSERT_TRUE(e.values.allFinite() && e.vectors.allFinite()) << F;
+      const Mat9<double> a = pce::snh_projected_hessian(kMaterial, F, pce::VolumeProjection::analytic);
+      const Mat9<double> nm = pce::snh_projected_hessian(kMaterial, F, pce::VolumeProjection::numerical);
+      const double norm = pce::snh_hessian(kMaterial, F).norm();
+      if (norm > 0) {
+        const double r = (a - nm).norm() / (std::numeric_limits<double>::epsilon() * norm);
+        if (F.norm() > 1e3) {
+          worst_large = std::max(worst_large, r);  // reported, not asserted: see below
+        } else if (r > worst) {
+          worst = r;
+          worst_F = F;
+        }
+      }
+      ++compared;
+    }
+  }
+  // Beyond |F| ~ 1e3 (a thousandfold stretch) det F and cof F, which the Hessian is built from,
+  // carry errors of ε‖F‖³ and ε‖F‖² of their own, and nearly flat such F then make analytic
+  // and numerical differ by more than rounding of ‖H‖ (1e6 runs: up to ~2e6 ε‖H‖ at
+  // ‖F‖ ~ 8e7); both are then as good as H itself.
+  std::printf(
+      "fuzzed F: %ld, ok %ld, overflow %ld; analytic vs numerical on %ld: worst %.1f eps |H| (|F| <= 1e3), "
+      "%.1f eps |H| (larger)\n",
+      count, ok, overflow, compared, worst, worst_large);
+  EXPECT_LE(worst, 1024) << "at F =\n" << worst_F;
 }

@@ -189,9 +189,12 @@ template <class Scalar> struct SnhModes {
   Vec9<Scalar> uv[3][3];  ///< vec(u_i v_jᵀ)
   SnhModes(const StableNeoHookean& m, const Mat3<Scalar>& F) {
     rotation_variant_svd(F, U, sigma, V);
-    const Scalar mu(m.mu), lambda(m.lambda), J = sigma[0] * sigma[1] * sigma[2];
+    // J as `snh_hessian` takes it (det F); the g gᵀ term's J as the singular values give it.
+    // They agree to ε‖F‖³, but a large, nearly flat F leaves det F only that accurate, and
+    // then this split keeps the eigensystem that of the Hessian actually computed.
+    const Scalar mu(m.mu), lambda(m.lambda), J = F.determinant(), J_sigma = sigma[0] * sigma[1] * sigma[2];
     s = lambda * (J - Scalar(1)) - mu;
-    const Scalar kappa = lambda * (Scalar(2) * J - Scalar(1)) - mu;
+    const Scalar kappa = s + lambda * J_sigma;  // λ(2J − 1) − μ when the two agree
     for (int i = 0; i < 3; ++i) {
       const int j = (i + 1) % 3, k = (i + 2) % 3;
       A(i, i) = mu + lambda * (sigma[j] * sigma[k]) * (sigma[j] * sigma[k]);
