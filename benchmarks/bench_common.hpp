@@ -416,4 +416,12 @@ PoolStats register_edge_edge_benchmarks();
 PoolStats register_point_edge_benchmarks();
 PoolStats register_point_point_benchmarks();
 
+/// The tetrahedron pool's make-up (`bench_tet.cpp`): tetrahedra, inverted ones (det F < 0),
+/// and those whose stable Neo-Hookean scaling block is indefinite (the analytic projection's
+/// slower path, a 3×3 eigensolve).
+struct TetPoolStats {
+  int count, inverted, indefinite;
+};
+TetPoolStats register_tet_benchmarks();
+
 }  // namespace pce_bench

@@ -295,7 +295,7 @@ template <class Scalar> Status snh_tet_energy(const StableNeoHookean& m, const T
   const Mat3<Scalar> F = deformation_gradient(rest, x);
   const Scalar E = rest.volume * snh_energy_density(m, F);
   if (!detail::is_finite(E)) return Status::overflow;
-  Vec12<Scalar> g;
+  Vec12<Scalar> g = Vec12<Scalar>::Zero();  // (written only when asked for)
   Mat12<Scalar> H;
   if (gradient) {
     g = rest.volume * pull_back_stress(rest, snh_stress(m, F));

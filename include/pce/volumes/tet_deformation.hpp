@@ -59,22 +59,29 @@ template <class Scalar> Vec12<Scalar> pull_back_stress(const TetRest<Scalar>& re
   return g;
 }
 
-/// `Bᵀ H B` for a 9×9 `H` on vec(F): block (j, l) is `Σ_cd G(j, c) G(l, d) H_cd`, with `H_cd`
-/// the 3×3 block of H for F's columns c and d; symmetrised, `(M + Mᵀ)/2`, so that it is
-/// symmetric bit for bit when H is symmetric.
+/// `Bᵀ H B` for a symmetric 9×9 `H` on vec(F): block (j, l) is `Σ_c G(j, c) K_cl` with
+/// `K_cl = Σ_d G(l, d) H_cd` (H_cd the 3×3 block of H for F's columns c and d). The blocks
+/// j ≤ l are computed, the diagonal ones symmetrised (`(M + Mᵀ)/2`) and the others mirrored,
+/// so the result is symmetric bit for bit.
 template <class Scalar> Mat12<Scalar> pull_back_hessian(const TetRest<Scalar>& rest, const Mat9<Scalar>& H) {
-  // HB = H B (9×12), column block l: Σ_d G(l, d) H.col-block(d)
-  Eigen::Matrix<Scalar, 9, 12> HB;
-  for (int l = 0; l < 4; ++l)
-    HB.template middleCols<3>(3 * l) = rest.G(l, 0) * H.template middleCols<3>(0) +
-                                       rest.G(l, 1) * H.template middleCols<3>(3) +
-                                       rest.G(l, 2) * H.template middleCols<3>(6);
+  const Eigen::Matrix<Scalar, 4, 3>& G = rest.G;
+  Mat3<Scalar> K[3][4];
+  for (int c = 0; c < 3; ++c)
+    for (int l = 0; l < 4; ++l)
+      K[c][l] = G(l, 0) * H.template block<3, 3>(3 * c, 0) + G(l, 1) * H.template block<3, 3>(3 * c, 3) +
+                G(l, 2) * H.template block<3, 3>(3 * c, 6);
   Mat12<Scalar> out;
   for (int j = 0; j < 4; ++j)
-    out.template middleRows<3>(3 * j) = rest.G(j, 0) * HB.template middleRows<3>(0) +
-                                        rest.G(j, 1) * HB.template middleRows<3>(3) +
-                                        rest.G(j, 2) * HB.template middleRows<3>(6);
-  return Scalar(0.5) * (out + out.transpose());
+    for (int l = j; l < 4; ++l) {
+      const Mat3<Scalar> b = G(j, 0) * K[0][l] + G(j, 1) * K[1][l] + G(j, 2) * K[2][l];
+      if (l == j) {
+        out.template block<3, 3>(3 * j, 3 * j) = Scalar(0.5) * (b + b.transpose());
+      } else {
+        out.template block<3, 3>(3 * j, 3 * l) = b;
+        out.template block<3, 3>(3 * l, 3 * j) = b.transpose();
+      }
+    }
+  return out;
 }
 
 }  // namespace pce
