@@ -40,6 +40,7 @@
 #pragma once
 
 #include <pce/core/jacobi.hpp>
+#include <pce/core/orthogonal.hpp>
 #include <pce/core/tridiagonal.hpp>
 #include <pce/core/types.hpp>
 #include <pce/energy/closest_feature.hpp>

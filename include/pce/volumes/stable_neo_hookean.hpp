@@ -25,6 +25,7 @@
 #pragma once
 
 #include <pce/core/jacobi.hpp>
+#include <pce/core/orthogonal.hpp>
 #include <pce/core/types.hpp>
 #include <pce/volumes/tet_deformation.hpp>
 
@@ -169,9 +170,7 @@ void rotation_variant_svd(const Mat3<Scalar>& F, Mat3<Scalar>& U, Vec3<Scalar>& 
   if (n1 > Scalar(0)) {
     u1 /= n1;
   } else {  // rank ≤ 1: any unit vector orthogonal to u₀
-    const int k =
-        abs(U(0, 0)) < abs(U(1, 0)) ? (abs(U(0, 0)) < abs(U(2, 0)) ? 0 : 2) : (abs(U(1, 0)) < abs(U(2, 0)) ? 1 : 2);
-    u1 = U.col(0).cross(Vec3<Scalar>::Unit(k)).normalized();
+    u1 = detail::any_orthogonal<Scalar>(U.col(0));
   }
   U.col(1) = u1;
   U.col(2) = U.col(0).cross(u1);

@@ -17,6 +17,7 @@
 // there). The in-plane part of (φ − φ₀)∇²φ is dropped; it vanishes at the rest angle.
 #include "arguments.hpp"
 
+#include <pce/core/orthogonal.hpp>
 #include <pce/sim/effects.hpp>
 
 #include <array>
@@ -36,13 +37,6 @@ struct Joint {
   double phi0;           ///< rest turning angle
   double weight;         ///< k/ℓ̄
 };
-
-/// A unit vector orthogonal to the unit vector `u` (deterministic).
-inline Eigen::Vector3d any_orthogonal(const Eigen::Vector3d& u) {
-  Eigen::Index k;
-  u.cwiseAbs().minCoeff(&k);
-  return u.cross(Eigen::Vector3d::Unit(k)).normalized();
-}
 
 /// The turning angle φ ∈ [0, π] of e1 = x1 − x0, e2 = x2 − x1.
 inline double turning_angle(const Eigen::Vector3d& e1, const Eigen::Vector3d& e2) {
@@ -74,7 +68,7 @@ class StrandBending final : public Effect {
       const Eigen::Vector3d t1 = e1 / l1, t2 = e2 / l2;
       const Eigen::Vector3d b = t1.cross(t2);
       const double s = b.norm();
-      const Eigen::Vector3d bh = s > 1e-10 ? Eigen::Vector3d(b / s) : any_orthogonal(t1);
+      const Eigen::Vector3d bh = s > 1e-10 ? Eigen::Vector3d(b / s) : pce::detail::any_orthogonal<double>(t1);
       const Eigen::Vector3d d1 = -bh.cross(t1) / l1, d2 = bh.cross(t2) / l2;  // ∂φ/∂e1, ∂φ/∂e2
       Vector9 g;
       g << -d1, d1 - d2, d2;

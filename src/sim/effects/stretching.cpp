@@ -13,6 +13,7 @@
 // the constant dF/dx (F = X D, X = [x0 x1 x2], D the 3×2 matrix below).
 #include "arguments.hpp"
 
+#include <pce/core/orthogonal.hpp>
 #include <pce/sim/effects.hpp>
 
 #include <array>
@@ -39,13 +40,6 @@ inline Vector9 pull_back(const Matrix32& Q, const Matrix32& D) {
   Vector9 g;
   for (int a = 0; a < 3; ++a) g.segment<3>(3 * a) = Q * D.row(a).transpose();
   return g;
-}
-
-/// A unit vector orthogonal to the unit vector `u` (deterministic).
-inline Eigen::Vector3d any_orthogonal(const Eigen::Vector3d& u) {
-  Eigen::Index k;
-  u.cwiseAbs().minCoeff(&k);
-  return u.cross(Eigen::Vector3d::Unit(k)).normalized();
 }
 
 /// One triangle: returns E = w Σ(σᵢ − 1)², adds ∂E/∂X (3×3, column a = vertex a) to `G`
@@ -82,7 +76,7 @@ inline double arap_triangle(const Eigen::Matrix3d& X, const Matrix32& D, double 
     u3 = n - n.dot(u1) * u1;  // exact orthogonality to u1
     u3.normalize();
   } else {
-    u3 = any_orthogonal(u1);  // σ₂ ≈ 0: any completion is a closest orthonormal frame
+    u3 = pce::detail::any_orthogonal<double>(u1);  // σ₂ ≈ 0: any completion is a closest orthonormal frame
   }
   const Eigen::Vector3d u2 = u3.cross(u1);  // F v₂ lies along u₃ × u₁ (σ₂ ≥ 0)
   const Matrix32 R = u1 * v1.transpose() + u2 * v2.transpose();
