@@ -122,7 +122,7 @@ std::unique_ptr<Effect> make_bending(const Model& model, double stiffness) {
   std::vector<EdgeUse> uses;
   uses.reserve(3 * static_cast<std::size_t>(T.cols()));
   for (int t = 0; t < static_cast<int>(T.cols()); ++t)
-    for (int c = 0; c < 3; ++c) {
+    for (int c = 0; c < 3 && !model.is_boundary_triangle(t); ++c) {
       const int a = T(c, t), b = T((c + 1) % 3, t);
       uses.push_back({std::min(a, b), std::max(a, b), t, c});
     }

@@ -19,7 +19,8 @@
 /// position, t ≤ 0.9 d / |Δxᵢ| leaves d ≥ 0.1 d > 0 all along the segment.
 ///
 /// Area weighting (`area_weighted`): vertex i's energy is Aᵢ ψ(d), Aᵢ its lumped rest area
-/// (the penalty evaluated with stiffness Aᵢ k, which ψ is linear in).
+/// (the penalty evaluated with stiffness Aᵢ k, which ψ is linear in); a vertex inside a
+/// volume has area 0 and so no contact.
 ///
 /// Friction (`friction`): at the step's start every active (vertex, obstacle) pair is frozen
 /// with λ = −ψ′(d) (weighted), the tangent basis of its normal, and the displacement over
@@ -296,7 +297,7 @@ std::unique_ptr<Effect> make_obstacle_contact(const Model& model, const std::vec
   if (settings.area_weighted) {
     areas = rest_areas(model).vertex;
     for (Eigen::Index i = 0; i < areas.size(); ++i)
-      if (!(areas[i] > 0))
+      if (!(areas[i] > 0) && model.is_surface_vertex(i))  // a volume's inner vertices weigh 0: no contact
         throw ArgumentError("area_weighted", "vertex " + std::to_string(i) +
                                                  " is no corner of a triangle of positive area (a strand vertex?): it "
                                                  "has no area to weigh its contact by");

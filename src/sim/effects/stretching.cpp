@@ -137,6 +137,7 @@ std::unique_ptr<Effect> make_stretching(const Model& model, double stiffness) {
   std::vector<RestTriangle> triangles;
   triangles.reserve(static_cast<std::size_t>(model.triangles.cols()));
   for (Eigen::Index k = 0; k < model.triangles.cols(); ++k) {
+    if (model.is_boundary_triangle(k)) continue;  // a volume's surface: its elasticity is the volume's
     RestTriangle t;
     for (int a = 0; a < 3; ++a) t.v[static_cast<std::size_t>(a)] = model.triangles(a, k);
     // D_m: the rest edges in the triangle's own orthonormal 2D frame (t₁ along edge 1).

@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <utility>
@@ -19,7 +20,7 @@ void check_density(const std::string& field, double v) {
   if (!(std::isfinite(v) && v >= kMinDensity && v <= kMaxDensity)) {
     std::ostringstream s;
     s << "expected a number in [" << kMinDensity << ", " << kMaxDensity
-      << "] (the densities pce::sim accepts, kg/m² or kg/m), got ";
+      << "] (the densities pce::sim accepts, kg/m³, kg/m² or kg/m), got ";
     s.precision(17);
     s << v;
     throw ArgumentError(field, s.str());
@@ -30,7 +31,7 @@ void check_density(const std::string& field, double v) {
 Model build_model(const std::vector<ModelMesh>& meshes) {
   if (meshes.empty()) throw ArgumentError("meshes", "expected at least one mesh");
   std::set<std::string> names;
-  int nv = 0, nt = 0, ns = 0;
+  int nv = 0, nt = 0, ns = 0, nT = 0;
   for (std::size_t k = 0; k < meshes.size(); ++k) {
     const ModelMesh& s = meshes[k];
     const std::string at = "meshes[" + std::to_string(k) + "]";
@@ -48,22 +49,38 @@ Model build_model(const std::vector<ModelMesh>& meshes) {
     nv += static_cast<int>(s.mesh.vertex_count());
     nt += static_cast<int>(s.mesh.triangles.cols());
     ns += static_cast<int>(s.mesh.segments.cols());
+    nT += static_cast<int>(s.mesh.tetrahedra.cols());
   }
   Model m;
   m.rest.resize(3, nv);
   m.triangles.resize(3, nt);
   m.segments.resize(2, ns);
+  m.tetrahedra.resize(4, nT);
   m.mass = Eigen::VectorXd::Zero(nv);
-  int v0 = 0, t0 = 0, s0 = 0;
+  m.boundary_triangle.assign(static_cast<std::size_t>(nt), 0);
+  m.surface_vertex.assign(static_cast<std::size_t>(nv), 0);
+  int v0 = 0, t0 = 0, s0 = 0, T0 = 0;
   for (std::size_t k = 0; k < meshes.size(); ++k) {
     const ModelMesh& s = meshes[k];
     const int cv = static_cast<int>(s.mesh.vertex_count()), ct = static_cast<int>(s.mesh.triangles.cols()),
-              cs = static_cast<int>(s.mesh.segments.cols());
-    m.meshes.push_back({s.name, v0, cv, t0, ct, s0, cs});
+              cs = static_cast<int>(s.mesh.segments.cols()), cT = static_cast<int>(s.mesh.tetrahedra.cols());
+    m.meshes.push_back({s.name, v0, cv, t0, ct, s0, cs, T0, cT});
     m.rest.middleCols(v0, cv) = s.mesh.positions;
     m.triangles.middleCols(t0, ct) = s.mesh.triangles.array() + v0;
     m.segments.middleCols(s0, cs) = s.mesh.segments.array() + v0;
-    for (int t = 0; t < ct; ++t) {
+    m.tetrahedra.middleCols(T0, cT) = s.mesh.tetrahedra.array() + v0;
+    for (int t = 0; t < ct; ++t)
+      for (int j = 0; j < 3; ++j) m.surface_vertex[static_cast<std::size_t>(v0 + s.mesh.triangles(j, t))] = 1;
+    for (int e = 0; e < cs; ++e)
+      for (int j = 0; j < 2; ++j) m.surface_vertex[static_cast<std::size_t>(v0 + s.mesh.segments(j, e))] = 1;
+    for (int t = 0; t < cT; ++t) {
+      const auto tet = s.mesh.tetrahedra.col(t);
+      const auto X = [&](int j) { return s.mesh.positions.col(tet[j]); };
+      const double volume = (X(1) - X(0)).dot((X(2) - X(0)).cross(X(3) - X(0))) / 6.0;
+      for (int j = 0; j < 4; ++j) m.mass[v0 + tet[j]] += s.density * volume / 4.0;
+    }
+    if (cT > 0) std::fill_n(m.boundary_triangle.begin() + t0, ct, char{1});
+    for (int t = 0; t < ct && cT == 0; ++t) {
       const auto tri = s.mesh.triangles.col(t);
       const double area = 0.5 * (s.mesh.positions.col(tri[1]) - s.mesh.positions.col(tri[0]))
                                     .cross(s.mesh.positions.col(tri[2]) - s.mesh.positions.col(tri[0]))
@@ -77,12 +94,15 @@ Model build_model(const std::vector<ModelMesh>& meshes) {
     }
     for (int i = 0; i < cv; ++i)
       if (!(m.mass[v0 + i] > 0))
-        throw ArgumentError("meshes[" + std::to_string(k) + "]",
-                            "vertex " + std::to_string(i) +
-                                " belongs to no triangle or segment of positive size (it would have no mass)");
+        throw ArgumentError(
+            "meshes[" + std::to_string(k) + "]",
+            "vertex " + std::to_string(i) +
+                (cT > 0 ? " belongs to no tetrahedron (it would have no mass)"
+                        : " belongs to no triangle or segment of positive size (it would have no mass)"));
     v0 += cv;
     t0 += ct;
     s0 += cs;
+    T0 += cT;
   }
   const Eigen::Matrix2Xi tri_edges = unique_edges(m.triangles);
   m.edges.resize(2, tri_edges.cols() + m.segments.cols());

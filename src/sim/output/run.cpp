@@ -28,6 +28,7 @@ json frame_record(const FrameStats& s, long intersections) {
   r["newton_iterations"] = s.newton_iterations;
   r["residual"] = s.residual;
   r["energy"] = s.energy;
+  r["kinetic_energy"] = s.kinetic_energy;
   r["line_search_failures"] = s.line_search_failures;
   r["hit_iteration_cap"] = s.hit_iteration_cap;
   r["broad_phase_ms"] = s.broad_phase_ms;

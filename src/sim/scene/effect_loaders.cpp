@@ -5,6 +5,7 @@
 // InputError at the field's JSON path.
 #include "effect_loaders.hpp"
 
+#include "../effects/arguments.hpp"
 #include "../effects/pins.hpp"
 
 #include <pce/sim/effects.hpp>
@@ -84,6 +85,37 @@ std::unique_ptr<Effect> load_stretching(const Params& params, const BuildContext
   params.choice("model", {"arap"}, std::string("arap"));
   const double mu = params.positive("stiffness");
   return params.build([&] { return make_stretching(*ctx.model, mu); });
+}
+
+std::unique_ptr<Effect> load_volume_elasticity(const Params& params, const BuildContext& ctx) {
+  params.only({"type", "model", "young_modulus", "poisson_ratio", "mu", "lambda", "hessian"});
+  params.choice("model", {"stable_neo_hookean"}, std::string("stable_neo_hookean"));
+  const bool young = params.has("young_modulus") || params.has("poisson_ratio");
+  const bool lame = params.has("mu") || params.has("lambda");
+  if (young == lame)
+    params.fail(young ? "mu" : "young_modulus",
+                "expected either \"young_modulus\" and \"poisson_ratio\" or the Lamé parameters \"mu\" and "
+                "\"lambda\", not both and not neither");
+  StableNeoHookean material;
+  if (young) {
+    const double E = params.positive("young_modulus");
+    const double nu = params.number("poisson_ratio");
+    if (!(nu > -1 && nu < 0.5)) params.fail("poisson_ratio", "expected a number in (-1, 0.5), got " + args::text(nu));
+    material = StableNeoHookean::from_young_poisson(E, nu);
+  } else {
+    const double mu = params.positive("mu");
+    const double lambda = params.number("lambda");
+    if (!(lambda > -mu))
+      params.fail("lambda",
+                  "expected the Lamé parameter lambda > -mu (a positive bulk modulus), got " + args::text(lambda));
+    material = StableNeoHookean::from_lame(mu, lambda);
+  }
+  if (!material.valid()) params.fail(young ? "young_modulus" : "mu", "the material's moduli overflow");
+  const VolumeProjection how =
+      params.choice("hessian", {"analytic", "numerical"}, std::string("analytic")) == "numerical"
+          ? VolumeProjection::numerical
+          : VolumeProjection::analytic;
+  return params.build([&] { return make_volume_elasticity(*ctx.model, material, how); });
 }
 
 std::unique_ptr<Effect> load_bending(const Params& params, const BuildContext& ctx) {

@@ -53,5 +53,7 @@ std::unique_ptr<Effect> load_self_vertex_face(const Params& params, const BuildC
 std::unique_ptr<Effect> load_self_edge_edge(const Params& params, const BuildContext& ctx);
 /// Σ ψ(d) over (vertex, obstacle) pairs, d the signed distance to the obstacle's surface.
 std::unique_ptr<Effect> load_obstacle_contact(const Params& params, const BuildContext& ctx);
+/// Σ_T V_T Ψ(F_T) over the tetrahedra, stable Neo-Hookean (effects/volume_elasticity.cpp).
+std::unique_ptr<Effect> load_volume_elasticity(const Params& params, const BuildContext& ctx);
 
 }  // namespace pce::sim

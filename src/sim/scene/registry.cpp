@@ -21,6 +21,7 @@ const std::vector<RegisteredEffect>& effect_registry() {
       {"self_vertex_face", load_self_vertex_face, true},
       {"self_edge_edge", load_self_edge_edge, true},
       {"obstacle_contact", load_obstacle_contact, false},
+      {"volume_elasticity", load_volume_elasticity, false},
   };
   return registry;
 }

@@ -9,6 +9,7 @@
 
 #include <pce/sim/generators.hpp>
 #include <pce/sim/obj.hpp>
+#include <pce/sim/tet_io.hpp>
 
 #include <Eigen/Geometry>
 
@@ -89,15 +90,34 @@ Mesh read_mesh(const Params& p, const std::string& key, const std::filesystem::p
   const std::filesystem::path path = base / rel;
   if (!std::filesystem::exists(path)) p.fail(key, "mesh file not found: " + path.string());
   try {
-    return read_obj(path);
+    return is_tet_mesh_file(path) ? read_tet_mesh(path) : read_obj(path);
   } catch (const InputError& e) {
     p.fail(key, std::string("malformed mesh: ") + e.what());
   }
 }
 
 Mesh parse_generator(const Params& g) {
-  const std::string type = g.choice("type", {"grid", "strands"});
+  const std::string type = g.choice("type", {"grid", "strands", "tet_box", "tet_ball"});
   try {  // the generators check their own limits too; their errors are named by this field
+    if (type == "tet_box") {
+      g.only({"type", "size", "n"});
+      const Eigen::Vector3d size = checked_vec3(g, "size", args::position);
+      if (!(size.minCoeff() > 0)) g.fail("size", "expected three numbers > 0");
+      const Eigen::Vector3d nd = g.vec3("n");
+      Eigen::Vector3i n;
+      for (int k = 0; k < 3; ++k) {
+        if (!(nd[k] >= 1 && nd[k] <= 256 && nd[k] == std::floor(nd[k])))
+          g.fail("n", "expected three integers in [1, 256] (cubes per side)");
+        n[k] = static_cast<int>(nd[k]);
+      }
+      return tet_box(size, n);
+    }
+    if (type == "tet_ball") {
+      g.only({"type", "radius", "n"});
+      const double radius = checked(g, "radius", args::length);
+      const int n = static_cast<int>(g.integer("n", std::nullopt, 1, 127));
+      return tet_ball(radius, n);
+    }
     if (type == "grid") {
       g.only({"type", "width", "height", "nx", "ny"});
       const double width = checked(g, "width", args::length), height = checked(g, "height", args::length);
@@ -134,7 +154,10 @@ ModelMesh parse_mesh(const Params& p, const std::filesystem::path& base) {
   } catch (const InputError& e) {
     p.fail(p.has("file") ? "file" : "generator", e.what());
   }
-  s.density = p.positive("density", 0.1);
+  const bool volume = s.mesh.tetrahedra.cols() > 0;
+  if (volume && p.has("linear_density"))
+    p.fail("linear_density", "a volume (a mesh with tetrahedra) has no segments: give its \"density\" in kg/m³");
+  s.density = p.positive("density", volume ? 1000.0 : 0.1);
   s.linear_density = p.positive("linear_density", 0.005);
   return s;
 }

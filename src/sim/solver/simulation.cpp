@@ -468,6 +468,7 @@ FrameStats Simulation::step() {
   ++frame;
   time += h;
   st.energy = E_accepted;
+  st.kinetic_energy = 0.5 * (v.colwise().squaredNorm().transpose().array() * model.mass.array()).sum();
 
   // Statistics: per-effect time, merged counters, the stage split.
   for (std::size_t k = 0; k < effects.size(); ++k) {

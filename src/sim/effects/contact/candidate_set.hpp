@@ -438,10 +438,12 @@ template <bool VF> class CandidateSet {
     std::vector<Pair> fresh;
     const auto t_tree = Clock::now();
     const double r = distance_ + margin_;
-    if constexpr (VF)
+    if constexpr (VF) {
       broad_phase_->vertex_face(query_at_, query_to_, model_->triangles, r, fresh);
-    else
+      drop_interior_vertices(fresh);
+    } else {
       broad_phase_->edge_edge(query_at_, query_to_, model_->edges, r, fresh);
+    }
     stats_.tree_ms += ms_since(t_tree);
     // Both lists are sorted: one merge pass finds where each fresh pair was.
     previous.assign(fresh.size(), -1);
@@ -456,6 +458,16 @@ template <bool VF> class CandidateSet {
     stats_.queries += 1;
     ++instrumentation().broad_phase_queries;
     stats_.broad_phase_ms += ms_since(t0);
+  }
+
+  /// Removes the (vertex, triangle) pairs whose vertex lies inside a volume
+  /// (`Model::surface_vertex`): only a volume's surface takes part in contact. Keeps the
+  /// order (the broad phase's lists are sorted).
+  void drop_interior_vertices(std::vector<Pair>& pairs) const {
+    if (model_->surface_vertex.empty()) return;
+    pairs.erase(
+        std::remove_if(pairs.begin(), pairs.end(), [&](const Pair& p) { return !model_->is_surface_vertex(p[0]); }),
+        pairs.end());
   }
 
   /// The sweep of a query: its ends, each vertex's box over it (condition A) and the gaps
@@ -508,10 +520,12 @@ template <bool VF> class CandidateSet {
   void find_fold_pairs() {
     const double r = 2 * distance_;
     std::vector<Pair> rest_pairs;
-    if constexpr (VF)
+    if constexpr (VF) {
       broad_phase_->vertex_face(model_->rest, model_->triangles, r, rest_pairs);
-    else
+      drop_interior_vertices(rest_pairs);
+    } else {
       broad_phase_->edge_edge(model_->rest, model_->edges, r, rest_pairs);
+    }
     const long n = static_cast<long>(rest_pairs.size());
     std::vector<char> near(rest_pairs.size(), 0);
     std::vector<double> rest_distance(rest_pairs.size(), 0.0);

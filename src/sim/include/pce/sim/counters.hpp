@@ -58,6 +58,10 @@ enum class Counter : int {
   joints,
   degenerate_joints,
   pinned_vertices,
+  // volume elasticity, at the accepted state
+  tetrahedra,
+  inverted_tetrahedra,
+  volume_ratio,
   // the solver
   pattern_ms,
   pattern_builds,
@@ -113,6 +117,9 @@ inline const CounterInfo& counter_info(Counter c) {
       {"joints", false},
       {"degenerate_joints", false},
       {"pinned_vertices", false},
+      {"tetrahedra", false},
+      {"inverted_tetrahedra", false},
+      {"volume_ratio", true},
       {"pattern_ms", false},
       {"pattern_builds", false},
       {"pattern_blocks", false},

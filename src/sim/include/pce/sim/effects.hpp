@@ -18,6 +18,8 @@
 #include <pce/sim/model.hpp>
 #include <pce/sim/obstacle.hpp>
 
+#include <pce/volumes/stable_neo_hookean.hpp>
+
 #include <Eigen/Core>
 
 #include <memory>
@@ -49,6 +51,15 @@ std::unique_ptr<Effect> make_strand_bending(const Model& model, double stiffness
 /// Damping as a potential: E = Σᵢ mᵢ c/(2h) |xᵢ − xᵢⁿ|² (drag force −c m v), `coefficient`
 /// c ≥ 0 (1/s). h and xⁿ are each step's (zero energy before the first step begins).
 std::unique_ptr<Effect> make_damping(const Model& model, double coefficient);
+
+/// Volume elasticity, stable Neo-Hookean (Smith, de Goes & Kim 2018): E = Σ_T V_T Ψ(F_T)
+/// over every tetrahedron of the model (`pce/volumes/stable_neo_hookean.hpp`), with each
+/// tetrahedron's Hessian made PSD by the closed-form eigensystem (`analytic`) or a numerical
+/// eigendecomposition (`numerical`). Finite for inverted and flat tetrahedra. Throws
+/// ArgumentError for an invalid material, `VolumeProjection::none`, or a model without
+/// tetrahedra.
+std::unique_ptr<Effect> make_volume_elasticity(const Model& model, const StableNeoHookean& material,
+                                               VolumeProjection hessian = VolumeProjection::analytic);
 
 /// A group of pinned vertices (scene `pins.groups[i]`).
 struct PinGroup {

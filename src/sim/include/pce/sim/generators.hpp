@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// Meshes made by `pce::sim` itself: the two a scene's `generator` names (`grid`, `strands`;
-/// `docs/simulation.md` §2.2) and the crumpled cloths the broad-phase tests and benchmark
+/// Meshes made by `pce::sim` itself: the ones a scene's `generator` names (`grid`, `strands`,
+/// `tet_box`, `tet_ball`; `docs/simulation.md` §2.2) and the crumpled cloths the broad-phase tests and benchmark
 /// share (`crumpled_grid`, C++ only).
 #pragma once
 
@@ -21,6 +21,27 @@ Mesh grid(double width, double height, int nx, int ny);
 /// with a phase that differs from strand to strand. Strand k's vertices are consecutive,
 /// starting at index k (segments + 1).
 Mesh strands(int count, int segments, double length, double spacing, double curl = 0.0);
+
+/// A box of tetrahedra centred at the origin, of size `size` (x, y, z in (0, kMaxCoordinate]),
+/// with `n` = (nx, ny, nz) cubes per side (each in [1, 256], (nx + 1)(ny + 1)(nz + 1) ≤
+/// kMaxVertices), each cube split into six positively oriented tetrahedra around its
+/// diagonal from its lowest corner (Kuhn's subdivision, the same in every cube, so conforming
+/// between neighbouring cubes). Vertex (i, j, k) has index i + (nx + 1)(j + (ny + 1) k) and
+/// position ((i/nx − ½) x, (j/ny − ½) y, (k/nz − ½) z); cube (i, j, k)'s six tetrahedra are
+/// 6 (i + nx (j + ny k)) onwards; the triangles are the boundary faces. Invalid arguments are
+/// an `InputError`.
+Mesh tet_box(const Eigen::Vector3d& size, const Eigen::Vector3i& n);
+
+/// A ball of tetrahedra of radius `radius` (in (0, kMaxCoordinate]) centred at the origin:
+/// the lattice of a `tet_box` of 2·`n` cubes per side over [−1, 1]³ (n in [1, 127]), every
+/// vertex p moved to radius·p·‖p‖∞/‖p‖₂ (the cube's concentric shells onto spheres), so the
+/// boundary vertices lie on the sphere. Unlike `tet_box`, each cube's diagonal runs from its
+/// corner nearest the centre to the opposite one (Kuhn's subdivision mirrored across the
+/// coordinate planes, still conforming): with one direction for all cubes, the octants whose
+/// cubes' diagonals point at the centre get flat tetrahedra (volume / longest edge³ falling
+/// as 1/n²); mirrored, it stays above 0.024 (n ≤ 24, a regular tetrahedron: 0.118). Every
+/// tetrahedron is positively oriented; the triangles are the boundary faces.
+Mesh tet_ball(double radius, int n);
 
 /// A 1 × 1 `grid` of n × n quads (spacing s = 1/n), crumpled: vertex (x, y, 0) moves by
 /// (jitter·s·u₁, jitter·s·u₂, 2·jitter·s·u₃ + fold·sin(6πx)·cos(4πy)), u₁, u₂, u₃ drawn in

@@ -28,20 +28,39 @@ struct MeshRange {
   int first_segment = 0;
   /// Number of its segments.
   int segment_count = 0;
+  /// Global index of its first tetrahedron (column of `Model::tetrahedra`).
+  int first_tetrahedron = 0;
+  /// Number of its tetrahedra (> 0: a volume, whose triangles are its boundary faces).
+  int tetrahedron_count = 0;
 };
 
 /// All deformable vertices and elements, in global vertex indices.
 struct Model {
-  Eigen::Matrix3Xd rest;       ///< rest positions (the scene's frame 0), one column per vertex
-  Eigen::Matrix3Xi triangles;  ///< cloth triangles
-  Eigen::Matrix2Xi segments;   ///< strand segments
-  Eigen::Matrix2Xi edges;      ///< unique triangle edges followed by the strand segments
-  Eigen::VectorXd mass;        ///< lumped vertex masses (kg), > 0
+  Eigen::Matrix3Xd rest;        ///< rest positions (the scene's frame 0), one column per vertex
+  Eigen::Matrix3Xi triangles;   ///< cloth triangles
+  Eigen::Matrix2Xi segments;    ///< strand segments
+  Eigen::Matrix4Xi tetrahedra;  ///< volume elements, positively oriented
+  Eigen::Matrix2Xi edges;       ///< unique triangle edges followed by the strand segments
+  Eigen::VectorXd mass;         ///< lumped vertex masses (kg), > 0
+  /// Per triangle: 1 for a volume's boundary face (contact sees it, the cloth effects
+  /// stretching and bending do not), 0 for cloth; empty: all cloth.
+  std::vector<char> boundary_triangle;
+  /// Per vertex: 1 if it is a corner of a triangle or an end of a segment (it takes part in
+  /// contact), 0 for a vertex inside a volume (contact leaves it out); empty: all 1.
+  std::vector<char> surface_vertex;
   /// Where each scene mesh lives, in scene order.
   std::vector<MeshRange> meshes;
 
   /// Number of deformable vertices (columns of `rest`).
   int vertex_count() const { return static_cast<int>(rest.cols()); }
+  /// Whether triangle `t` is a volume's boundary face (`boundary_triangle`).
+  bool is_boundary_triangle(Eigen::Index t) const {
+    return !boundary_triangle.empty() && boundary_triangle[static_cast<std::size_t>(t)] != 0;
+  }
+  /// Whether vertex `v` takes part in contact (`surface_vertex`).
+  bool is_surface_vertex(Eigen::Index v) const {
+    return surface_vertex.empty() || surface_vertex[static_cast<std::size_t>(v)] != 0;
+  }
 };
 
 /// Densities (areal kg/m², linear kg/m) a model accepts: [1e-9, 1e6]. Graphene, the
@@ -58,13 +77,16 @@ struct ModelMesh {
   std::string name{};
   /// Positions and elements (checked by `validate`).
   Mesh mesh{};
-  double density = 0.1;           ///< areal density of the triangles (kg/m²), in [1e-9, 1e6]
+  /// Density in [1e-9, 1e6]: of the tetrahedra (kg/m³) for a volume, else areal density of
+  /// the triangles (kg/m²).
+  double density = 0.1;
   double linear_density = 0.005;  ///< linear density of the segments (kg/m), in [1e-9, 1e6]
 };
 
 /// The model of `meshes`, concatenated in order: global vertex indices, the unique triangle
-/// edges followed by the segments as `edges`, and lumped masses (each triangle gives each
-/// corner density·area/3, each segment each end linear_density·length/2). Throws
+/// edges followed by the segments as `edges`, and lumped masses (each tetrahedron of a volume
+/// gives each corner density·volume/4; each triangle of a cloth each corner density·area/3;
+/// each segment each end linear_density·length/2). Throws
 /// `ArgumentError` naming `meshes[k]` (or one of its fields) for an invalid mesh, an empty
 /// or duplicate name, a density outside [`kMinDensity`, `kMaxDensity`], more than
 /// `kMaxVertices` vertices in all, or a vertex left without mass.

@@ -69,6 +69,7 @@ struct FrameStats {
   int newton_iterations = 0;
   double residual = 0;           ///< max|Δx|/(h·ℓ) of the last Newton direction
   double energy = 0;             ///< incremental potential at the accepted state
+  double kinetic_energy = 0;     ///< ½ Σᵢ mᵢ |vᵢ|² at the end of the step (J)
   int line_search_failures = 0;  ///< 1 when a line search found no decrease (which ends the step), else 0
   /// Newton mode only: `max_iterations` were used up.
   bool hit_iteration_cap = false;
