@@ -9,6 +9,7 @@
 
 #include <pce/sim/effects.hpp>
 #include <pce/sim/generators.hpp>
+#include <pce/sim/intersections.hpp>
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/mesh.hpp>
 #include <pce/sim/model.hpp>
@@ -246,4 +247,40 @@ TEST(VolumeContact, InteriorVerticesAreNoCandidates) {
   const double with_volume = candidates(volume);
   EXPECT_GT(with_volume, 0.0);
   EXPECT_EQ(with_volume, candidates({{"name", "box"}, {"file", "volume_shell.obj"}}));
+}
+
+namespace {
+/// Steps `scene_name` from examples/scenes for `frames` frames, checking every frame: no
+/// intersecting triangle pair (exact count), no inverted tetrahedron, the volume within 5 %
+/// of the rest volume, finite positions, Newton below its cap. Returns the last frame's stats.
+FrameStats run_volume_scene(const char* scene_name, int frames) {
+  auto scene = load_scene(std::filesystem::path(PCE_SOURCE_DIR) / "examples" / "scenes" / scene_name);
+  Simulation& sim = scene->simulation;
+  FrameStats st;
+  for (int f = 1; f <= frames; ++f) {
+    st = sim.step();
+    EXPECT_TRUE(sim.x.allFinite()) << scene_name << " frame " << f;
+    EXPECT_EQ(intersecting_triangle_pairs(sim.x, sim.model.triangles), 0) << scene_name << " frame " << f;
+    EXPECT_EQ(st.counters.at(Counter::inverted_tetrahedra), 0.0) << scene_name << " frame " << f;
+    EXPECT_NEAR(st.counters.at(Counter::volume_ratio), 1.0, 0.05) << scene_name << " frame " << f;
+    EXPECT_FALSE(st.hit_iteration_cap) << scene_name << " frame " << f;
+    if (testing::Test::HasFailure()) break;
+  }
+  return st;
+}
+}  // namespace
+
+TEST(VolumeScenes, BallDropSettles) {
+  // examples/scenes/ball_drop.json, all 150 frames: the ball lands at frame ~10, bounces and
+  // settles; at the end its kinetic energy is below 1e-4 J (it peaks at about 1 J).
+  const FrameStats last = run_volume_scene("ball_drop.json", 150);
+  EXPECT_LT(last.kinetic_energy, 1e-4);
+  EXPECT_GT(last.counters.at(Counter::obstacle_contacts), 0.0);  // resting on the floor
+}
+
+TEST(VolumeScenes, PileFirstSixtyFrames) {
+  // examples/scenes/pile.json, frames 1-60 (the full 120 frames: docs/simulation.md §9):
+  // slab, cube and ball land on the sheet and on each other.
+  const FrameStats last = run_volume_scene("pile.json", 60);
+  EXPECT_GT(last.counters.at(Counter::vertex_face_contacts), 0.0);
 }
