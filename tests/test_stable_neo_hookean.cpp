@@ -3,7 +3,8 @@
 // against central differences in double and against the same templates in 50 digits, the
 // closed-form eigensystem by its residuals, orthonormality and reconstruction, and the
 // analytic projection against the numerical one, on random, near-inverted, inverted and flat
-// deformation gradients; the rest state against linear elasticity.
+// deformation gradients; the rest state against linear elasticity; the tetrahedron's
+// pull-back `Bᵀ H B` against B formed explicitly.
 #include <pce/volumes/stable_neo_hookean.hpp>
 
 #include "support/high_precision.hpp"
@@ -191,6 +192,36 @@ TEST(StableNeoHookean, TetEnergyPullsBackThroughTheRestShape) {
               pce::Status::ok);
     EXPECT_GE(Eigen::SelfAdjointEigenSolver<pce::Mat12<double>>(Ha).eigenvalues().minCoeff(), -1e-9 * Ha.norm());
   }
+}
+
+// pull_back_hessian against scale·Bᵀ H B with B (vec(F) = B x) formed explicitly, on random
+// rest shapes and random symmetric H: every block, vertex 0's (negated sums) included, and
+// symmetric bit for bit.
+TEST(StableNeoHookean, PullBackHessianIsBtHB) {
+  std::mt19937_64 rng(6);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int checked = 0;
+  for (int trial = 0; trial < 400 && checked < 100; ++trial) {
+    pce::Vec12<double> X, x;
+    for (int i = 0; i < 12; ++i) X[i] = u(rng), x[i] = u(rng);
+    pce::TetRest<double> rest;
+    if (pce::tet_rest(X, rest) != pce::Status::ok) continue;
+    Eigen::Matrix<double, 9, 12> B = Eigen::Matrix<double, 9, 12>::Zero();
+    for (int j = 0; j < 4; ++j)
+      for (int c = 0; c < 3; ++c) B.block<3, 3>(3 * c, 3 * j) = rest.G(j, c) * Mat3<double>::Identity();
+    const Mat3<double> F = pce::deformation_gradient(rest, x);
+    ASSERT_LE((Eigen::Map<const Vec9<double>>(F.data()) - B * x).norm(), 1e-13 * B.norm() * x.norm());
+    Mat9<double> H;
+    for (int k = 0; k < 81; ++k) H.data()[k] = u(rng);
+    H = (H + H.transpose()).eval();
+    const double scale = 0.5 + std::abs(u(rng));
+    const pce::Mat12<double> expected = scale * B.transpose() * H * B;
+    const pce::Mat12<double> got = pce::pull_back_hessian(rest, H, scale);
+    EXPECT_LE((got - expected).norm(), 1e-13 * scale * B.squaredNorm() * H.norm()) << "trial " << trial;
+    EXPECT_EQ(got, got.transpose());
+    ++checked;
+  }
+  EXPECT_EQ(checked, 100);
 }
 
 TEST(StableNeoHookean, HardInputsGiveAStatusOrFiniteOutputs) {

@@ -59,28 +59,45 @@ template <class Scalar> Vec12<Scalar> pull_back_stress(const TetRest<Scalar>& re
   return g;
 }
 
-/// `Bᵀ H B` for a symmetric 9×9 `H` on vec(F): block (j, l) is `Σ_c G(j, c) K_cl` with
-/// `K_cl = Σ_d G(l, d) H_cd` (H_cd the 3×3 block of H for F's columns c and d). The blocks
-/// j ≤ l are computed, the diagonal ones symmetrised (`(M + Mᵀ)/2`) and the others mirrored,
-/// so the result is symmetric bit for bit.
-template <class Scalar> Mat12<Scalar> pull_back_hessian(const TetRest<Scalar>& rest, const Mat9<Scalar>& H) {
+/// `scale · Bᵀ H B` for a symmetric 9×9 `H` on vec(F): block (j, l) is
+/// `scale · Σ_c,d G(j, c) H_cd G(l, d)` (H_cd the 3×3 block of H for F's columns c and d).
+/// For the vertices 1–3 (G's rows Dm⁻¹) in two steps: `T = scale · H (Dm⁻¹ ⊗ I)ᵀ`, whose
+/// column block l − 1 is `Σ_d scale·G(l, d) (column block d of H)`, then the blocks j ≤ l
+/// column by column, `Σ_c G(j, c) t_c` (t_c the entries 3c..3c + 2 of a column of T); the
+/// diagonal blocks are symmetrised (`(M + Mᵀ)/2`) and the others mirrored. G's row 0 is minus
+/// the sum of the others, so vertex 0's blocks are negated sums, `(0, l) = −Σ_{j≥1} (j, l)` for
+/// l ≥ 1 and `(0, 0) = −Σ_{l≥1} (0, l)` (symmetrised), mirrored likewise: the result is
+/// symmetric bit for bit.
+template <class Scalar>
+Mat12<Scalar> pull_back_hessian(const TetRest<Scalar>& rest, const Mat9<Scalar>& H, const Scalar& scale = Scalar(1)) {
   const Eigen::Matrix<Scalar, 4, 3>& G = rest.G;
-  Mat3<Scalar> K[3][4];
-  for (int c = 0; c < 3; ++c)
-    for (int l = 0; l < 4; ++l)
-      K[c][l] = G(l, 0) * H.template block<3, 3>(3 * c, 0) + G(l, 1) * H.template block<3, 3>(3 * c, 3) +
-                G(l, 2) * H.template block<3, 3>(3 * c, 6);
+  Mat9<Scalar> T;  // scale · H (Dm⁻¹ ⊗ I)ᵀ
+  for (int l = 0; l < 3; ++l)
+    T.template middleCols<3>(3 * l) = (scale * G(l + 1, 0)) * H.template middleCols<3>(0) +
+                                      (scale * G(l + 1, 1)) * H.template middleCols<3>(3) +
+                                      (scale * G(l + 1, 2)) * H.template middleCols<3>(6);
   Mat12<Scalar> out;
-  for (int j = 0; j < 4; ++j)
-    for (int l = j; l < 4; ++l) {
-      const Mat3<Scalar> b = G(j, 0) * K[0][l] + G(j, 1) * K[1][l] + G(j, 2) * K[2][l];
-      if (l == j) {
-        out.template block<3, 3>(3 * j, 3 * j) = Scalar(0.5) * (b + b.transpose());
-      } else {
-        out.template block<3, 3>(3 * j, 3 * l) = b;
-        out.template block<3, 3>(3 * l, 3 * j) = b.transpose();
-      }
-    }
+  for (int col = 0; col < 9; ++col) {  // blocks (j, l), 1 ≤ j ≤ l, column 3l + col % 3 of out
+    const int l = col / 3 + 1;
+    const auto t = T.col(col);
+    for (int j = 1; j <= l; ++j)
+      out.col(3 + col).template segment<3>(3 * j) =
+          G(j, 0) * t.template segment<3>(0) + G(j, 1) * t.template segment<3>(3) + G(j, 2) * t.template segment<3>(6);
+  }
+  for (int j = 1; j < 4; ++j) {
+    const Mat3<Scalar> b = out.template block<3, 3>(3 * j, 3 * j);
+    out.template block<3, 3>(3 * j, 3 * j) = Scalar(0.5) * (b + b.transpose());
+  }
+  for (int l = 2; l < 4; ++l)
+    for (int j = 1; j < l; ++j)
+      out.template block<3, 3>(3 * l, 3 * j) = out.template block<3, 3>(3 * j, 3 * l).transpose();
+  for (int l = 1; l < 4; ++l)  // vertex 0
+    out.template block<3, 3>(0, 3 * l) =
+        -(out.template block<3, 3>(3, 3 * l) + out.template block<3, 3>(6, 3 * l) + out.template block<3, 3>(9, 3 * l));
+  const Mat3<Scalar> b00 =
+      -(out.template block<3, 3>(0, 3) + out.template block<3, 3>(0, 6) + out.template block<3, 3>(0, 9));
+  out.template block<3, 3>(0, 0) = Scalar(0.5) * (b00 + b00.transpose());
+  for (int l = 1; l < 4; ++l) out.template block<3, 3>(3 * l, 0) = out.template block<3, 3>(0, 3 * l).transpose();
   return out;
 }
 
