@@ -284,3 +284,26 @@ TEST(VolumeScenes, PileFirstSixtyFrames) {
   const FrameStats last = run_volume_scene("pile.json", 60);
   EXPECT_GT(last.counters.at(Counter::vertex_face_contacts), 0.0);
 }
+
+TEST(VolumeContact, InteriorVerticesTouchNoObstacle) {
+  // A small sphere 5 mm from the centre of a 2 × 2 × 2 box, 7.5 cm from every surface vertex:
+  // within the contact distance of the centre vertex only, which takes part in no contact.
+  const Model m = box_model();
+  Obstacle sphere;
+  sphere.name = "sphere";
+  sphere.kind = ShapeKind::sphere;
+  sphere.radius = 0.01;
+  sphere.position = m.rest.col(13) + Eigen::Vector3d(0, 0, 0.015);
+  ObstacleContactSettings settings;
+  settings.penalty.kind = ContactPenalty::Kind::quadratic;
+  settings.penalty.stiffness = 1.0;
+  settings.penalty.distance = 0.02;
+  for (bool weighted : {false, true}) {
+    settings.area_weighted = weighted;
+    auto e = make_obstacle_contact(m, {sphere}, settings);
+    EXPECT_EQ(e->evaluate(m.rest, nullptr, nullptr), 0.0) << weighted;
+    EffectCounters c;
+    e->report(c);
+    EXPECT_EQ(c.at(Counter::obstacle_contacts), 0.0) << weighted;
+  }
+}

@@ -19,8 +19,10 @@
 /// position, t ≤ 0.9 d / |Δxᵢ| leaves d ≥ 0.1 d > 0 all along the segment.
 ///
 /// Area weighting (`area_weighted`): vertex i's energy is Aᵢ ψ(d), Aᵢ its lumped rest area
-/// (the penalty evaluated with stiffness Aᵢ k, which ψ is linear in); a vertex inside a
-/// volume has area 0 and so no contact.
+/// (the penalty evaluated with stiffness Aᵢ k, which ψ is linear in).
+///
+/// A vertex inside a volume (`Model::surface_vertex`) takes part in no obstacle contact: only
+/// a volume's surface does.
 ///
 /// Friction (`friction`): at the step's start every active (vertex, obstacle) pair is frozen
 /// with λ = −ψ′(d) (weighted), the tangent basis of its normal, and the displacement over
@@ -71,11 +73,13 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 
 class ObstacleContact final : public Effect {
  public:
-  ObstacleContact(const ObstacleContactSettings& settings, std::vector<Obstacle> obstacles, Eigen::VectorXd areas)
+  ObstacleContact(const ObstacleContactSettings& settings, std::vector<Obstacle> obstacles, Eigen::VectorXd areas,
+                  std::vector<char> surface)
       : spec_(settings.penalty),
         friction_(settings.friction),
         obstacles_(std::move(obstacles)),
-        areas_(std::move(areas)) {
+        areas_(std::move(areas)),
+        surface_(std::move(surface)) {
     radius_.reserve(obstacles_.size());
     for (const Obstacle& o : obstacles_) radius_.push_back(bounding_radius(o));
     poses_.assign(obstacles_.size(), Eigen::Isometry3d::Identity());
@@ -139,6 +143,7 @@ class ObstacleContact final : public Effect {
     if (!spec_.barrier()) return 1.0;
     double t = 1.0;
     for (Eigen::Index i = 0; i < x.cols(); ++i) {
+      if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;  // inside a volume
       const double step = dx.col(i).norm();
       if (!(step > 0)) continue;
       const Eigen::Vector3d p = x.col(i);
@@ -176,6 +181,7 @@ class ObstacleContact final : public Effect {
     min_distance_ = std::numeric_limits<double>::max();
     const double reach = spec_.distance;
     for (Eigen::Index i = 0; i < x.cols(); ++i) {
+      if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;  // inside a volume
       const Eigen::Vector3d p = x.col(i);
       for (std::size_t k = 0; k < obstacles_.size(); ++k) {
         const double bound = (p - poses_[k].translation()).norm() - radius_[k];
@@ -202,6 +208,7 @@ class ObstacleContact final : public Effect {
     const double reach = spec_.distance;
     visit_penalty(spec_, [&](const auto& penalty) {
       for (Eigen::Index i = 0; i < x.cols(); ++i) {
+        if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;  // inside a volume
         const Eigen::Vector3d p = x.col(i);
         for (std::size_t k = 0; k < obstacles_.size(); ++k) {
           if ((p - at[k].translation()).norm() - radius_[k] >= reach) continue;
@@ -229,7 +236,8 @@ class ObstacleContact final : public Effect {
   ContactPenalty spec_;
   std::optional<FrictionSettings> friction_;
   std::vector<Obstacle> obstacles_;
-  Eigen::VectorXd areas_;  ///< per vertex, its lumped rest area (area weighting), else empty
+  Eigen::VectorXd areas_;      ///< per vertex, its lumped rest area (area weighting), else empty
+  std::vector<char> surface_;  ///< per vertex, 0 inside a volume (no contact); empty: all take part
   std::vector<double> radius_;
   std::vector<Eigen::Isometry3d> poses_;        ///< at the end of the step
   std::vector<Eigen::Isometry3d> start_poses_;  ///< at its start (friction)
@@ -297,12 +305,12 @@ std::unique_ptr<Effect> make_obstacle_contact(const Model& model, const std::vec
   if (settings.area_weighted) {
     areas = rest_areas(model).vertex;
     for (Eigen::Index i = 0; i < areas.size(); ++i)
-      if (!(areas[i] > 0) && model.is_surface_vertex(i))  // a volume's inner vertices weigh 0: no contact
+      if (!(areas[i] > 0) && model.is_surface_vertex(i))  // a volume's inner vertices take no part
         throw ArgumentError("area_weighted", "vertex " + std::to_string(i) +
                                                  " is no corner of a triangle of positive area (a strand vertex?): it "
                                                  "has no area to weigh its contact by");
   }
-  return std::make_unique<ObstacleContact>(settings, obstacles, std::move(areas));
+  return std::make_unique<ObstacleContact>(settings, obstacles, std::move(areas), model.surface_vertex);
 }
 
 }  // namespace pce::sim
