@@ -110,6 +110,10 @@ void shrink(json& scene) {
     if (g["type"] == "grid") {
       g["nx"] = std::min(g["nx"].get<int>(), 6);
       g["ny"] = std::min(g["ny"].get<int>(), 6);
+    } else if (g["type"] == "tet_box") {
+      for (json& n : g["n"]) n = std::min(n.get<int>(), 2);
+    } else if (g["type"] == "tet_ball") {
+      g["n"] = 1;
     } else {
       g["count"] = std::min(g["count"].get<int>(), 4);
       g["segments"] = std::min(g["segments"].get<int>(), 6);
@@ -445,6 +449,20 @@ long estimated_vertices(const json& scene) {
     }
     const json& g = m["generator"];
     const bool strands = g.contains("type") && g["type"] == "strands";
+    if (g.contains("type") && (g["type"] == "tet_box" || g["type"] == "tet_ball")) {
+      // (n₀ + 1)(n₁ + 1)(n₂ + 1) vertices, or (2n + 1)³ for a ball
+      const bool box = g["type"] == "tet_box";
+      long count = 1;
+      for (int k = 0; k < 3; ++k) {
+        const json n =
+            box && g.contains("n") && g["n"].is_array() && g["n"].size() == 3 ? g["n"][k] : g.value("n", json(1));
+        const double v = n.is_number() ? n.get<double>() : 1.0;
+        const long c = v > 1e3 ? 1000L : v < 1 ? 1 : static_cast<long>(v);
+        count *= box ? c + 1 : 2 * c + 1;
+      }
+      total += count;
+      continue;
+    }
     total +=
         strands ? integer(g, "count") * (integer(g, "segments") + 1) : (integer(g, "nx") + 1) * (integer(g, "ny") + 1);
   }

@@ -119,7 +119,7 @@ inline const CounterInfo& counter_info(Counter c) {
       {"pinned_vertices", false},
       {"tetrahedra", false},
       {"inverted_tetrahedra", false},
-      {"volume_ratio", true},
+      {"volume_ratio", false},
       {"pattern_ms", false},
       {"pattern_builds", false},
       {"pattern_blocks", false},
