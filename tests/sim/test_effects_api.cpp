@@ -31,7 +31,9 @@ const char* const kScene = R"({
     {"name": "upper", "generator": {"type": "grid", "width": 0.5, "height": 0.5, "nx": 6, "ny": 6},
      "transform": {"translation": [0.01, 0.02, 0.135]}, "density": 0.2},
     {"name": "hair", "generator": {"type": "strands", "count": 2, "segments": 4, "length": 0.2, "spacing": 0.05},
-     "transform": {"translation": [0, 0, 0.45]}, "linear_density": 0.01}
+     "transform": {"translation": [0, 0, 0.45]}, "linear_density": 0.01},
+    {"name": "jelly", "generator": {"type": "tet_box", "size": [0.08, 0.08, 0.08], "n": [2, 2, 2]},
+     "transform": {"translation": [0.15, 0.15, 0.2]}}
   ],
   "obstacles": [{"name": "ball", "shape": "sphere", "radius": 0.1}],
   "effects": [
@@ -49,7 +51,8 @@ const char* const kScene = R"({
     {"type": "self_edge_edge", "penalty": {"type": "cubic", "stiffness": 1000, "distance": 0.01, "delta": 0.002},
      "length": "signed", "friction": {"coefficient": 0.3, "slip_velocity": 0.002, "lagged_iterations": 2}},
     {"type": "obstacle_contact", "penalty": {"type": "log_barrier", "stiffness": 10, "distance": 0.01},
-     "friction": {"coefficient": 0.5}}
+     "friction": {"coefficient": 0.5}},
+    {"type": "volume_elasticity", "young_modulus": 2e4, "poisson_ratio": 0.3}
   ]
 })";
 
@@ -60,9 +63,11 @@ Mesh moved(Mesh m, const Eigen::Vector3d& by) {
 
 /// kScene, written against the C++ API.
 void transcribe(Simulation& sim) {
-  std::vector<ModelMesh> meshes = {{"lower", moved(grid(0.5, 0.5, 6, 6), {0, 0, 0.12}), 0.1, 0.005},
-                                   {"upper", moved(grid(0.5, 0.5, 6, 6), {0.01, 0.02, 0.135}), 0.2, 0.005},
-                                   {"hair", moved(strands(2, 4, 0.2, 0.05, 0.0), {0, 0, 0.45}), 0.1, 0.01}};
+  std::vector<ModelMesh> meshes = {
+      {"lower", moved(grid(0.5, 0.5, 6, 6), {0, 0, 0.12}), 0.1, 0.005},
+      {"upper", moved(grid(0.5, 0.5, 6, 6), {0.01, 0.02, 0.135}), 0.2, 0.005},
+      {"hair", moved(strands(2, 4, 0.2, 0.05, 0.0), {0, 0, 0.45}), 0.1, 0.01},
+      {"jelly", moved(tet_box({0.08, 0.08, 0.08}, {2, 2, 2}), {0.15, 0.15, 0.2}), 1000, 0.005}};
   sim.model = build_model(meshes);
   Obstacle ball;
   ball.name = "ball";
@@ -103,6 +108,7 @@ void transcribe(Simulation& sim) {
   oc.penalty = {ContactPenalty::Kind::log_barrier, 10, 0.01, 0};
   oc.friction = FrictionSettings{0.5};
   sim.effects.push_back(make_obstacle_contact(m, sim.obstacles, oc));
+  sim.effects.push_back(make_volume_elasticity(m, pce::StableNeoHookean::from_young_poisson(2e4, 0.3)));
   sim.start_at_rest();
 }
 
@@ -151,9 +157,9 @@ TEST(EffectsApi, SceneAndItsCppTranscriptionSimulateBitForBitAlike) {
     ASSERT_EQ(a.x, b.x) << "frame " << f;  // exact equality: same builders, same arithmetic
     ASSERT_EQ(a.v, b.v) << "frame " << f;
     EXPECT_EQ(sa.newton_iterations, sb.newton_iterations);
-    for (const char* key :
-         {"obstacle_contacts", "vertex_face_contacts", "edge_edge_contacts", "pinned_vertices",
-          "obstacle_friction_contacts", "vertex_face_friction_contacts", "edge_edge_friction_contacts"})
+    for (const char* key : {"obstacle_contacts", "vertex_face_contacts", "edge_edge_contacts", "pinned_vertices",
+                            "obstacle_friction_contacts", "vertex_face_friction_contacts",
+                            "edge_edge_friction_contacts", "inverted_tetrahedra", "volume_ratio"})
       EXPECT_EQ(sa.counters.at(key), sb.counters.at(key)) << key << ", frame " << f;
     friction += sa.counters.at("obstacle_friction_contacts") + sa.counters.at("vertex_face_friction_contacts") +
                 sa.counters.at("edge_edge_friction_contacts");
