@@ -44,25 +44,26 @@ class VolumeElasticity final : public Effect {
     energy_.resize(tets_.size());
     if (gradient) gradient_.resize(tets_.size());
     if (hessian) hessian_.resize(tets_.size());
+    volume_of_.resize(tets_.size());
     bool overflow = false;
-    long inverted = 0;
-    double volume = 0;
-#pragma omp parallel for schedule(static) reduction(|| : overflow) reduction(+ : inverted, volume)
+#pragma omp parallel for schedule(static) reduction(|| : overflow)
     for (long k = 0; k < n; ++k) {
       const auto uk = static_cast<std::size_t>(k);
       Vec12<double> xt;
       for (int a = 0; a < 4; ++a) xt.segment<3>(3 * a) = x.col(tets_[uk][static_cast<std::size_t>(a)]);
-      const double v = (xt.segment<3>(3) - xt.head<3>())
+      volume_of_[uk] = (xt.segment<3>(3) - xt.head<3>())
                            .dot((xt.segment<3>(6) - xt.head<3>()).cross(xt.segment<3>(9) - xt.head<3>())) /
                        6;
-      volume += v;
-      inverted += v <= 0;
       const Status s = snh_tet_energy(material_, rests_[uk], xt, how_, energy_[uk], gradient ? &gradient_[uk] : nullptr,
                                       hessian ? &hessian_[uk] : nullptr);
       if (s != Status::ok) overflow = true;
     }
-    inverted_ = inverted;
-    volume_ = volume;
+    inverted_ = 0;
+    volume_ = 0;
+    for (const double v : volume_of_) {  // in order: the counters do not depend on the thread count either
+      volume_ += v;
+      inverted_ += v <= 0;
+    }
     if (overflow) return std::numeric_limits<double>::infinity();
     double energy = 0;
     for (std::size_t k = 0; k < tets_.size(); ++k) {
@@ -90,7 +91,7 @@ class VolumeElasticity final : public Effect {
   std::vector<TetRest<double>> rests_;
   double rest_volume_ = 0, volume_ = 0;
   long inverted_ = 0;
-  std::vector<double> energy_;
+  std::vector<double> energy_, volume_of_;  ///< per tetrahedron, at the last state evaluated
   std::vector<Vec12<double>> gradient_;
   std::vector<Mat12<double>, Eigen::aligned_allocator<Mat12<double>>> hessian_;
 };
