@@ -28,6 +28,14 @@ Steps, in this order (each writes JSON/CSV into the results folder):
                thread, each run alone: ms per frame, Newton iterations, friction ms and
                friction contacts per frame (the *_friction_ms and *_friction_contacts counters),
                line-search failures, iteration caps, frames with intersections
+  compile_time compile_time.json/.csv: a header-only library's cost to its users: wall time
+               (median of 3, --quick: 1), CPU time and peak memory of compiling, one at a time,
+               benchmarks/compile_time/minimal_runtime.cpp (strategy at run time) and
+               minimal_template.cpp (at compile time), each example and `#include <pce/pce.hpp>`
+               alone, header-only and with -DPCE_PRECOMPILED (pce::precompiled), with the
+               compiler of the build folder's CMakeCache.txt; --quick: the three fast ones.
+               It needs no executable, and run alone it leaves machine.json as it is (its own
+               JSON records compiler, commit and date); --note TEXT is kept in its JSON.
 then draws the PNG plots (next to the docs file, in images/benchmarks/) and writes the docs
 file, whose last section is benchmarks/guidance.md with its numbers recomputed from the
 results folder by benchmarks/guidance_numbers.py (when the results folder is
@@ -51,6 +59,7 @@ import shutil
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -100,8 +109,8 @@ def scene_configs(quick):
     return out
 
 
-ALL_STEPS = ["pair_cost", "accuracy", "broad_phase", "threads", "scenes", "hammock", "friction"]
-OPTIONAL_STEPS = {"friction"}  # steps whose missing results the page reports as not measured
+ALL_STEPS = ["pair_cost", "accuracy", "broad_phase", "threads", "scenes", "hammock", "friction", "compile_time"]
+OPTIONAL_STEPS = {"friction", "compile_time"}  # steps whose missing results the page reports as not measured
 FRICTION_KINDS = ["vertex_face", "edge_edge", "obstacle"]  # the contact kinds' friction counters' prefixes
 FRICTION_SCENES = [("without friction", "hammock_frictionless.json"), ("with friction", "hammock.json")]
 REFERENCE = ("exact", "newton", 1e-5)      # the tight-tolerance reference of every scene
@@ -207,6 +216,7 @@ class Context:
         self.images = self.docs.parent / "images" / "benchmarks"
         self.jobs = args.jobs
         self.before = args.before
+        self.note = args.note
 
     def exe(self, name):
         p = find_exe(self.build, name)
@@ -587,6 +597,131 @@ def step_friction(ctx):
     return {"frames": frames, "scenes": [name for _, name in FRICTION_SCENES], "rows": rows}
 
 
+# The compile_time step: what including pce costs a user's build.
+COMPILE_EXAMPLES = ["basic_energies", "custom_penalty", "newton_assembly", "strategy_per_pair", "closest_features"]
+COMPILE_FLOOR = "#include <pce/pce.hpp> alone"  # the floor's file label (an empty main written to a temporary file)
+PRECOMPILED = "pce::precompiled"  # the variant compiled with -DPCE_PRECOMPILED
+
+
+def compile_jobs(quick):
+    """(file, variant, optimisation, extra flags) of every compilation, in the table's order;
+    file is relative to the repository, or COMPILE_FLOOR. --quick: the three that take seconds."""
+    rt, tp = "benchmarks/compile_time/minimal_runtime.cpp", "benchmarks/compile_time/minimal_template.cpp"
+    jobs = [(COMPILE_FLOOR, "header-only", "-O2", []), (tp, "header-only", "-O2", [])]
+    if not quick:
+        jobs += [(rt, "header-only", "-O2", []), (rt, "header-only", "-O0", [])]
+    jobs.append((rt, PRECOMPILED, "-O2", ["-DPCE_PRECOMPILED"]))
+    if quick:
+        return jobs
+    for ex in COMPILE_EXAMPLES:
+        f = f"examples/{ex}/main.cpp"
+        jobs += [(f, "header-only", "-O2", []), (f, PRECOMPILED, "-O2", ["-DPCE_PRECOMPILED"])]
+    # pce::sim links pce::precompiled, so its users always have the macro: no header-only row.
+    jobs.append(("examples/sim_from_cpp/main.cpp", PRECOMPILED, "-O2",
+                 ["-DPCE_PRECOMPILED", "-I", "src/sim/include", "-fopenmp"]))
+    return jobs
+
+
+def cmake_cache(build):
+    """The build folder's CMakeCache.txt as a dict ({} without one)."""
+    out = {}
+    cc = Path(build) / "CMakeCache.txt"
+    if cc.exists():
+        for line in cc.read_text().splitlines():
+            m = re.match(r"^([A-Za-z0-9_.+-]+):\w+=(.*)$", line)
+            if m:
+                out[m.group(1)] = m.group(2)
+    return out
+
+
+def eigen_include(eigen3_dir):
+    """Eigen's include folder: the one Eigen3Config.cmake in `eigen3_dir` (CMake's Eigen3_DIR)
+    names, else an include/eigen3 above it, else /usr/include/eigen3."""
+    candidates = []
+    if eigen3_dir and Path(eigen3_dir).is_dir():
+        d = Path(eigen3_dir).resolve()
+        cfg = d / "Eigen3Config.cmake"
+        if cfg.exists():
+            prefix = (d / ".." / ".." / "..").resolve()
+            for m in re.finditer(r'set\s*\(\s*EIGEN3_INCLUDE_DIRS?\s+"([^"]+)"', cfg.read_text()):
+                candidates.append(Path(m.group(1).replace("${PACKAGE_PREFIX_DIR}", str(prefix))))
+        candidates += [p / "include" / "eigen3" for p in d.parents]
+    candidates.append(Path("/usr/include/eigen3"))
+    for c in candidates:
+        if (c / "Eigen" / "Core").is_file():
+            return c.resolve()
+    raise RuntimeError(f"Eigen's include folder not found (Eigen3_DIR {eigen3_dir or 'not set'}, "
+                       "no /usr/include/eigen3)")
+
+
+def timed_compile(cmd, log_path):
+    """One compilation: wall s, CPU s (user + system of the driver and the compiler it runs) and
+    peak resident MiB, from wait4; raises with the compiler's messages when it fails."""
+    with open(log_path, "w") as err:
+        t0 = time.monotonic()
+        p = subprocess.Popen([str(c) for c in cmd], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=err,
+                             cwd=ROOT)
+        _, status, ru = os.wait4(p.pid, 0)
+        wall = time.monotonic() - t0
+    p.returncode = os.waitstatus_to_exitcode(status)  # reaped here: Popen must not wait again
+    if p.returncode != 0:
+        tail = "\n".join(Path(log_path).read_text().strip().splitlines()[-15:])
+        raise RuntimeError(f"compilation failed ({p.returncode}): {' '.join(map(str, cmd))}\n{tail}")
+    return wall, ru.ru_utime + ru.ru_stime, ru.ru_maxrss / 1024
+
+
+def step_compile_time(ctx):
+    """Compile time of a user's file: every compile_jobs entry, one compilation at a time, in
+    REPEATS rounds over all of them (so a change in the machine's load spreads over every row);
+    per row the median wall time, the median CPU time and the largest peak memory."""
+    cache = cmake_cache(ctx.build)
+    cxx = cache.get("CMAKE_CXX_COMPILER") or shutil.which("c++") or "c++"
+    eigen = eigen_include(cache.get("Eigen3_DIR"))
+    version = run([cxx, "--version"]).stdout.strip().splitlines()[0]
+    repeats = 1 if ctx.quick else 3
+    jobs = compile_jobs(ctx.quick)
+    times = {i: [] for i in range(len(jobs))}
+    load_before = os.getloadavg()
+    with tempfile.TemporaryDirectory(prefix="pce_compile_time_") as tmp:
+        floor = Path(tmp) / "pce_hpp_only.cpp"
+        floor.write_text("#include <pce/pce.hpp>\n\nint main() { return 0; }\n")
+        for rnd in range(repeats):
+            for i, (f, variant, opt, extra) in enumerate(jobs):
+                src = floor if f == COMPILE_FLOOR else f
+                cmd = [cxx, "-std=c++17", opt, "-c", src, "-o", "/dev/null", "-I", "include", "-I", eigen] + extra
+                wall, cpu, mib = timed_compile(cmd, Path(tmp) / "stderr.txt")
+                times[i].append((wall, cpu, mib))
+                log(f"  compile {rnd + 1}/{repeats}: {f} {variant} {opt}: {wall:.1f} s")
+    load_after = os.getloadavg()
+    rows = []
+    for i, (f, variant, opt, extra) in enumerate(jobs):
+        ts = times[i]
+        rows.append({"file": f, "variant": variant, "optimisation": opt,
+                     "flags": " ".join(["-std=c++17", opt, "-c", "FILE" if f == COMPILE_FLOOR else f, "-o", "/dev/null",
+                                        "-I", "include", "-I", str(eigen)] + extra),
+                     "seconds": round(median([t[0] for t in ts]), 3),
+                     "cpu_seconds": round(median([t[1] for t in ts]), 3), "peak_mib": round(max(t[2] for t in ts), 1),
+                     "repeats": len(ts), "all_seconds": [round(t[0], 3) for t in ts]})
+    write_csv(ctx.results / "compile_time.csv", rows,
+              ["file", "variant", "optimisation", "flags", "seconds", "cpu_seconds", "peak_mib", "repeats"])
+
+    def sh(cmd):
+        return subprocess.run(cmd, shell=True, capture_output=True, text=True).stdout.strip()
+    out = {
+        "compiler": version, "compiler_path": str(cxx), "eigen_include": str(eigen), "repeats": repeats,
+        "command": f"{Path(str(cxx)).name} -std=c++17 -O2 -c FILE -o /dev/null -I include -I {eigen} "
+                   "[-DPCE_PRECOMPILED]",
+        "date_utc": datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M UTC"),
+        "commit": sh(f"git -C {ROOT} rev-parse --short HEAD"),
+        "dirty": bool(sh(f"git -C {ROOT} status --porcelain --untracked-files=no")),
+        "cpu": sh("lscpu | sed -n 's/^Model name:[ ]*//p' | head -1") or platform.processor(),
+        "cores": os.cpu_count(), "load_average_before": list(load_before), "load_average_after": list(load_after),
+        "note": ctx.note or "", "quick": ctx.quick, "rows": rows,
+    }
+    (ctx.results / "compile_time.json").write_text(json.dumps(out, indent=1))
+    return out
+
+
 def write_friction_section(A, friction):
     """Section 6: friction's cost on the hammock, from step_friction (not measured when its
     results are missing)."""
@@ -619,6 +754,81 @@ def write_friction_section(A, friction):
           "(%s against %s); friction's own evaluation is %s of a frame with friction.\n"
           % (fmt(ms), fmt(b["ms_per_frame"]), fmt(a["ms_per_frame"]), fmt(its), fmt(b["newton_per_frame"]),
              fmt(a["newton_per_frame"]), f"{100 * share:.0f} %" if math.isfinite(share) else "n/a"))
+
+
+def compile_time_label(f, opt):
+    """A compile_time row's file as the table shows it."""
+    if f == COMPILE_FLOOR:
+        label = "`#include <pce/pce.hpp>` alone (the floor)"
+    elif f.startswith("examples/"):
+        label = f"example `{f.split('/')[1]}`"
+    else:
+        label = f"`{Path(f).name}`"
+    return label + (f", {opt}" if opt != "-O2" else "")
+
+
+def compile_time_table(rows):
+    """The table's rows: one per file and optimisation, header-only and pce::precompiled side
+    by side (— where that variant is not measured)."""
+    order, cells = [], {}
+    for r in rows:
+        k = (r["file"], r["optimisation"])
+        if k not in cells:
+            order.append(k)
+            cells[k] = {}
+        cells[k][r["variant"]] = r
+    out = []
+    for k in order:
+        line = [compile_time_label(*k)]
+        for variant in ("header-only", PRECOMPILED):
+            r = cells[k].get(variant)
+            line += [fmt(r["seconds"]), fmt(r["cpu_seconds"]), fmt(r["peak_mib"])] if r else ["—"] * 3
+        out.append(line)
+    return out
+
+
+def write_compile_time_section(A, ct):
+    """Section 7: compile time, from step_compile_time (not measured when its results are missing)."""
+    A("## 7. Compile time\n")
+    if not ct or not ct.get("rows"):
+        A("Not measured: the results folder has no `step_compile_time.json` "
+          "(`benchmarks/run_all --steps compile_time` measures it).\n")
+        return
+    rows = ct["rows"]
+
+    def sec(f, variant="header-only", opt="-O2"):
+        return next((r["seconds"] for r in rows if r["file"] == f and r["variant"] == variant
+                     and r["optimisation"] == opt), None)
+    A("pce is header-only, so what a file costs to compile is its users' cost. `%s`, with the build's compiler "
+      "(%s), for: `benchmarks/compile_time/minimal_runtime.cpp`, the smallest user file (one vertex-face pair in "
+      "double: `pair_energy`, `energy_gradient`, `projected_hessian(e, Projection::analytic)`, the strategy chosen "
+      "at run time, which instantiates every strategy, Eigen's 12×12 eigensolver included); "
+      "`minimal_template.cpp`, the same with `projected_hessian<Projection::analytic>(e)`, the strategy chosen at "
+      "compile time, which instantiates that one only; each example; and `#include <pce/pce.hpp>` with an empty "
+      "`main` (the floor). *Header-only* is the plain command; *pce::precompiled* adds `-DPCE_PRECOMPILED`, which "
+      "a target linking `pce::precompiled` gets: the headers then declare the heavy instantiations `extern "
+      "template` (`include/pce/core/precompiled.hpp`) and the library holds them, compiled once. "
+      "`sim_from_cpp` also has `-I src/sim/include -fopenmp` and no header-only row (`pce::sim` links "
+      "`pce::precompiled`). Wall time is the median of %d compilation%s, in rounds over every row; CPU time is "
+      "the compiler's user + system time (median), peak its largest resident memory (`compile_time.json`, "
+      "`compile_time.csv`).\n"
+      % (ct["command"], ct["compiler"], ct["repeats"], "s" if ct["repeats"] != 1 else ""))
+    A(md_table(["file", "header-only s", "CPU s", "peak MiB", "pce::precompiled s", "CPU s", "peak MiB"],
+               compile_time_table(rows)) + "\n")
+    rt, tp = "benchmarks/compile_time/minimal_runtime.cpp", "benchmarks/compile_time/minimal_template.cpp"
+    slow, pre, tmpl, floor = sec(rt), sec(rt, PRECOMPILED), sec(tp), sec(COMPILE_FLOOR)
+    if slow and pre and tmpl:
+        A("The minimal file with the strategy at run time takes %s s header-only, %s s with `pce::precompiled` "
+          "and %s s with the strategy at compile time; including `pce/pce.hpp` alone takes %s s.\n"
+          % (fmt(slow), fmt(pre), fmt(tmpl), fmt(floor)))
+    note = (ct.get("note") or "").strip()
+    A("These are one machine's timings (%s cores, %s, commit %s%s, %s), measured one after the other, never two "
+      "compilations at once.%s To choose: in a file you edit often, pick the strategy at compile time "
+      "(`projected_hessian<Projection::analytic>(e)`); where the strategy is a run-time choice "
+      "(`projected_hessian(e, strategy)`), link `pce::precompiled` so that the file does not compile every "
+      "strategy.\n"
+      % (ct["cores"], ct["cpu"], ct["commit"], " with uncommitted changes" if ct["dirty"] else "", ct["date_utc"],
+         f" {note}" + ("" if note.endswith(".") else ".") if note else ""))
 
 
 def write_hammock_section(A, hammock):
@@ -811,7 +1021,7 @@ def broad_phase_exponents(bp, quick):
 # ---------------------------------------------------------------------------------------------
 # The report.
 
-def write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction, total_s):
+def write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction, compile_time, total_s):
     img = os.path.relpath(ctx.images, ctx.docs.parent)
     L = []
     A = L.append
@@ -825,7 +1035,8 @@ def write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction
       "nearest-PSD projection, computed in 50 digits), `pce-broad-phase-bench` (FCL, Bullet and brute force on "
       "crumpled cloths) and `pce-sim` (every shipped scene × strategy × mode × tolerance, and a thread count "
       "sweep, and the shipped hammock's first 120 frames alone: without friction, before and after with "
-      "`--before REV`, and without and with friction), writes "
+      "`--before REV`, and without and with friction), times compiling a minimal user file and the examples "
+      "header-only and with `pce::precompiled`, writes "
       "JSON and CSV into `benchmarks/results/`, draws the plots below and rewrites this page. "
       "Figures are medians, and ratios are taken within this one run: the machine is a shared VM whose speed "
       "drifts by 25 % between days, so compare numbers within this page, not across runs. No timing is "
@@ -985,9 +1196,11 @@ def write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction
                                                        for k in STAGES + ["other_ms"]] for r in shares]) + "\n")
     write_hammock_section(A, hammock)
     write_friction_section(A, friction)
+    write_compile_time_section(A, compile_time)
     A("## Files\n")
     A("`benchmarks/results/`: `machine.json`, `pce_bench.json`/`.csv`, `accuracy.json`/`.csv`, "
-      "`broad_phase.json`/`.csv`, `threads.csv`, `scenes.csv`, `hammock.csv`, `friction.csv`, `step_*.json` (each step's numbers as this page "
+      "`broad_phase.json`/`.csv`, `threads.csv`, `scenes.csv`, `hammock.csv`, `friction.csv`, "
+      "`compile_time.json`/`.csv`, `step_*.json` (each step's numbers as this page "
       "used them; `run_all --steps scenes` reruns one step and reads the others from there), and the scene "
       "variants in `scenes/`. The simulations' own outputs go to `runs/` (not kept in git).\n")
     ctx.docs.parent.mkdir(parents=True, exist_ok=True)
@@ -1091,6 +1304,23 @@ def self_test():
                              {"counters": {}}])
     assert fr == {"friction_ms_per_frame": 2.0, "friction_contacts_per_frame": 4 / 3,
                   "friction_sticking_per_frame": 0.0}, fr
+    # compile_time: Eigen's include folder from an installed Eigen3Config.cmake, and the table.
+    with tempfile.TemporaryDirectory() as tmp:
+        cfg, inc = Path(tmp) / "share" / "eigen3" / "cmake", Path(tmp) / "include" / "eigen3"
+        cfg.mkdir(parents=True)
+        (inc / "Eigen").mkdir(parents=True)
+        (inc / "Eigen" / "Core").write_text("")
+        (cfg / "Eigen3Config.cmake").write_text('set (EIGEN3_INCLUDE_DIR  "${PACKAGE_PREFIX_DIR}/include/eigen3")\n')
+        assert eigen_include(cfg) == inc.resolve(), eigen_include(cfg)
+    ct = [{"file": "benchmarks/compile_time/minimal_runtime.cpp", "variant": v, "optimisation": o, "seconds": t,
+           "cpu_seconds": t, "peak_mib": 100.0}
+          for v, o, t in (("header-only", "-O2", 27.0), ("header-only", "-O0", 9.0), (PRECOMPILED, "-O2", 2.0))]
+    assert compile_time_table(ct) == [["`minimal_runtime.cpp`", "27", "27", "100", "2", "2", "100"],
+                                      ["`minimal_runtime.cpp`, -O0", "9", "9", "100", "—", "—", "—"]], \
+        compile_time_table(ct)
+    missing = [j[0] for j in compile_jobs(False) if j[0] != COMPILE_FLOOR and not (ROOT / j[0]).is_file()]
+    assert not missing, f"compile_time: files not found: {missing}"
+    assert set(map(str, compile_jobs(True))) <= set(map(str, compile_jobs(False)))
     print("run_all self-test: ok")
 
 
@@ -1110,6 +1340,9 @@ def main():
                                                    "results folder" % ", ".join(ALL_STEPS))
     ap.add_argument("--before", default=None, metavar="REV",
                     help="step 'hammock': also run commit REV's pce-sim (built in build-before/), before/after")
+    ap.add_argument("--note", default=None, metavar="TEXT",
+                    help="step 'compile_time': a line on this run's conditions (say, the machine was busy), kept "
+                         "in compile_time.json and shown on the page")
     ap.add_argument("--self-test", action="store_true", help="check the number-crunching helpers and exit")
     args = ap.parse_args()
     if args.self_test:
@@ -1121,8 +1354,9 @@ def main():
         raise ValueError(f"--steps: unknown step(s) {', '.join(unknown)} (steps: {', '.join(ALL_STEPS)})")
     needs = {"pair_cost": "pce-bench", "accuracy": "pce-accuracy", "broad_phase": "pce-broad-phase-bench",
              "threads": "pce-sim", "scenes": "pce-sim", "hammock": "pce-sim", "friction": "pce-sim"}
+    # compile_time needs no executable: the build folder's CMakeCache.txt (its compiler and Eigen).
     if args.build is None:
-        args.build = str(default_build([needs[x] for x in steps], args.jobs))
+        args.build = str(default_build([needs[x] for x in steps if x in needs], args.jobs))
     if args.results is None:
         args.results = str(Path(args.build) / "run_all_quick") if args.quick else str(ROOT / "benchmarks" / "results")
     if args.docs is None:
@@ -1131,11 +1365,16 @@ def main():
     ctx.results.mkdir(parents=True, exist_ok=True)
     ctx.images.mkdir(parents=True, exist_ok=True)
     for x in steps:
-        ctx.exe(needs[x])  # fail before running anything
+        if x in needs:
+            ctx.exe(needs[x])  # fail before running anything
     t0 = time.monotonic()
     log(f"results in {ctx.results}, page {ctx.docs}{' (quick)' if ctx.quick else ''}; steps: {', '.join(steps)}")
-    # The machine and commit the measurements ran on: rewritten only when something is measured.
-    machine = step_machine(ctx) if steps else json.loads((ctx.results / "machine.json").read_text())
+    # The machine and commit the measurements ran on: rewritten only when something is measured
+    # at run time (compile_time's own JSON records its compiler, machine and commit).
+    if any(x != "compile_time" for x in steps) or not (ctx.results / "machine.json").exists():
+        machine = step_machine(ctx)
+    else:
+        machine = json.loads((ctx.results / "machine.json").read_text())
     data = {}
 
     def done(name, value, started):
@@ -1179,6 +1418,10 @@ def main():
         log("friction: the hammock without and with friction (one run at a time)")
         t = time.monotonic()
         done("friction", step_friction(ctx), t)
+    if "compile_time" in steps:
+        log("compile time (one compilation at a time)")
+        t = time.monotonic()
+        done("compile_time", step_compile_time(ctx), t)
     for name in ALL_STEPS:  # steps not run now: their last results
         if name not in data:
             f = ctx.results / f"step_{name}.json"
@@ -1191,19 +1434,19 @@ def main():
             data[name] = json.loads(f.read_text())
             if name == "accuracy":
                 data[name]["rows"] = json.loads((ctx.results / "accuracy.json").read_text())["rows"]
-    cost, acc, bp, threads, scenes, hammock, friction = (data[k] for k in ALL_STEPS)
+    cost, acc, bp, threads, scenes, hammock, friction, compile_time = (data[k] for k in ALL_STEPS)
     total = time.monotonic() - t0
     # The page reports the time the whole pipeline takes: the steps' own times (accuracy and
     # broad phase run side by side, so the longer of the two counts).
     run_total = (data["pair_cost"].get("wall_s", 0) + max(acc.get("wall_s", 0), bp.get("wall_s", 0)) +
                  threads.get("wall_s", 0) + scenes.get("wall_s", 0) + hammock.get("wall_s", 0) +
-                 (friction or {}).get("wall_s", 0))
+                 (friction or {}).get("wall_s", 0) + (compile_time or {}).get("wall_s", 0))
     log("plots and page")
     plot_pair(ctx, acc, cost)
     plot_scenes(ctx, scenes)
     plot_broad_phase(ctx, bp)
     plot_threads(ctx, threads, scenes)
-    write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction, run_total)
+    write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction, compile_time, run_total)
     missing = [p for p in [ctx.docs] + [ctx.images / f for f in ("pair_accuracy_cost.png", "scene_pareto.png",
                                                                    "broad_phase_scaling.png", "threads.png")]
                if not p.exists() or p.stat().st_size == 0]
@@ -1211,7 +1454,8 @@ def main():
         raise RuntimeError("missing outputs: " + ", ".join(map(str, missing)))
     page = ctx.docs.read_text()
     absent = [h for h in ("## What accuracy costs", "## 1. Per pair", "## 2. Per scene", "## 3. Broad phase",
-                          "## 4. Threads", "## 5. The hammock", "## 6. Friction's cost on the hammock")
+                          "## 4. Threads", "## 5. The hammock", "## 6. Friction's cost on the hammock",
+                          "## 7. Compile time")
               if h not in page]
     if absent:
         raise RuntimeError(f"{ctx.docs}: sections missing: {', '.join(absent)}")

@@ -29,10 +29,9 @@ void show(const char* what, const pce::Vec12<double>& x, const Length& length, c
   pce::pair_energy<Pair>(x, length, penalty, e);
   for (pce::Projection p : {pce::Projection::none, pce::Projection::analytic, pce::Projection::numerical,
                             pce::Projection::gauss_newton, pce::Projection::abs}) {
-    const Eigen::SelfAdjointEigenSolver<pce::Mat12<double>> es(pce::projected_hessian(e, p));
-    std::printf(" %s %.3g", pce::to_string(p), es.eigenvalues().minCoeff());
-    if (p != pce::Projection::none && es.eigenvalues().minCoeff() < -1e-12 * es.eigenvalues().cwiseAbs().maxCoeff())
-      all_psd = false;
+    const pce::Vec12<double> lam = pce::symmetric_eigenvalues(pce::projected_hessian(e, p));
+    std::printf(" %s %.3g", pce::to_string(p), lam.minCoeff());
+    if (p != pce::Projection::none && lam.minCoeff() < -1e-12 * lam.cwiseAbs().maxCoeff()) all_psd = false;
   }
   std::printf("\n");
 }

@@ -32,7 +32,7 @@ template <class Pair> bool show(const char* what, const pce::Vec12<double>& x, d
     std::printf("  plane mode %.4f", plane.length);
   else
     std::printf("  plane mode: %s", pce::to_string(ps));
-  const double min_eig = Eigen::SelfAdjointEigenSolver<pce::Mat12<double>>(H).eigenvalues().minCoeff();
+  const double min_eig = pce::symmetric_eigenvalues(H).minCoeff();
   std::printf("  fd err %.1e\n", fd_err);
   return std::abs(e.length - expected) < 1e-12 && fd_err < 1e-6 && min_eig >= -1e-12 * H.norm();
 }

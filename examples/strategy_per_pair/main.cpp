@@ -29,7 +29,7 @@ template <class Pair> bool show(const char* what, const pce::Vec12<double>& x, b
   const pce::Projection p = choose(e.length, barrier.dhat, caller_wants_exact);
   const pce::Mat12<double> H = pce::projected_hessian(e, p);
   const pce::Mat12<double> nearest = pce::projected_hessian(e, pce::Projection::numerical);
-  const double min_eig = Eigen::SelfAdjointEigenSolver<pce::Mat12<double>>(H).eigenvalues().minCoeff();
+  const double min_eig = pce::symmetric_eigenvalues(H).minCoeff();
   const double dist = (H - nearest).norm() / nearest.norm();
   std::printf("%-26s L = %.3f  %-12s  min eig %+.2e  |H - nearest PSD| / |nearest| = %.2e\n", what, e.length,
               pce::to_string(p), min_eig, dist);

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -257,23 +258,31 @@ TEST(Friction, MoreLaggedIterationsSolveAgainFromTheResult) {
 
 TEST(Friction, FrictionlessScenesAreBitForBitUnchanged) {
   // The shipped drape less its friction, 20 frames (the cloth lands on the sphere from frame
-  // ~8), one thread: the positions hash to a fixed value, byte for byte (FNV-1a over the
-  // doubles of the positions, in order). Until the per-pair kernels changed their rounding
-  // (commit bcd9d5e) that was what the last version without friction and area weighting
-  // (970832e, `pce-sim drape.json --frames 20 --threads 1`) wrote; since then it is this
-  // version's, whose frame_0020.obj differs from 970832e's by at most 1.35e-12 m (an extent
-  // of 0.45 m), so friction and area weighting still change nothing when they are off.
+  // ~8), one thread, against the same scene whose obstacle contact declares friction with
+  // μ = 0 and `area_weighted: false`: friction that is off adds exact zeros, so both runs end
+  // on the same bits (both in this process: the last bits of a simulation depend on the
+  // CPU's libm and BLAS code paths, so no pinned value is compared). μ = 0.4 moves the cloth
+  // (the comparison can fail).
   std::ifstream in(std::string(PCE_SOURCE_DIR) + "/examples/scenes/drape.json");
-  json scene = json::parse(in);
-  for (json& e : scene["effects"]) e.erase("friction");
-  scene["frames"] = 20;
-  scene["solver"]["threads"] = 1;
-  auto s = load_scene_text(scene.dump(), "drape.json", PCE_TEST_TMP);
-  for (int f = 0; f < 20; ++f) s->simulation.step();
-  const Eigen::Matrix3Xd& x = s->simulation.x;
-  std::uint64_t hash = 0xcbf29ce484222325ULL;
-  const auto* bytes = reinterpret_cast<const unsigned char*>(x.data());
-  for (std::size_t i = 0; i < sizeof(double) * static_cast<std::size_t>(x.size()); ++i)
-    hash = (hash ^ bytes[i]) * 0x100000001b3ULL;
-  EXPECT_EQ(hash, 0x8ad5b2926b27fba7ULL) << std::hex << hash;
+  const json shipped = json::parse(in);
+  const auto run = [&](const json* friction) {
+    json scene = shipped;
+    for (json& e : scene["effects"]) {
+      e.erase("friction");
+      if (friction && e["type"] == "obstacle_contact") {
+        e["friction"] = *friction;
+        e["area_weighted"] = false;
+      }
+    }
+    scene["frames"] = 20;
+    scene["solver"]["threads"] = 1;
+    auto s = load_scene_text(scene.dump(), "drape.json", PCE_TEST_TMP);
+    for (int f = 0; f < 20; ++f) s->simulation.step();
+    return Eigen::Matrix3Xd(s->simulation.x);
+  };
+  const json off = {{"coefficient", 0.0}}, on = {{"coefficient", 0.4}};
+  const Eigen::Matrix3Xd plain = run(nullptr), zero = run(&off), with = run(&on);
+  EXPECT_EQ(std::memcmp(plain.data(), zero.data(), sizeof(double) * static_cast<std::size_t>(plain.size())), 0)
+      << "largest difference " << (plain - zero).cwiseAbs().maxCoeff() << " m";
+  EXPECT_GT((plain - with).cwiseAbs().maxCoeff(), 1e-6);
 }

@@ -11,7 +11,8 @@
 /// matrix size, and the suite needs it for four scalars (float, double, long double and
 /// the 50-digit reference) and three sizes (12, 9 and 6: the plane and the point kinds): directly, and through
 /// `pce::project_psd`, which `pce::projected_hessian` instantiates for every scalar it is called with. The explicit
-/// instantiation declarations below keep each test from compiling those bodies again.
+/// instantiation declarations below keep each test from compiling those bodies again (`pce::project_psd` for the
+/// native scalars comes from pce::precompiled, which every test links).
 #pragma once
 
 #include "high_precision.hpp"
@@ -51,13 +52,7 @@ PCE_TEST_EIGENSOLVERS(extern, long double)
 
 }  // namespace pce_test
 
+// pce::project_psd for the 50-digit reference (pce::precompiled has the native scalars').
 namespace pce {
-#define PCE_TEST_PROJECT_PSD(EXTERN, S)                         \
-  EXTERN template Mat12<S> project_psd<S, 12>(const Mat12<S>&); \
-  EXTERN template Mat9<S> project_psd<S, 9>(const Mat9<S>&);    \
-  EXTERN template Mat6<S> project_psd<S, 6>(const Mat6<S>&);
-PCE_TEST_PROJECT_PSD(extern, float)
-PCE_TEST_PROJECT_PSD(extern, double)
-PCE_TEST_PROJECT_PSD(extern, long double)
-PCE_TEST_PROJECT_PSD(extern, pce_test::HighPrecision)
+PCE_PSD_PROJECTION_INSTANCES(extern, pce_test::HighPrecision)
 }  // namespace pce

@@ -7,7 +7,3 @@
 namespace pce_test {
 PCE_TEST_EIGENSOLVERS(, double)
 }  // namespace pce_test
-
-namespace pce {
-PCE_TEST_PROJECT_PSD(, double)
-}  // namespace pce

@@ -3,5 +3,5 @@
 #include "eigensolvers.hpp"
 
 namespace pce {
-PCE_TEST_PROJECT_PSD(, pce_test::HighPrecision)
+PCE_PSD_PROJECTION_INSTANCES(, pce_test::HighPrecision)
 }  // namespace pce

@@ -7,7 +7,3 @@
 namespace pce_test {
 PCE_TEST_EIGENSOLVERS(, long double)
 }  // namespace pce_test
-
-namespace pce {
-PCE_TEST_PROJECT_PSD(, long double)
-}  // namespace pce

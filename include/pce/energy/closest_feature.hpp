@@ -263,16 +263,23 @@ template <class Scalar> Mat12<Scalar> energy_hessian(const ClosestFeatureEnergy<
   }
 }
 
-/// PSD Hessian by the chosen strategy, on all 12 coordinates.
-template <class Scalar> Mat12<Scalar> projected_hessian(const ClosestFeatureEnergy<Scalar>& e, Projection strategy) {
+/// PSD Hessian by the strategy `P`, chosen at compile time (only that strategy is
+/// compiled), on all 12 coordinates.
+template <Projection P, class Scalar> Mat12<Scalar> projected_hessian(const ClosestFeatureEnergy<Scalar>& e) {
   switch (e.feature) {
     case Feature::point_edge:
-      return detail::scatter<3>(projected_hessian(e.edge, strategy), e.points);
+      return detail::scatter<3>(projected_hessian<P>(e.edge), e.points);
     case Feature::point_point:
-      return detail::scatter<2>(projected_hessian(e.point, strategy), e.points);
+      return detail::scatter<2>(projected_hessian<P>(e.point), e.points);
     default:
-      return projected_hessian(e.plane, strategy);
+      return projected_hessian<P>(e.plane);
   }
+}
+
+/// PSD Hessian by the strategy chosen at run time (compiles every strategy:
+/// `energy/projection.hpp`), on all 12 coordinates.
+template <class Scalar> Mat12<Scalar> projected_hessian(const ClosestFeatureEnergy<Scalar>& e, Projection strategy) {
+  return with_projection(strategy, [&e](auto p) { return projected_hessian<decltype(p)::value>(e); });
 }
 
 /// The closed-form frame-space eigenvalues of the evaluated kind (9, 6 or 3 of them,
@@ -302,5 +309,10 @@ template <class Scalar> FeatureEigenvalues<Scalar> feature_eigenvalues(const Clo
   }
   return r;
 }
+
+/// The instantiations `pce::precompiled` compiles (`core/precompiled.hpp`).
+#define PCE_CLOSEST_FEATURE_INSTANCES(EXTERN, S) \
+  EXTERN template Mat12<S> projected_hessian<S>(const ClosestFeatureEnergy<S>&, Projection);
+PCE_DECLARE_PRECOMPILED(PCE_CLOSEST_FEATURE_INSTANCES)
 
 }  // namespace pce

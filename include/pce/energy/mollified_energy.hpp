@@ -251,38 +251,49 @@ template <class Scalar> FrameEigensystem<Scalar> energy_eigensystem(const Mollif
   return out;
 }
 
-/// PSD Hessian of the mollified energy: `analytic`/`abs` clamp/flip the closed-form frame
-/// eigenvalues and pull back; `gauss_newton` is max(mψ″, 0) ∇L∇Lᵀ; `numerical` and `none`
-/// as for the plain energy; `exact` the nearest PSD matrix through a 9×9 reduced problem.
-template <class Scalar> Mat12<Scalar> projected_hessian(const MollifiedEnergy<Scalar>& e, Projection strategy) {
+/// PSD Hessian of the mollified energy by the strategy `P`, chosen at compile time:
+/// `analytic`/`abs` clamp/flip the closed-form frame eigenvalues and pull back;
+/// `gauss_newton` is max(mψ″, 0) ∇L∇Lᵀ; `numerical` and `none` as for the plain energy;
+/// `exact` the nearest PSD matrix through a 9×9 reduced problem.
+template <Projection P, class Scalar> Mat12<Scalar> projected_hessian(const MollifiedEnergy<Scalar>& e) {
   if (!e.has_frame) return Mat12<Scalar>::Zero();
-  if (detail::unmollified(e)) return projected_hessian(e.base, strategy);
-  switch (strategy) {
-    case Projection::none:
-      return energy_hessian(e);
-    case Projection::numerical:
-      return project_psd(energy_hessian(e));
-    case Projection::gauss_newton: {
-      PairEnergy<Scalar> b = e.base;
-      b.psi.second *= e.mollifier;
-      return projected_hessian(b, Projection::gauss_newton);
+  if (detail::unmollified(e)) return projected_hessian<P>(e.base);
+  if constexpr (P == Projection::none) {
+    return energy_hessian(e);
+  } else if constexpr (P == Projection::numerical) {
+    return project_psd(energy_hessian(e));
+  } else if constexpr (P == Projection::gauss_newton) {
+    PairEnergy<Scalar> b = e.base;
+    b.psi.second *= e.mollifier;
+    return projected_hessian<Projection::gauss_newton>(b);
+  } else {
+    static_assert(P == Projection::analytic || P == Projection::abs || P == Projection::exact,
+                  "a strategy without a case");
+    using std::abs;
+    const FrameEigensystem<Scalar> es = energy_eigensystem(e);
+    if constexpr (P == Projection::exact) {  // frame Hessian of rank up to 9: a 9×9 reduced problem
+      return detail::exact_projection(e.base.frame,
+                                      Mat9<Scalar>(es.vectors * es.values.asDiagonal() * es.vectors.transpose()));
+    } else {
+      Vec9<Scalar> lam = es.values;
+      for (int i = 0; i < 9; ++i)
+        lam[i] = P == Projection::abs ? Scalar(abs(lam[i])) : (lam[i] > Scalar(0) ? lam[i] : Scalar(0));
+      const Mat9<Scalar> Hc = es.vectors * lam.asDiagonal() * es.vectors.transpose();
+      const Eigen::Matrix<Scalar, 9, 12> J = frame_jacobian(e.base.frame);
+      return J.transpose() * Hc * J;
     }
-    case Projection::analytic:
-    case Projection::abs:
-    case Projection::exact:
-      break;
   }
-  using std::abs;
-  const FrameEigensystem<Scalar> es = energy_eigensystem(e);
-  if (strategy == Projection::exact)  // frame Hessian of rank up to 9: a 9×9 reduced problem
-    return detail::exact_projection(e.base.frame,
-                                    Mat9<Scalar>(es.vectors * es.values.asDiagonal() * es.vectors.transpose()));
-  Vec9<Scalar> lam = es.values;
-  for (int i = 0; i < 9; ++i)
-    lam[i] = strategy == Projection::abs ? Scalar(abs(lam[i])) : (lam[i] > Scalar(0) ? lam[i] : Scalar(0));
-  const Mat9<Scalar> Hc = es.vectors * lam.asDiagonal() * es.vectors.transpose();
-  const Eigen::Matrix<Scalar, 9, 12> J = frame_jacobian(e.base.frame);
-  return J.transpose() * Hc * J;
 }
+
+/// PSD Hessian of the mollified energy by the strategy chosen at run time (compiles every
+/// strategy: `energy/projection.hpp`).
+template <class Scalar> Mat12<Scalar> projected_hessian(const MollifiedEnergy<Scalar>& e, Projection strategy) {
+  return with_projection(strategy, [&e](auto p) { return projected_hessian<decltype(p)::value>(e); });
+}
+
+/// The instantiations `pce::precompiled` compiles (`core/precompiled.hpp`).
+#define PCE_MOLLIFIED_ENERGY_INSTANCES(EXTERN, S) \
+  EXTERN template Mat12<S> projected_hessian<S>(const MollifiedEnergy<S>&, Projection);
+PCE_DECLARE_PRECOMPILED(PCE_MOLLIFIED_ENERGY_INSTANCES)
 
 }  // namespace pce

@@ -15,6 +15,7 @@
 
 #include <pce/energy/exact_projection.hpp>
 #include <pce/energy/plane_assembly.hpp>
+#include <pce/energy/projection.hpp>
 #include <pce/energy/psd_projection.hpp>
 #include <pce/frames/edge_edge.hpp>
 #include <pce/frames/vertex_face.hpp>
@@ -25,36 +26,6 @@
 #include <type_traits>
 
 namespace pce {
-
-/// How `projected_hessian` makes the Hessian positive semidefinite (`docs/math.md`).
-enum class Projection {
-  none,          ///< the exact Hessian ∇²E, not PSD in general
-  analytic,      ///< Jᵀ [max(ψ″,0) ggᵀ + Σ max(σψ′λ,0) qqᵀ] J: clamp the closed-form eigenvalues
-  numerical,     ///< V max(Λ,0) Vᵀ of the exact 12×12 Hessian: the true nearest PSD matrix
-  gauss_newton,  ///< max(ψ″,0) ∇L ∇Lᵀ: drops the length's curvature
-  abs,           ///< Jᵀ [|ψ″| ggᵀ + Σ |σψ′λ| qqᵀ] J: flip negative eigenvalues instead
-  exact,         ///< the same matrix as `numerical` (the nearest PSD matrix in x-space), through
-                 ///< the Hessian's rank ≤ 5 structure: a ≤ 5×5 eigenproblem, no 12×12 eigensolve
-};
-
-/// Name of a strategy, as `pce-probe` spells it.
-inline const char* to_string(Projection p) {
-  switch (p) {
-    case Projection::none:
-      return "none";
-    case Projection::analytic:
-      return "analytic";
-    case Projection::numerical:
-      return "numerical";
-    case Projection::gauss_newton:
-      return "gauss_newton";
-    case Projection::abs:
-      return "abs";
-    case Projection::exact:
-      return "exact";
-  }
-  return "unknown";
-}
 
 /// Whether `Length` is the signed length (meaningless for the point kinds and for
 /// closest-feature evaluation, which report `invalid_input` for it).
@@ -164,41 +135,39 @@ template <class Scalar> FrameEigensystem<Scalar> energy_eigensystem(const PairEn
   return detail::frame_eigensystem(e.frame, Scalar(e.sigma * e.psi.first), e.psi.second);
 }
 
-/// PSD (except for `none`) Hessian of the pair by the chosen strategy; see `Projection`.
-template <class Scalar> Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>& e, Projection strategy) {
-  const auto clamp = [](const Scalar& v) { return v > Scalar(0) ? v : Scalar(0); };
+/// PSD (except for `none`) Hessian of the pair by the strategy `P`, chosen at compile time
+/// (only that strategy is compiled); see `Projection`.
+template <Projection P, class Scalar> Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>& e) {
   Mat12<Scalar> M;  // the one object returned, so that it is built in the caller's (no copy)
   detail::DenseSymmetric12<Scalar> H{M};
   const Scalar c1 = e.sigma * e.psi.first;
-  switch (strategy) {
-    case Projection::analytic:
-    case Projection::abs:
-      detail::plane_filtered_hessian(detail::PlaneValues<Scalar>(e.frame), c1, e.psi.second,
-                                     strategy == Projection::abs, detail::family_big_t<Scalar>(), H);
-      H.mirror();
-      break;
-    case Projection::exact:
-      detail::exact_projection(
-          e.frame, c1, e.psi.second, [&e](detail::DenseSymmetric12<Scalar>& S) { detail::hessian_terms(e, S); }, M);
-      break;
-    case Projection::gauss_newton: {  // rank one: max(ψ″,0) ∇L∇Lᵀ, ∇L = σ Jᵀ g
-      Vec12<Scalar> gL;
-      for (int j = 0; j < 4; ++j) gL.template segment<3>(3 * j) = (e.sigma * e.frame.P(2, j)) * e.frame.n;
-      M.noalias() = clamp(e.psi.second) * gL * gL.transpose();
-      break;
-    }
-    case Projection::numerical:
-      detail::hessian_terms(e, H);
-      H.mirror();
-      M = project_psd(M);
-      break;
-    case Projection::none:
-    default:
-      detail::hessian_terms(e, H);
-      H.mirror();
-      break;
+  if constexpr (P == Projection::analytic || P == Projection::abs) {
+    detail::plane_filtered_hessian(detail::PlaneValues<Scalar>(e.frame), c1, e.psi.second, P == Projection::abs,
+                                   detail::family_big_t<Scalar>(), H);
+    H.mirror();
+  } else if constexpr (P == Projection::exact) {
+    detail::exact_projection(
+        e.frame, c1, e.psi.second, [&e](detail::DenseSymmetric12<Scalar>& S) { detail::hessian_terms(e, S); }, M);
+  } else if constexpr (P == Projection::gauss_newton) {  // rank one: max(ψ″,0) ∇L∇Lᵀ, ∇L = σ Jᵀ g
+    Vec12<Scalar> gL;
+    for (int j = 0; j < 4; ++j) gL.template segment<3>(3 * j) = (e.sigma * e.frame.P(2, j)) * e.frame.n;
+    M.noalias() = (e.psi.second > Scalar(0) ? e.psi.second : Scalar(0)) * gL * gL.transpose();
+  } else if constexpr (P == Projection::numerical) {
+    detail::hessian_terms(e, H);
+    H.mirror();
+    M = project_psd(M);
+  } else {
+    static_assert(P == Projection::none, "a strategy without a case");
+    detail::hessian_terms(e, H);
+    H.mirror();
   }
   return M;
+}
+
+/// PSD (except for `none`) Hessian of the pair by the strategy chosen at run time (compiles
+/// every strategy: `energy/projection.hpp`); the same bits as `projected_hessian<P>(e)`.
+template <class Scalar> Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>& e, Projection strategy) {
+  return with_projection(strategy, [&e](auto p) { return projected_hessian<decltype(p)::value>(e); });
 }
 
 /// All outputs of one pair (`Dofs` coordinates, `FrameDofs` frame coordinates: 12 and 9
@@ -234,5 +203,10 @@ Status evaluate(const VecN<Scalar, Pair::dofs>& x, const Length& length, const P
   out = r;
   return Status::ok;
 }
+
+/// The instantiations `pce::precompiled` compiles (`core/precompiled.hpp`).
+#define PCE_PAIR_ENERGY_INSTANCES(EXTERN, S) \
+  EXTERN template Mat12<S> projected_hessian<S>(const PairEnergy<S>&, Projection);
+PCE_DECLARE_PRECOMPILED(PCE_PAIR_ENERGY_INSTANCES)
 
 }  // namespace pce

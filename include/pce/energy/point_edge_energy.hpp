@@ -151,28 +151,37 @@ template <class Scalar> Mat9<Scalar> exact_projection(const PointEdgeEnergy<Scal
 }
 }  // namespace detail
 
-/// PSD (except for `none`) Hessian of the pair by the chosen strategy (`Projection`).
-template <class Scalar> Mat9<Scalar> projected_hessian(const PointEdgeEnergy<Scalar>& e, Projection strategy) {
+/// PSD (except for `none`) Hessian of the pair by the strategy `P`, chosen at compile time
+/// (`Projection`; only that strategy is compiled).
+template <Projection P, class Scalar> Mat9<Scalar> projected_hessian(const PointEdgeEnergy<Scalar>& e) {
   using std::abs;
   const auto clamp = [](const Scalar& v) { return v > Scalar(0) ? v : Scalar(0); };
-  const auto flip = [](const Scalar& v) { return Scalar(abs(v)); };
-  switch (strategy) {
-    case Projection::none:
-      return energy_hessian(e);
-    case Projection::numerical:
-      return project_psd(energy_hessian(e));
-    case Projection::analytic:
-      return detail::filtered_hessian(e, clamp);
-    case Projection::abs:
-      return detail::filtered_hessian(e, flip);
-    case Projection::exact:
-      return detail::exact_projection(e);
-    case Projection::gauss_newton: {
-      const Vec9<Scalar> gL = detail::kron<Scalar>(e.frame.P.row(1), e.frame.u);
-      return clamp(e.psi.second) * gL * gL.transpose();
-    }
+  if constexpr (P == Projection::numerical) {
+    return project_psd(energy_hessian(e));
+  } else if constexpr (P == Projection::analytic) {
+    return detail::filtered_hessian(e, clamp);
+  } else if constexpr (P == Projection::abs) {
+    return detail::filtered_hessian(e, [](const Scalar& v) { return Scalar(abs(v)); });
+  } else if constexpr (P == Projection::exact) {
+    return detail::exact_projection(e);
+  } else if constexpr (P == Projection::gauss_newton) {
+    const Vec9<Scalar> gL = detail::kron<Scalar>(e.frame.P.row(1), e.frame.u);
+    return clamp(e.psi.second) * gL * gL.transpose();
+  } else {
+    static_assert(P == Projection::none, "a strategy without a case");
+    return energy_hessian(e);
   }
-  return energy_hessian(e);
 }
+
+/// PSD (except for `none`) Hessian of the pair by the strategy chosen at run time (compiles
+/// every strategy: `energy/projection.hpp`).
+template <class Scalar> Mat9<Scalar> projected_hessian(const PointEdgeEnergy<Scalar>& e, Projection strategy) {
+  return with_projection(strategy, [&e](auto p) { return projected_hessian<decltype(p)::value>(e); });
+}
+
+/// The instantiations `pce::precompiled` compiles (`core/precompiled.hpp`).
+#define PCE_POINT_EDGE_ENERGY_INSTANCES(EXTERN, S) \
+  EXTERN template Mat9<S> projected_hessian<S>(const PointEdgeEnergy<S>&, Projection);
+PCE_DECLARE_PRECOMPILED(PCE_POINT_EDGE_ENERGY_INSTANCES)
 
 }  // namespace pce

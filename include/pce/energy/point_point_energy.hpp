@@ -67,26 +67,36 @@ template <class Scalar> FrameEigensystem<Scalar, 3> energy_eigensystem(const Poi
   return detail::sorted_eigensystem<Scalar, 3>({e.psi.second, c, c}, {e.frame.u, e.frame.v, e.frame.w});
 }
 
-/// PSD (except for `none`) Hessian by the chosen strategy; `analytic` and `exact` are the
-/// same matrix for this kind (see the file comment).
-template <class Scalar> Mat6<Scalar> projected_hessian(const PointPointEnergy<Scalar>& e, Projection strategy) {
+/// PSD (except for `none`) Hessian by the strategy `P`, chosen at compile time (only that
+/// strategy is compiled); `analytic` and `exact` are the same matrix for this kind (see the
+/// file comment).
+template <Projection P, class Scalar> Mat6<Scalar> projected_hessian(const PointPointEnergy<Scalar>& e) {
   using std::abs;
   const auto clamp = [](const Scalar& v) { return v > Scalar(0) ? v : Scalar(0); };
   const Scalar c = e.psi.first / e.frame.d;
-  switch (strategy) {
-    case Projection::none:
-      return energy_hessian(e);
-    case Projection::numerical:
-      return project_psd(energy_hessian(e));
-    case Projection::analytic:
-    case Projection::exact:
-      return detail::point_point_hessian(e.frame, clamp(e.psi.second), clamp(c));
-    case Projection::abs:
-      return detail::point_point_hessian(e.frame, Scalar(abs(e.psi.second)), Scalar(abs(c)));
-    case Projection::gauss_newton:
-      return detail::point_point_hessian(e.frame, clamp(e.psi.second), Scalar(0));
+  if constexpr (P == Projection::numerical) {
+    return project_psd(energy_hessian(e));
+  } else if constexpr (P == Projection::analytic || P == Projection::exact) {
+    return detail::point_point_hessian(e.frame, clamp(e.psi.second), clamp(c));
+  } else if constexpr (P == Projection::abs) {
+    return detail::point_point_hessian(e.frame, Scalar(abs(e.psi.second)), Scalar(abs(c)));
+  } else if constexpr (P == Projection::gauss_newton) {
+    return detail::point_point_hessian(e.frame, clamp(e.psi.second), Scalar(0));
+  } else {
+    static_assert(P == Projection::none, "a strategy without a case");
+    return energy_hessian(e);
   }
-  return energy_hessian(e);
 }
+
+/// PSD (except for `none`) Hessian by the strategy chosen at run time (compiles every
+/// strategy: `energy/projection.hpp`).
+template <class Scalar> Mat6<Scalar> projected_hessian(const PointPointEnergy<Scalar>& e, Projection strategy) {
+  return with_projection(strategy, [&e](auto p) { return projected_hessian<decltype(p)::value>(e); });
+}
+
+/// The instantiations `pce::precompiled` compiles (`core/precompiled.hpp`).
+#define PCE_POINT_POINT_ENERGY_INSTANCES(EXTERN, S) \
+  EXTERN template Mat6<S> projected_hessian<S>(const PointPointEnergy<S>&, Projection);
+PCE_DECLARE_PRECOMPILED(PCE_POINT_POINT_ENERGY_INSTANCES)
 
 }  // namespace pce

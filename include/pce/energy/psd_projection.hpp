@@ -6,6 +6,7 @@
 /// closed-form eigensystem; it costs a 12×12 eigensolve per pair.
 #pragma once
 
+#include <pce/core/precompiled.hpp>
 #include <pce/core/types.hpp>
 
 #include <Eigen/Eigenvalues>
@@ -23,5 +24,22 @@ template <class Scalar, int N> Eigen::Matrix<Scalar, N, N> project_psd(const Eig
     if (clamped[i] < Scalar(0)) clamped[i] = Scalar(0);
   return es.eigenvectors() * clamped.asDiagonal() * es.eigenvectors().transpose();
 }
+
+/// Eigenvalues of a symmetric `H`, ascending (Eigen's `SelfAdjointEigenSolver`): the check
+/// that a projected Hessian is PSD (`symmetric_eigenvalues(H)[0] >= 0`), with the eigensolver
+/// `project_psd` uses (compiled once in `pce::precompiled`).
+template <class Scalar, int N> VecN<Scalar, N> symmetric_eigenvalues(const Eigen::Matrix<Scalar, N, N>& H) {
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix<Scalar, N, N>>(H, Eigen::EigenvaluesOnly).eigenvalues();
+}
+
+/// The instantiations `pce::precompiled` compiles (`core/precompiled.hpp`).
+#define PCE_PSD_PROJECTION_INSTANCES(EXTERN, S)                           \
+  EXTERN template Mat12<S> project_psd<S, 12>(const Mat12<S>&);           \
+  EXTERN template Mat9<S> project_psd<S, 9>(const Mat9<S>&);              \
+  EXTERN template Mat6<S> project_psd<S, 6>(const Mat6<S>&);              \
+  EXTERN template Vec12<S> symmetric_eigenvalues<S, 12>(const Mat12<S>&); \
+  EXTERN template Vec9<S> symmetric_eigenvalues<S, 9>(const Mat9<S>&);    \
+  EXTERN template Vec6<S> symmetric_eigenvalues<S, 6>(const Mat6<S>&);
+PCE_DECLARE_PRECOMPILED(PCE_PSD_PROJECTION_INSTANCES)
 
 }  // namespace pce

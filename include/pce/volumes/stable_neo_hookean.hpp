@@ -26,6 +26,7 @@
 
 #include <pce/core/jacobi.hpp>
 #include <pce/core/orthogonal.hpp>
+#include <pce/core/precompiled.hpp>
 #include <pce/core/scaling.hpp>
 #include <pce/core/types.hpp>
 #include <pce/volumes/tet_deformation.hpp>
@@ -334,18 +335,28 @@ template <class Scalar> Mat9<Scalar> snh_analytic_projection(const StableNeoHook
   return H;
 }
 
+/// `VolumeProjection::numerical`: `Σ max(λ, 0) q qᵀ` of a symmetric 9×9 `A` from Eigen's
+/// eigensolver, symmetrised.
+template <class Scalar> Mat9<Scalar> snh_numerical_projection(const Mat9<Scalar>& A) {
+  Mat9<Scalar> H = Mat9<Scalar>::Zero();
+  const Eigen::SelfAdjointEigenSolver<Mat9<Scalar>> es(A);
+  for (int i = 0; i < 9; ++i)
+    if (es.eigenvalues()[i] > Scalar(0))
+      H.noalias() += (es.eigenvalues()[i] * es.eigenvectors().col(i)) * es.eigenvectors().col(i).transpose();
+  return Scalar(0.5) * (H + H.transpose());
+}
+
+/// The instantiations `pce::precompiled` compiles (`core/precompiled.hpp`).
+#define PCE_SNH_INSTANCES(EXTERN, S) EXTERN template Mat9<S> snh_numerical_projection<S>(const Mat9<S>&);
+PCE_DECLARE_PRECOMPILED(PCE_SNH_INSTANCES)
+
 /// `snh_projected_hessian` with J = det F and C = cof F given.
 template <class Scalar> Mat9<Scalar> snh_projected_hessian(const StableNeoHookean& m, const Mat3<Scalar>& F,
                                                            const Scalar& J, const Mat3<Scalar>& C,
                                                            VolumeProjection how) {
   if (how == VolumeProjection::none) return snh_hessian(m, F, J, C);
   if (how == VolumeProjection::analytic) return snh_analytic_projection(m, F, J, C);
-  Mat9<Scalar> H = Mat9<Scalar>::Zero();
-  const Eigen::SelfAdjointEigenSolver<Mat9<Scalar>> es(snh_hessian(m, F, J, C));
-  for (int i = 0; i < 9; ++i)
-    if (es.eigenvalues()[i] > Scalar(0))
-      H.noalias() += (es.eigenvalues()[i] * es.eigenvectors().col(i)) * es.eigenvectors().col(i).transpose();
-  return Scalar(0.5) * (H + H.transpose());
+  return snh_numerical_projection(snh_hessian(m, F, J, C));
 }
 }  // namespace detail
 
