@@ -281,4 +281,11 @@ NaiveOutputs<S> naive_pair_energy(PairKind kind, LengthKind length, const Penalt
   return with_penalty(spec, [&](const auto& pen) { return naive::pair_energy<S>(kind, length, pen, x); });
 }
 
+/// Compiled once per scalar type in pce_test_support (`support/measure_<scalar>.cpp`).
+#define PCE_TEST_NAIVE_FORMS(EXTERN, S) \
+  EXTERN template NaiveOutputs<S> naive_pair_energy<S>(PairKind, LengthKind, const PenaltySpec&, const pce::Vec12<S>&);
+PCE_TEST_NAIVE_FORMS(extern, float)
+PCE_TEST_NAIVE_FORMS(extern, double)
+PCE_TEST_NAIVE_FORMS(extern, long double)
+
 }  // namespace pce_test

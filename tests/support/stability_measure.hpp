@@ -131,6 +131,13 @@ template <class S> Measurement measure(const HardCase& hc, int perturbations = 6
   return m;
 }
 
+/// Compiled once per scalar type in pce_test_support (`support/measure_<scalar>.cpp`): every
+/// pair kind, length and penalty against the 50-digit reference.
+#define PCE_TEST_MEASURE(EXTERN, S) EXTERN template Measurement measure<S>(const HardCase&, int);
+PCE_TEST_MEASURE(extern, float)
+PCE_TEST_MEASURE(extern, double)
+PCE_TEST_MEASURE(extern, long double)
+
 /// Allowed error: `factor` times the input-rounding bound plus `floor` roundoffs.
 inline bool within(double err, double bound, double u, double factor = 16, double floor = 256) {
   return err <= factor * bound + floor * u;
