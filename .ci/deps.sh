@@ -1,9 +1,11 @@
-# Debian packages the build needs; sourced by .ci/run and .ci/demo.
+# Debian packages the build needs; sourced by .ci/run and .ci/demo. ccache lets .ci/run compile
+# each source once although three builds compile pce::sim's sources with the same flags (the
+# main build, the add_subdirectory consumer test's and the Python package's).
 # libopenblas0-serial becomes the system libblas.so.3 that CHOLMOD calls: on the hammock's
 # contact matrices a supernodal factorisation takes ~180 ms with it and ~340-500 ms with
 # the reference BLAS (the pthread/OpenMP builds are 6-9x slower still on these small
 # supernodes, so it is the serial one).
-PCE_DEBIAN_PACKAGES="g++ cmake ninja-build pkg-config libeigen3-dev libboost-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev libfcl-dev libccd-dev libcgal-dev libsuitesparse-dev libcli11-dev libstb-dev libopenblas0-serial libbullet-dev python3-matplotlib python3-dev python3-venv doxygen clang-format clang-tidy"
+PCE_DEBIAN_PACKAGES="g++ cmake ninja-build pkg-config libeigen3-dev libboost-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev libfcl-dev libccd-dev libcgal-dev libsuitesparse-dev libcli11-dev libstb-dev libopenblas0-serial libbullet-dev python3-matplotlib python3-dev python3-venv doxygen clang-format clang-tidy ccache"
 
 pce_install_deps() {
   local sudo=""

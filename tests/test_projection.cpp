@@ -14,6 +14,7 @@
 #include <vector>
 
 namespace {
+using S = double;
 constexpr std::array<pce::Projection, 6> kAll{pce::Projection::none,      pce::Projection::analytic,
                                               pce::Projection::numerical, pce::Projection::gauss_newton,
                                               pce::Projection::abs,       pce::Projection::exact};
@@ -56,7 +57,6 @@ pce::Vec12<S> vec12(std::initializer_list<double> v) {
 // signs: the exact Hessian is indefinite, so the strategies give different matrices.
 const pce::CubicPenalty kPenalty{10.0, 0.5, 0.4};
 
-using S = double;
 
 TEST(ProjectionForms, PlaneKinds) {
   pce::PairEnergy<S> vf, ee;

@@ -3,7 +3,7 @@
 #       a fresh `cmake --install` of pce into PREFIX (removed first: nothing stale counts)
 #   -DMODE=consume  -DBINARY=<dir> -DGENERATOR=... -DCXX=... -DCONFIG=<cfg> [-DSIM=ON]
 #       [-DPREFIX=<dir> | -DPCE_SOURCE=<pce's source tree> | -DPCE_GIT=<pce's git URL>] [-DEXPECT_VERSION=<v>]
-#       [-DEIGEN3_DIR=<dir>] [-DWERROR=ON] [-DEXPECT_FAIL=<regex>] [-DCONFIGURE_ONLY=ON]
+#       [-DEIGEN3_DIR=<dir>] [-DWERROR=ON] [-DPIC=ON|OFF] [-DEXPECT_FAIL=<regex>] [-DCONFIGURE_ONLY=ON]
 #       configures project/ in a fresh BINARY, builds it and runs its programs; with
 #       EXPECT_FAIL, the configuration must fail with a message matching the regex; with
 #       CONFIGURE_ONLY, it is only configured (its own checks run at configure time).
@@ -43,6 +43,9 @@ if(PCE_GIT)
 endif()
 if(EIGEN3_DIR)
   list(APPEND args -DEigen3_DIR=${EIGEN3_DIR})
+endif()
+if(DEFINED PIC AND NOT PIC STREQUAL "")
+  list(APPEND args -DCMAKE_POSITION_INDEPENDENT_CODE=${PIC})
 endif()
 
 if(DEFINED EXPECT_FAIL)

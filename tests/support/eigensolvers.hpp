@@ -17,6 +17,7 @@
 
 #include "high_precision.hpp"
 
+#include <pce/energy/closest_feature.hpp>
 #include <pce/energy/psd_projection.hpp>
 
 #include <Eigen/Eigenvalues>
@@ -52,7 +53,13 @@ PCE_TEST_EIGENSOLVERS(extern, long double)
 
 }  // namespace pce_test
 
-// pce::project_psd for the 50-digit reference (pce::precompiled has the native scalars').
+// pce::project_psd for the 50-digit reference (pce::precompiled has the native scalars'),
+// and the run-time projected_hessian of the kinds several tests compare in 50 digits
+// (support/projections_high_precision.cpp).
 namespace pce {
 PCE_PSD_PROJECTION_INSTANCES(extern, pce_test::HighPrecision)
+PCE_PAIR_ENERGY_INSTANCES(extern, pce_test::HighPrecision)
+PCE_POINT_EDGE_ENERGY_INSTANCES(extern, pce_test::HighPrecision)
+PCE_POINT_POINT_ENERGY_INSTANCES(extern, pce_test::HighPrecision)
+PCE_CLOSEST_FEATURE_INSTANCES(extern, pce_test::HighPrecision)
 }  // namespace pce
