@@ -57,7 +57,6 @@ pce::Vec12<S> vec12(std::initializer_list<double> v) {
 // signs: the exact Hessian is indefinite, so the strategies give different matrices.
 const pce::CubicPenalty kPenalty{10.0, 0.5, 0.4};
 
-
 TEST(ProjectionForms, PlaneKinds) {
   pce::PairEnergy<S> vf, ee;
   ASSERT_EQ(pce::pair_energy<pce::VertexFace>(vec12({0.2, 0.3, 0.1, 0, 0, 0, 1, 0.1, 0, 0, 1, 0.05}),

@@ -311,8 +311,11 @@ template <class Scalar> FeatureEigenvalues<Scalar> feature_eigenvalues(const Clo
 }
 
 /// The instantiations `pce::precompiled` compiles (`core/precompiled.hpp`).
+// (EXTERN is `extern` or nothing and S a type: neither can be parenthesised.)
+// NOLINTBEGIN(bugprone-macro-parentheses)
 #define PCE_CLOSEST_FEATURE_INSTANCES(EXTERN, S) \
   EXTERN template Mat12<S> projected_hessian<S>(const ClosestFeatureEnergy<S>&, Projection);
+// NOLINTEND(bugprone-macro-parentheses)
 PCE_DECLARE_PRECOMPILED(PCE_CLOSEST_FEATURE_INSTANCES)
 
 }  // namespace pce

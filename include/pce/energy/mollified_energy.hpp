@@ -292,8 +292,11 @@ template <class Scalar> Mat12<Scalar> projected_hessian(const MollifiedEnergy<Sc
 }
 
 /// The instantiations `pce::precompiled` compiles (`core/precompiled.hpp`).
+// (EXTERN is `extern` or nothing and S a type: neither can be parenthesised.)
+// NOLINTBEGIN(bugprone-macro-parentheses)
 #define PCE_MOLLIFIED_ENERGY_INSTANCES(EXTERN, S) \
   EXTERN template Mat12<S> projected_hessian<S>(const MollifiedEnergy<S>&, Projection);
+// NOLINTEND(bugprone-macro-parentheses)
 PCE_DECLARE_PRECOMPILED(PCE_MOLLIFIED_ENERGY_INSTANCES)
 
 }  // namespace pce

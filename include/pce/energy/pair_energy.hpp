@@ -205,8 +205,11 @@ Status evaluate(const VecN<Scalar, Pair::dofs>& x, const Length& length, const P
 }
 
 /// The instantiations `pce::precompiled` compiles (`core/precompiled.hpp`).
+// (EXTERN is `extern` or nothing and S a type: neither can be parenthesised.)
+// NOLINTBEGIN(bugprone-macro-parentheses)
 #define PCE_PAIR_ENERGY_INSTANCES(EXTERN, S) \
   EXTERN template Mat12<S> projected_hessian<S>(const PairEnergy<S>&, Projection);
+// NOLINTEND(bugprone-macro-parentheses)
 PCE_DECLARE_PRECOMPILED(PCE_PAIR_ENERGY_INSTANCES)
 
 }  // namespace pce

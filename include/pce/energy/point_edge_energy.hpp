@@ -180,8 +180,11 @@ template <class Scalar> Mat9<Scalar> projected_hessian(const PointEdgeEnergy<Sca
 }
 
 /// The instantiations `pce::precompiled` compiles (`core/precompiled.hpp`).
+// (EXTERN is `extern` or nothing and S a type: neither can be parenthesised.)
+// NOLINTBEGIN(bugprone-macro-parentheses)
 #define PCE_POINT_EDGE_ENERGY_INSTANCES(EXTERN, S) \
   EXTERN template Mat9<S> projected_hessian<S>(const PointEdgeEnergy<S>&, Projection);
+// NOLINTEND(bugprone-macro-parentheses)
 PCE_DECLARE_PRECOMPILED(PCE_POINT_EDGE_ENERGY_INSTANCES)
 
 }  // namespace pce

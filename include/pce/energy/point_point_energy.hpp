@@ -95,8 +95,11 @@ template <class Scalar> Mat6<Scalar> projected_hessian(const PointPointEnergy<Sc
 }
 
 /// The instantiations `pce::precompiled` compiles (`core/precompiled.hpp`).
+// (EXTERN is `extern` or nothing and S a type: neither can be parenthesised.)
+// NOLINTBEGIN(bugprone-macro-parentheses)
 #define PCE_POINT_POINT_ENERGY_INSTANCES(EXTERN, S) \
   EXTERN template Mat6<S> projected_hessian<S>(const PointPointEnergy<S>&, Projection);
+// NOLINTEND(bugprone-macro-parentheses)
 PCE_DECLARE_PRECOMPILED(PCE_POINT_POINT_ENERGY_INSTANCES)
 
 }  // namespace pce

@@ -33,6 +33,8 @@ template <class Scalar, int N> VecN<Scalar, N> symmetric_eigenvalues(const Eigen
 }
 
 /// The instantiations `pce::precompiled` compiles (`core/precompiled.hpp`).
+// (EXTERN is `extern` or nothing and S a type: neither can be parenthesised.)
+// NOLINTBEGIN(bugprone-macro-parentheses)
 #define PCE_PSD_PROJECTION_INSTANCES(EXTERN, S)                           \
   EXTERN template Mat12<S> project_psd<S, 12>(const Mat12<S>&);           \
   EXTERN template Mat9<S> project_psd<S, 9>(const Mat9<S>&);              \
@@ -40,6 +42,7 @@ template <class Scalar, int N> VecN<Scalar, N> symmetric_eigenvalues(const Eigen
   EXTERN template Vec12<S> symmetric_eigenvalues<S, 12>(const Mat12<S>&); \
   EXTERN template Vec9<S> symmetric_eigenvalues<S, 9>(const Mat9<S>&);    \
   EXTERN template Vec6<S> symmetric_eigenvalues<S, 6>(const Mat6<S>&);
+// NOLINTEND(bugprone-macro-parentheses)
 PCE_DECLARE_PRECOMPILED(PCE_PSD_PROJECTION_INSTANCES)
 
 }  // namespace pce

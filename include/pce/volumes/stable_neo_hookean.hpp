@@ -347,7 +347,10 @@ template <class Scalar> Mat9<Scalar> snh_numerical_projection(const Mat9<Scalar>
 }
 
 /// The instantiations `pce::precompiled` compiles (`core/precompiled.hpp`).
+// (EXTERN is `extern` or nothing and S a type: neither can be parenthesised.)
+// NOLINTBEGIN(bugprone-macro-parentheses)
 #define PCE_SNH_INSTANCES(EXTERN, S) EXTERN template Mat9<S> snh_numerical_projection<S>(const Mat9<S>&);
+// NOLINTEND(bugprone-macro-parentheses)
 PCE_DECLARE_PRECOMPILED(PCE_SNH_INSTANCES)
 
 /// `snh_projected_hessian` with J = det F and C = cof F given.
