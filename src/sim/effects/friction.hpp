@@ -36,6 +36,17 @@ template <int N> struct FrictionContact {
   LaggedFriction<double, N> f;  ///< weights, tangent basis, obstacle motion, μλ, ε_v h
 };
 
+/// The vertices of the contacts in `contacts` whose friction is not zero (μλ > 0, weight not
+/// 0), each with its contact's tangent plane, into `out` (cleared first): the effect's
+/// `force_tests`.
+template <int N> void friction_force_tests(const std::vector<FrictionContact<N>>& contacts, std::vector<ForceTest>& out) {
+  out.clear();
+  for (const FrictionContact<N>& c : contacts)
+    if (c.f.mu_lambda > 0)
+      for (int j = 0; j < N; ++j)
+        if (c.f.weights[j] != 0) out.push_back({c.v[static_cast<std::size_t>(j)], c.f.basis});
+}
+
 /// A contact effect's friction counters of one frame.
 struct FrictionStats {
   double ms = 0;      ///< time spent freezing contacts and evaluating the potential

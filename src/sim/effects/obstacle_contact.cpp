@@ -231,6 +231,7 @@ class ObstacleContact final : public Effect {
         }
       }
     });
+    friction_force_tests(frozen_, force_tests_);
   }
 
   ContactPenalty spec_;

@@ -27,6 +27,8 @@ json frame_record(const FrameStats& s, long intersections) {
   r["wall_ms"] = s.wall_ms;
   r["newton_iterations"] = s.newton_iterations;
   r["residual"] = s.residual;
+  r["force_residual"] = s.force_residual;
+  r["stop"] = to_string(s.stop);
   r["energy"] = s.energy;
   r["kinetic_energy"] = s.kinetic_energy;
   r["line_search_failures"] = s.line_search_failures;
@@ -58,7 +60,11 @@ json frame_record(const FrameStats& s, long intersections) {
   json iterations = json::array();
   for (const NewtonIteration& it : s.iterations)
     iterations.push_back(
-        {{"residual", it.residual}, {"step_limit", it.step_limit}, {"limited_by", it.limited_by}, {"alpha", it.alpha}});
+        {{"residual", it.residual},
+         {"force_residual", it.force_residual},
+         {"step_limit", it.step_limit},
+         {"limited_by", it.limited_by},
+         {"alpha", it.alpha}});
   r["iterations"] = iterations;
   return r;
 }

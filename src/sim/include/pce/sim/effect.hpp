@@ -17,12 +17,20 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace pce::sim {
 
 /// Numbers an effect reports for the frame's statistics (`stats.json`), e.g. contact counts:
 /// typed counters (`pce/sim/counters.hpp`).
 using EffectCounters = Counters;
+
+/// A vertex whose force Newton's stopping rule tests, in the plane of `tangent` (3×2,
+/// orthonormal columns): `Effect::force_tests`.
+struct ForceTest {
+  int vertex = 0;
+  Eigen::Matrix<double, 3, 2> tangent;
+};
 
 /// One term of the incremental potential (see the file comment); the solver calls these
 /// in the order begin_step, declare, then per Newton iteration update_pattern, evaluate,
@@ -81,6 +89,18 @@ class Effect {
   virtual void load_state(const std::string& state) {
     if (!state.empty()) throw std::invalid_argument(std::string(name()) + ": unexpected saved state");
   }
+
+  /// Where Newton's force test applies (docs/simulation.md §5.2): the vertices of terms
+  /// whose Hessian is stiff only over a short range — static friction's, over a slip of
+  /// ε_v h — each with the plane (two orthonormal columns) in which that term acts, so that
+  /// a small Newton step there does not mean a state near the solution. The solver reads it
+  /// after `begin_step` and after an `update_lagged` that returned true; empty for every
+  /// effect without friction.
+  const std::vector<ForceTest>& force_tests() const { return force_tests_; }
+
+ protected:
+  /// What `force_tests` returns; the effect keeps it current.
+  std::vector<ForceTest> force_tests_;
 };
 
 }  // namespace pce::sim

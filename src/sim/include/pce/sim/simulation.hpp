@@ -10,9 +10,11 @@
 /// the Newton direction solves H Δx = −g (by default a factorisation every iteration,
 /// CHOLMOD or Eigen's LDLᵀ; or conjugate gradients preconditioned by a kept Cholesky
 /// factor; or plain conjugate gradients), a backtracking line search (Armijo) that no effect's
-/// `max_step` lets a barrier cross, until the scale-aware residual max|Δx|/(h·ℓ) <
-/// tolerance (ℓ the rest bounding-box diagonal: a velocity in model sizes per second) or the
-/// iteration cap. The paper's cheap mode takes a single Newton step per time step.
+/// `max_step` lets a barrier cross, until both scale-aware residuals are below the
+/// tolerance — the step's max|Δx|/(h·ℓ) and, at the state it reaches, the force's
+/// maxᵢ h|gᵢ|/(mᵢ ℓ) (ℓ the rest bounding-box diagonal: both are velocities in model sizes
+/// per second) — or the iteration cap. The paper's cheap mode takes a single Newton step
+/// per time step.
 #pragma once
 
 #include <pce/sim/broad_phase.hpp>
@@ -39,7 +41,7 @@ enum class LinearSolver { factor_reuse, direct, ldlt, cg };
 struct SolverSettings {
   double dt = 1.0 / 40.0;                      ///< time step (s), one per frame
   int max_iterations = 50;                     ///< Newton iteration cap per step
-  double tolerance = 1e-2;                     ///< on max|Δx|/(h·ℓ), 1/s
+  double tolerance = 1e-2;                     ///< on max|Δx|/(h·ℓ) and maxᵢ h|gᵢ|/(mᵢ ℓ), 1/s
   bool single_solve = false;                   ///< one linearised solve per step (the paper's mode)
   LinearSolver linear = LinearSolver::direct;  ///< direct: CHOLMOD when built with it, else LDLᵀ
   /// factor_reuse: CG stops at ‖H Δx + g‖ ≤ η ‖g‖, this η (not a scene key).
@@ -54,10 +56,23 @@ struct SolverSettings {
 /// `iterations`): how far the direction went and what cut it short.
 struct NewtonIteration {
   double residual = 0;          ///< max|Δx|/(h·ℓ) of this iteration's direction
+  double force_residual = 0;    ///< maxᵢ h|gᵢ|/(mᵢ ℓ) of the gradient the direction solved for
   double step_limit = 1;        ///< the largest fraction of Δx every effect's `max_step` allowed
   const char* limited_by = "";  ///< the effect whose max_step set step_limit ("" when it is 1)
   double alpha = 0;             ///< the accepted fraction after backtracking (0: the line search failed)
 };
+
+/// Why a step's Newton iterations ended (`stats.json`'s `stop`, docs/simulation.md §5.2).
+enum class StopReason {
+  tolerance,      ///< a direction's step and the force at the state it reached were both below the tolerance
+  rounding,       ///< a direction below the tolerance, at a force below it, whose trial failed by rounding
+  line_search,    ///< the line search found no decrease (`line_search_failures`)
+  iteration_cap,  ///< `max_iterations` were used up (`hit_iteration_cap`)
+  single_solve,   ///< single-solve mode: one direction, no test
+};
+
+/// "tolerance", "rounding", "line_search", "iteration_cap" or "single_solve".
+const char* to_string(StopReason reason);
 
 /// What one frame cost and reached (`stats.json`, docs/simulation.md §5).
 struct FrameStats {
@@ -68,6 +83,10 @@ struct FrameStats {
   /// Linear solves in this step.
   int newton_iterations = 0;
   double residual = 0;           ///< max|Δx|/(h·ℓ) of the last Newton direction
+  /// maxᵢ h|gᵢ|/(mᵢ ℓ) of the last gradient evaluated: at the accepted state when the last
+  /// direction was below the tolerance, else at the state that direction started from.
+  double force_residual = 0;
+  StopReason stop = StopReason::iteration_cap;  ///< why the Newton iterations ended
   double energy = 0;             ///< incremental potential at the accepted state
   double kinetic_energy = 0;     ///< ½ Σᵢ mᵢ |vᵢ|² at the end of the step (J)
   int line_search_failures = 0;  ///< 1 when a line search found no decrease (which ends the step), else 0
@@ -148,10 +167,18 @@ class Simulation {
 
  private:
   [[noreturn]] void fail_non_finite(const Eigen::Matrix3Xd& y, int frame, const std::string& where);
-  double potential(const Eigen::Matrix3Xd& y, std::vector<double>* effect_ms);
+  /// The incremental potential at y, and its gradient into `gradient` when not null.
+  double potential(const Eigen::Matrix3Xd& y, std::vector<double>* effect_ms, Eigen::Matrix3Xd* gradient = nullptr);
+  /// maxᵢ h|Tᵢᵀgᵢ|/(mᵢ ℓ) over the effects' `force_tests` (vertex i, plane Tᵢ; 0 when there
+  /// are none): the velocity, in model sizes per second, that the unbalanced force g in that
+  /// plane would add in one step if only the inertia resisted it.
+  double force_residual(const Eigen::Matrix3Xd& gradient) const;
+  /// Gathers the effects' `force_tests` into `force_tests_`.
+  void gather_force_tests();
   Eigen::VectorXd mass3_;  ///< per coordinate m/h²
   Eigen::Matrix3Xd x_tilde_;
   double scale_ = 1;
+  std::vector<ForceTest> force_tests_;  ///< the force test's vertices and planes, this step
   struct LinearState;
   std::shared_ptr<LinearState> linear_;
 };
