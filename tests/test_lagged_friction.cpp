@@ -219,3 +219,35 @@ TEST(LaggedFriction, ASingleVertexOnAMovingSurface) {
   const Vec3<double> g = friction_gradient(f, Vec3<double>(0.01 + 0.5, 0.02, 0));
   EXPECT_NEAR((g - Vec3<double>(1, 0, 0)).norm(), 0.0, 1e-15);
 }
+
+TEST(LaggedFriction, TheModelForceIsTheGradientPlusTheHessianTimesTheStep) {
+  // For every kind of contact and both regimes: Σⱼ wⱼ (∇D + ∇²D · ddx)ⱼ = (Σⱼ wⱼ²) T φ, φ the
+  // model's tangential force; with ddx = 0, φ is the force at u (|φ| ≤ μλ).
+  std::mt19937 rng(11);
+  for (int i = 0; i < 30; ++i) {
+    const LaggedFriction<double, 4> f = frozen(VecN<double, 4>(0.3, 0.7, -0.6, -0.4), Vec3<double>(0.2, 0.1, 1).normalized());
+    const VecN<double, 12> dx = displacement<4>(rng, f.eps, i), ddx = displacement<4>(rng, f.eps, i + 1);
+    const VecN<double, 12> model = friction_gradient(f, dx) + friction_hessian(f, dx) * ddx;
+    Vec3<double> sum = Vec3<double>::Zero();
+    for (int j = 0; j < 4; ++j) sum += f.weights[j] * model.segment<3>(3 * j);
+    const Eigen::Vector2d phi = friction_model_force(f, dx, ddx);
+    EXPECT_NEAR((sum - f.weights.squaredNorm() * (f.basis * phi)).norm(), 0.0, 1e-12 * f.mu_lambda) << i;
+    EXPECT_LE(friction_model_force(f, dx, VecN<double, 12>(VecN<double, 12>::Zero())).norm(), f.mu_lambda * (1 + 1e-15));
+  }
+  // From rest (u = 0) the model is the static spring 2μλ/ε: a slip of ε/2 asks exactly μλ of
+  // it, the most Coulomb allows; a slip of 0.9 ε asks 1.8 μλ (the true force is 0.99 μλ).
+  LaggedFriction<double, 1> f;
+  f.weights << 1.0;
+  f.basis = tangent_basis<double>(Vec3<double>(0, 0, 1));
+  f.mu_lambda = 0.5;
+  f.eps = 2e-5;
+  const Vec3<double> rest = Vec3<double>::Zero();
+  for (const double s : {0.5, 0.9}) {
+    const Vec3<double> step = s * f.eps * (f.basis * Eigen::Vector2d(0.6, 0.8));
+    EXPECT_NEAR(friction_model_force(f, rest, step).norm(), 2 * s * f.mu_lambda, 1e-14);
+    EXPECT_NEAR(friction_gradient(f, step).norm(), (2 * s - s * s) * f.mu_lambda, 1e-14);
+  }
+  // Sliding (y > ε): only the direction turns, so a step along the slip keeps |φ| = μλ.
+  const Vec3<double> slid = 3 * f.eps * f.basis.col(0);
+  EXPECT_NEAR(friction_model_force(f, slid, Vec3<double>(f.eps * f.basis.col(0))).norm(), f.mu_lambda, 1e-15);
+}

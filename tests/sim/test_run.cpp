@@ -60,9 +60,9 @@ TEST(Run, RecordsEveryFrameWithoutWritingUntilOpened) {
   EXPECT_EQ(record["frame"], 1);
   EXPECT_EQ(record["newton_iterations"], r.stats.newton_iterations);
   EXPECT_EQ(record["stop"], to_string(r.stats.stop));
-  EXPECT_EQ(record["force_residual"], r.stats.force_residual);
+  EXPECT_EQ(record["friction_load"], r.stats.friction_load);
   ASSERT_EQ(record["iterations"].size(), r.stats.iterations.size());
-  EXPECT_EQ(record["iterations"][0]["force_residual"], r.stats.iterations[0].force_residual);
+  EXPECT_EQ(record["iterations"][0]["friction_load"], r.stats.iterations[0].friction_load);
   EXPECT_EQ(record["intersecting_triangle_pairs"], 0);
   EXPECT_EQ(record["new_intersections"], 0);
   EXPECT_EQ(scene->simulation.frame, 1);

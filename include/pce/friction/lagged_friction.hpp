@@ -136,6 +136,35 @@ Mat3<Scalar> friction_tangent_block(const LaggedFriction<Scalar, N>& f, const Ei
   return f.mu_lambda * (f.basis * B * f.basis.transpose());
 }
 
+/// The tangential friction force, in the basis T, that Newton's quadratic model of D about
+/// displacements `dx` assigns after a further step `ddx` (both 3N):
+///
+///     φ = μλ [ (f₁(y)/y) u + (max(f₁′, 0) ûûᵀ + (f₁/y)(I − ûûᵀ)) Δu ],   Δu = Tᵀ Σⱼ wⱼ ddxⱼ,
+///
+/// the gradient's tangential force at u plus the Hessian's tangent block times the slip of
+/// the step (the model `friction_gradient` + `friction_hessian` · ddx, in the 2D slip
+/// coordinates). Coulomb's law bounds the true force by μλ (|f₁| ≤ 1); |φ| > μλ means the
+/// model's static spring (2μλ/ε at u = 0) was asked for more than friction can hold, i.e. the
+/// contact must slide beyond what the step shows.
+template <class Scalar, int N>
+Eigen::Matrix<Scalar, 2, 1> friction_model_force(const LaggedFriction<Scalar, N>& f,
+                                                 const Eigen::Matrix<Scalar, 3 * N, 1>& dx,
+                                                 const Eigen::Matrix<Scalar, 3 * N, 1>& ddx) {
+  using std::max;
+  const Eigen::Matrix<Scalar, 2, 1> u = friction_slip(f, dx);
+  Vec3<Scalar> dr = Vec3<Scalar>::Zero();
+  for (int j = 0; j < N; ++j) dr += f.weights[j] * ddx.template segment<3>(3 * j);
+  const Eigen::Matrix<Scalar, 2, 1> du = f.basis.transpose() * dr;
+  const Scalar y = u.norm();
+  const FrictionMollifier<Scalar> m = friction_mollifier(y, f.eps);
+  Eigen::Matrix<Scalar, 2, 1> phi = m.f1_over_y * (u + du);
+  if (y > Scalar(0)) {
+    const Eigen::Matrix<Scalar, 2, 1> uh = u / y;
+    phi += (max(m.df1, Scalar(0)) - m.f1_over_y) * uh.dot(du) * uh;
+  }
+  return f.mu_lambda * phi;
+}
+
 /// ∇²D, positive semidefinite: (w wᵀ) ⊗ `friction_tangent_block` (3N×3N).
 template <class Scalar, int N>
 Eigen::Matrix<Scalar, 3 * N, 3 * N> friction_hessian(const LaggedFriction<Scalar, N>& f,

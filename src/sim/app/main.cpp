@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
   app.add_option("--broad-phase", broad_phase, "broad phase")->check(CLI::IsMember({"fcl", "bullet", "brute"}));
   app.add_option("--threads", threads, "threads for pair evaluation (0: all)")->check(CLI::Range(0, 1024));
   app.add_flag("--single-solve", single_solve, "one linearised solve per step (the paper's mode)");
-  app.add_option("--tolerance", tolerance, "Newton tolerance on the step max|dx|/(h*size) and the force max h|g|/(m*size), 1/s")->check(CLI::PositiveNumber);
+  app.add_option("--tolerance", tolerance, "Newton tolerance on max|dx|/(h*size), 1/s")->check(CLI::PositiveNumber);
   app.add_flag("--no-frames", no_frames, "write no per-frame meshes (stats, picture and the last frame only)");
   app.add_option("--checkpoint-every", checkpoint_every, "write DIR/checkpoint_NNNN.pcecp every K frames")
       ->check(CLI::Range(1, 10000000));
@@ -145,9 +145,8 @@ int main(int argc, char** argv) {
       const FrameStats& s = r.stats;
       const int f = sim.frame;
       std::fprintf(stderr,
-                   "frame %d of %d: %.1f ms, %d Newton iterations, residual %.2e, force %.2e, %s%ld intersecting "
-                   "pairs\n",
-                   f, sim.frames, s.wall_ms, s.newton_iterations, s.residual, s.force_residual,
+                   "frame %d of %d: %.1f ms, %d Newton iterations, residual %.2e, %s%ld intersecting pairs\n",
+                   f, sim.frames, s.wall_ms, s.newton_iterations, s.residual,
                    s.hit_iteration_cap ? "iteration cap hit, " : "", r.intersections);
       if (s.line_search_failures > 0 && s.newton_iterations == 1)
         std::fprintf(stderr,

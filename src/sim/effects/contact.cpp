@@ -716,7 +716,7 @@ template <bool VF> class SelfContact final : public Effect {
     });
     frozen_.clear();
     for (const auto& part : parts) frozen_.insert(frozen_.end(), part.begin(), part.end());
-    friction_force_tests(frozen_, force_tests_);
+    publish_friction(frozen_, frozen_friction_);
     friction_stats_.ms += ms_since(t0);
   }
 

@@ -36,15 +36,26 @@ template <int N> struct FrictionContact {
   LaggedFriction<double, N> f;  ///< weights, tangent basis, obstacle motion, μλ, ε_v h
 };
 
-/// The vertices of the contacts in `contacts` whose friction is not zero (μλ > 0, weight not
-/// 0), each with its contact's tangent plane, into `out` (cleared first): the effect's
-/// `force_tests`.
-template <int N> void friction_force_tests(const std::vector<FrictionContact<N>>& contacts, std::vector<ForceTest>& out) {
+/// The contacts in `contacts` whose friction is not zero (μλ > 0), padded to four vertices
+/// (weight 0), into `out` (cleared first): the effect's `frozen_friction`.
+template <int N>
+void publish_friction(const std::vector<FrictionContact<N>>& contacts, std::vector<FrozenFriction>& out) {
   out.clear();
-  for (const FrictionContact<N>& c : contacts)
-    if (c.f.mu_lambda > 0)
-      for (int j = 0; j < N; ++j)
-        if (c.f.weights[j] != 0) out.push_back({c.v[static_cast<std::size_t>(j)], c.f.basis});
+  for (const FrictionContact<N>& c : contacts) {
+    if (!(c.f.mu_lambda > 0)) continue;
+    FrozenFriction p;
+    p.friction.weights.setZero();
+    for (int j = 0; j < N; ++j) {
+      p.vertices[static_cast<std::size_t>(j)] = c.v[static_cast<std::size_t>(j)];
+      p.friction.weights[j] = c.f.weights[j];
+    }
+    for (int j = N; j < 4; ++j) p.vertices[static_cast<std::size_t>(j)] = c.v[0];
+    p.friction.basis = c.f.basis;
+    p.friction.offset = c.f.offset;
+    p.friction.mu_lambda = c.f.mu_lambda;
+    p.friction.eps = c.f.eps;
+    out.push_back(p);
+  }
 }
 
 /// A contact effect's friction counters of one frame.

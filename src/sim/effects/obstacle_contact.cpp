@@ -231,7 +231,7 @@ class ObstacleContact final : public Effect {
         }
       }
     });
-    friction_force_tests(frozen_, force_tests_);
+    publish_friction(frozen_, frozen_friction_);
   }
 
   ContactPenalty spec_;

@@ -27,7 +27,7 @@ json frame_record(const FrameStats& s, long intersections) {
   r["wall_ms"] = s.wall_ms;
   r["newton_iterations"] = s.newton_iterations;
   r["residual"] = s.residual;
-  r["force_residual"] = s.force_residual;
+  r["friction_load"] = s.friction_load;
   r["stop"] = to_string(s.stop);
   r["energy"] = s.energy;
   r["kinetic_energy"] = s.kinetic_energy;
@@ -61,7 +61,7 @@ json frame_record(const FrameStats& s, long intersections) {
   for (const NewtonIteration& it : s.iterations)
     iterations.push_back(
         {{"residual", it.residual},
-         {"force_residual", it.force_residual},
+         {"friction_load", it.friction_load},
          {"step_limit", it.step_limit},
          {"limited_by", it.limited_by},
          {"alpha", it.alpha}});

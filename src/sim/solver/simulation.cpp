@@ -191,33 +191,36 @@ struct Simulation::LinearState {
   }
 };
 
-double Simulation::potential(const Eigen::Matrix3Xd& y, std::vector<double>* effect_ms, Eigen::Matrix3Xd* gradient) {
+double Simulation::potential(const Eigen::Matrix3Xd& y, std::vector<double>* effect_ms) {
   const Eigen::Map<const Eigen::VectorXd> d(y.data() - 0, y.size());
   const Eigen::Map<const Eigen::VectorXd> t(x_tilde_.data(), x_tilde_.size());
   double E = 0.5 * (mass3_.array() * (d - t).array().square()).sum();
-  if (gradient) {
-    gradient->resize(3, y.cols());
-    Eigen::Map<Eigen::VectorXd>(gradient->data(), gradient->size()) = mass3_.array() * (d - t).array();
-  }
   for (std::size_t k = 0; k < effects.size(); ++k) {
     const auto t0 = Clock::now();
-    E += effects[k]->evaluate(y, gradient, nullptr);
+    E += effects[k]->evaluate(y, nullptr, nullptr);
     if (effect_ms) (*effect_ms)[k] += ms_since(t0);
   }
   return E;
 }
 
-double Simulation::force_residual(const Eigen::Matrix3Xd& gradient) const {
-  // h|Tᵀgᵢ|/mᵢ = |Tᵀgᵢ|/(h · mᵢ/h²), and mass3_ holds mᵢ/h² per coordinate.
-  double r = 0;
-  for (const ForceTest& t : force_tests_)
-    r = std::max(r, (t.tangent.transpose() * gradient.col(t.vertex)).norm() / (solver.dt * mass3_[3 * t.vertex]));
-  return r / scale_;
+double Simulation::friction_load(const Eigen::Matrix3Xd& y, const Eigen::Matrix3Xd& x_start,
+                                 const Eigen::Matrix3Xd& step) const {
+  double load = 0;
+  Eigen::Matrix<double, 12, 1> dx, ddx;
+  for (const FrozenFriction& c : friction_) {
+    for (int j = 0; j < 4; ++j) {
+      const int v = c.vertices[static_cast<std::size_t>(j)];
+      dx.segment<3>(3 * j) = y.col(v) - x_start.col(v);
+      ddx.segment<3>(3 * j) = step.col(v);
+    }
+    load = std::max(load, friction_model_force(c.friction, dx, ddx).norm() / c.friction.mu_lambda);
+  }
+  return load;
 }
 
-void Simulation::gather_force_tests() {
-  force_tests_.clear();
-  for (const auto& e : effects) force_tests_.insert(force_tests_.end(), e->force_tests().begin(), e->force_tests().end());
+void Simulation::gather_friction() {
+  friction_.clear();
+  for (const auto& e : effects) friction_.insert(friction_.end(), e->frozen_friction().begin(), e->frozen_friction().end());
 }
 
 const char* to_string(StopReason reason) {
@@ -320,7 +323,7 @@ FrameStats Simulation::step() {
     effects[k]->begin_step(ctx);
     effect_ms[k] += ms_since(t0);
   }
-  gather_force_tests();
+  gather_friction();
   const auto rebuild_pattern = [&] {
     const auto t0 = Clock::now();
     Pattern pattern;
@@ -333,7 +336,7 @@ FrameStats Simulation::step() {
   };
   rebuild_pattern();
 
-  Eigen::Matrix3Xd y = x_start, g(3, n), dxm(3, n), y1(3, n), g1(3, n);
+  Eigen::Matrix3Xd y = x_start, g(3, n), dxm(3, n), y1(3, n);
   Eigen::VectorXd dx(3 * n), rhs(3 * n);
   const int cap = solver.single_solve ? 1 : std::max(1, solver.max_iterations);
   double E_accepted = 0;
@@ -380,18 +383,13 @@ FrameStats Simulation::step() {
       ++st.newton_iterations;
       dxm = Eigen::Map<const Eigen::Matrix3Xd>(dx.data(), 3, n);
       st.residual = dxm.colwise().norm().maxCoeff() / (h * scale_);
-      st.force_residual = force_residual(g);
       E_accepted = E;
-      // A step below the tolerance ends the iterations, unless an effect has force-tested
-      // vertices (friction): then only if the force where the step lands is below the
-      // tolerance there too. Static friction's Hessian (2μλ/(ε_v h)) is stiff over a slip of
-      // ε_v h only, so it makes a step small far from the solution, and the force shows it;
-      // the trials of such a step evaluate the gradient as well (not the Hessian). Elsewhere
-      // a stiff Hessian is stiff everywhere, and the force would only demand more iterations
-      // of a state already within the tolerance.
+      // A step below the tolerance ends the iterations, unless Newton's model asked a frozen
+      // friction contact for more than Coulomb's μλ over it: static friction's Hessian
+      // (2μλ/(ε_v h)) holds over a slip of ε_v h only, so it makes a step small far from the
+      // solution when the contact must slide (docs/simulation.md §5.2).
       const bool small_step = st.residual < solver.tolerance;
-      const bool test_force = small_step && !force_tests_.empty();
-      bool converged = small_step && !test_force;
+      bool converged = small_step && friction_.empty();
       // Contact effects whose candidates would go stale along the step query again over it
       // (the pairs active at y, hence the pattern, stay those of the new candidates). Each
       // effect covers with its own candidate set and broad phase, so with two threads or more
@@ -420,7 +418,6 @@ FrameStats Simulation::step() {
       double alpha = 1.0;
       NewtonIteration record;
       record.residual = st.residual;
-      record.force_residual = st.force_residual;
       for (auto& e : effects)
         if (const double t = e->max_step(y, dxm); t < alpha) {
           alpha = t;
@@ -440,19 +437,19 @@ FrameStats Simulation::step() {
       // tolerance's are not tried: such a step cannot change the outcome, and trying them
       // (40 halvings) made a step at a kink of the energy cost ~40 energy passes.
       const double smallest = 0.01 * solver.tolerance / std::max(st.residual, 1e-300);
-      for (int tries = 0; tries < 40 && alpha > 0 && (tries == 0 || test_force || alpha >= smallest); ++tries, alpha *= 0.5) {
+      for (int tries = 0; tries < 40 && alpha > 0 && (tries == 0 || alpha >= smallest); ++tries, alpha *= 0.5) {
         y1 = y + alpha * dxm;
-        const double E1 = potential(y1, &effect_ms, test_force ? &g1 : nullptr);
+        const double E1 = potential(y1, &effect_ms);
         evaluated_at_y = false;
         if (std::isfinite(E1) && E1 <= E + 1e-4 * alpha * slope) {
+          if (small_step && !friction_.empty()) {
+            record.friction_load = st.friction_load = friction_load(y, x_start, alpha * dxm);
+            converged = st.friction_load <= 1 + kCoulombMargin;
+          }
           y = y1;
           E_accepted = E1;
           accepted = true;
           evaluated_at_y = true;
-          if (test_force && g1.allFinite()) {
-            st.force_residual = force_residual(g1);
-            converged = st.force_residual < solver.tolerance;
-          }
           break;
         }
       }
@@ -462,16 +459,16 @@ FrameStats Simulation::step() {
       if (trace_)
         std::fprintf(
             stderr,
-            "  it %d E %.9g slope %.3g alpha %.3g residual %.3g force %.3g accepted %d factorizations %d "
+            "  it %d E %.9g slope %.3g alpha %.3g residual %.3g friction_load %.3g accepted %d factorizations %d "
             "cg_iterations %d covered %d\n",
-            it, E, slope, alpha, st.residual, st.force_residual, accepted, ls.factorizations, ls.cg_iterations,
+            it, E, slope, alpha, st.residual, record.friction_load, accepted, ls.factorizations, ls.cg_iterations,
             int(covered));
       if (!accepted) {
-        // A direction below the tolerance whose trial does not pass Armijo, at a force below
-        // it, is rounding, not a failure: the iterate already meets the tolerance, and the
-        // energy's change along such a direction (a free fall's second one is ~1e-13) is below
-        // its own rounding.
-        if (small_step && st.force_residual < solver.tolerance) {
+        // A direction below the tolerance whose trial does not pass Armijo is rounding, not a
+        // failure: the iterate already meets the tolerance, and the energy's change along such
+        // a direction (a free fall's second one is ~1e-13) is below its own rounding. (Its
+        // friction test would pass: at a zero step the model's force is the force, ≤ μλ.)
+        if (small_step) {
           st.stop = StopReason::rounding;
         } else {
           ++st.line_search_failures;
@@ -506,7 +503,7 @@ FrameStats Simulation::step() {
       effect_ms[k] += ms_since(tl);
     }
     if (!again) break;
-    gather_force_tests();
+    gather_friction();
     rebuild_pattern();
     evaluated_at_y = false;
   }

@@ -10,10 +10,12 @@
 /// never one per element or pair.
 #pragma once
 
+#include <pce/friction/lagged_friction.hpp>
 #include <pce/sim/block_hessian.hpp>
 #include <pce/sim/counters.hpp>
 #include <pce/sim/model.hpp>
 
+#include <array>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -25,11 +27,12 @@ namespace pce::sim {
 /// typed counters (`pce/sim/counters.hpp`).
 using EffectCounters = Counters;
 
-/// A vertex whose force Newton's stopping rule tests, in the plane of `tangent` (3×2,
-/// orthonormal columns): `Effect::force_tests`.
-struct ForceTest {
-  int vertex = 0;
-  Eigen::Matrix<double, 3, 2> tangent;
+/// One contact's friction, frozen for the step, as Newton's stopping rule reads it
+/// (`Effect::frozen_friction`): its vertices (up to four; unused ones have weight 0) and the
+/// lagged quantities of `pce/friction/lagged_friction.hpp`.
+struct FrozenFriction {
+  std::array<int, 4> vertices{};
+  LaggedFriction<double, 4> friction;
 };
 
 /// One term of the incremental potential (see the file comment); the solver calls these
@@ -90,17 +93,15 @@ class Effect {
     if (!state.empty()) throw std::invalid_argument(std::string(name()) + ": unexpected saved state");
   }
 
-  /// Where Newton's force test applies (docs/simulation.md §5.2): the vertices of terms
-  /// whose Hessian is stiff only over a short range — static friction's, over a slip of
-  /// ε_v h — each with the plane (two orthonormal columns) in which that term acts, so that
-  /// a small Newton step there does not mean a state near the solution. The solver reads it
-  /// after `begin_step` and after an `update_lagged` that returned true; empty for every
-  /// effect without friction.
-  const std::vector<ForceTest>& force_tests() const { return force_tests_; }
+  /// The friction contacts this effect froze for the step (μλ > 0 only): Newton's stopping
+  /// rule checks that its model does not ask more of any than Coulomb's μλ (docs/simulation.md
+  /// §5.2). The solver reads it after `begin_step` and after an `update_lagged` that returned
+  /// true; empty for every effect without friction.
+  const std::vector<FrozenFriction>& frozen_friction() const { return frozen_friction_; }
 
  protected:
-  /// What `force_tests` returns; the effect keeps it current.
-  std::vector<ForceTest> force_tests_;
+  /// What `frozen_friction` returns; the effect keeps it current.
+  std::vector<FrozenFriction> frozen_friction_;
 };
 
 }  // namespace pce::sim

@@ -10,11 +10,10 @@
 /// the Newton direction solves H Δx = −g (by default a factorisation every iteration,
 /// CHOLMOD or Eigen's LDLᵀ; or conjugate gradients preconditioned by a kept Cholesky
 /// factor; or plain conjugate gradients), a backtracking line search (Armijo) that no effect's
-/// `max_step` lets a barrier cross, until both scale-aware residuals are below the
-/// tolerance — the step's max|Δx|/(h·ℓ) and, at the state it reaches, the force's
-/// maxᵢ h|gᵢ|/(mᵢ ℓ) (ℓ the rest bounding-box diagonal: both are velocities in model sizes
-/// per second) — or the iteration cap. The paper's cheap mode takes a single Newton step
-/// per time step.
+/// `max_step` lets a barrier cross, until the scale-aware residual max|Δx|/(h·ℓ) <
+/// tolerance (ℓ the rest bounding-box diagonal: a velocity in model sizes per second) with,
+/// where friction acts, no frozen contact asked by Newton's model for more than Coulomb's μλ
+/// — or the iteration cap. The paper's cheap mode takes a single Newton step per time step.
 #pragma once
 
 #include <pce/sim/broad_phase.hpp>
@@ -41,7 +40,7 @@ enum class LinearSolver { factor_reuse, direct, ldlt, cg };
 struct SolverSettings {
   double dt = 1.0 / 40.0;                      ///< time step (s), one per frame
   int max_iterations = 50;                     ///< Newton iteration cap per step
-  double tolerance = 1e-2;                     ///< on max|Δx|/(h·ℓ) and maxᵢ h|gᵢ|/(mᵢ ℓ), 1/s
+  double tolerance = 1e-2;                     ///< on max|Δx|/(h·ℓ), 1/s
   bool single_solve = false;                   ///< one linearised solve per step (the paper's mode)
   LinearSolver linear = LinearSolver::direct;  ///< direct: CHOLMOD when built with it, else LDLᵀ
   /// factor_reuse: CG stops at ‖H Δx + g‖ ≤ η ‖g‖, this η (not a scene key).
@@ -56,16 +55,23 @@ struct SolverSettings {
 /// `iterations`): how far the direction went and what cut it short.
 struct NewtonIteration {
   double residual = 0;          ///< max|Δx|/(h·ℓ) of this iteration's direction
-  double force_residual = 0;    ///< maxᵢ h|gᵢ|/(mᵢ ℓ) of the gradient the direction solved for
+  /// The friction test's largest |φ|/(μλ) over the frozen contacts at the accepted step
+  /// (`pce::friction_model_force`), when the direction was below the tolerance; else 0.
+  double friction_load = 0;
   double step_limit = 1;        ///< the largest fraction of Δx every effect's `max_step` allowed
   const char* limited_by = "";  ///< the effect whose max_step set step_limit ("" when it is 1)
   double alpha = 0;             ///< the accepted fraction after backtracking (0: the line search failed)
 };
 
+/// How far above Coulomb's μλ Newton's model may load a frozen friction contact at a step that
+/// ends the iterations (docs/simulation.md §5.2): a sliding contact's model force exceeds μλ
+/// by ½(Δu⊥/y)² when the step turns its slip by Δu⊥/y.
+inline constexpr double kCoulombMargin = 1e-3;
+
 /// Why a step's Newton iterations ended (`stats.json`'s `stop`, docs/simulation.md §5.2).
 enum class StopReason {
-  tolerance,      ///< a direction's step and the force at the state it reached were both below the tolerance
-  rounding,       ///< a direction below the tolerance, at a force below it, whose trial failed by rounding
+  tolerance,      ///< a direction below the tolerance was taken (within Coulomb's bound, with friction)
+  rounding,       ///< a direction below the tolerance whose trial failed by rounding
   line_search,    ///< the line search found no decrease (`line_search_failures`)
   iteration_cap,  ///< `max_iterations` were used up (`hit_iteration_cap`)
   single_solve,   ///< single-solve mode: one direction, no test
@@ -83,9 +89,10 @@ struct FrameStats {
   /// Linear solves in this step.
   int newton_iterations = 0;
   double residual = 0;           ///< max|Δx|/(h·ℓ) of the last Newton direction
-  /// maxᵢ h|gᵢ|/(mᵢ ℓ) of the last gradient evaluated: at the accepted state when the last
-  /// direction was below the tolerance, else at the state that direction started from.
-  double force_residual = 0;
+  /// The friction test's largest |φ|/(μλ) at the last direction below the tolerance that was
+  /// taken (0 without friction or without such a direction): above 1 + `kCoulombMargin` it
+  /// did not end the step.
+  double friction_load = 0;
   StopReason stop = StopReason::iteration_cap;  ///< why the Newton iterations ended
   double energy = 0;             ///< incremental potential at the accepted state
   double kinetic_energy = 0;     ///< ½ Σᵢ mᵢ |vᵢ|² at the end of the step (J)
@@ -167,18 +174,17 @@ class Simulation {
 
  private:
   [[noreturn]] void fail_non_finite(const Eigen::Matrix3Xd& y, int frame, const std::string& where);
-  /// The incremental potential at y, and its gradient into `gradient` when not null.
-  double potential(const Eigen::Matrix3Xd& y, std::vector<double>* effect_ms, Eigen::Matrix3Xd* gradient = nullptr);
-  /// maxᵢ h|Tᵢᵀgᵢ|/(mᵢ ℓ) over the effects' `force_tests` (vertex i, plane Tᵢ; 0 when there
-  /// are none): the velocity, in model sizes per second, that the unbalanced force g in that
-  /// plane would add in one step if only the inertia resisted it.
-  double force_residual(const Eigen::Matrix3Xd& gradient) const;
-  /// Gathers the effects' `force_tests` into `force_tests_`.
-  void gather_force_tests();
+  double potential(const Eigen::Matrix3Xd& y, std::vector<double>* effect_ms);
+  /// maxₖ |φₖ|/(μλ)ₖ over the frozen friction contacts: the friction force Newton's model
+  /// assigns to contact k after `step` from y (displacements from `x_start`), in units of its
+  /// Coulomb bound (`pce::friction_model_force`); 0 without friction.
+  double friction_load(const Eigen::Matrix3Xd& y, const Eigen::Matrix3Xd& x_start, const Eigen::Matrix3Xd& step) const;
+  /// Gathers the effects' `frozen_friction` into `friction_`.
+  void gather_friction();
   Eigen::VectorXd mass3_;  ///< per coordinate m/h²
   Eigen::Matrix3Xd x_tilde_;
   double scale_ = 1;
-  std::vector<ForceTest> force_tests_;  ///< the force test's vertices and planes, this step
+  std::vector<FrozenFriction> friction_;  ///< every effect's frozen friction contacts, this step
   struct LinearState;
   std::shared_ptr<LinearState> linear_;
 };
