@@ -568,33 +568,39 @@ def friction_per_frame(records):
 
 def step_friction(ctx):
     """Friction's cost on the hammock: hammock_frictionless.json, then hammock.json (the same
-    scene with friction), frames 1-120 (--quick: 3), one thread, full Newton, each run alone."""
+    scene with friction), frames 1-120 (--quick: 3), one thread, full Newton, each run alone;
+    with --before, REV's pce-sim on hammock.json between the two (its stopping rule against
+    this build's, one run after the other)."""
     frames = 3 if ctx.quick else 120
-    exe = ctx.exe("pce-sim")
+    runs = [(label, name, "this build", ctx.exe("pce-sim")) for label, name in FRICTION_SCENES]
+    if ctx.before:
+        commit, exe = build_before(ctx, ctx.before)
+        runs.insert(1, (f"with friction, before ({commit})", FRICTION_SCENES[1][1], commit, exe))
     rows = []
-    for label, name in FRICTION_SCENES:
+    for label, name, build, exe in runs:
         scene = ROOT / "examples" / "scenes" / name
-        out = ctx.results / "runs" / f"friction_{Path(name).stem}"
+        out = ctx.results / "runs" / f"friction_{Path(name).stem}_{build.replace(' ', '_')}"
         if out.exists():
             shutil.rmtree(out)
         cmd = [exe, scene, "--frames", str(frames), "--no-frames", "--threads", "1", "--out", out]
-        log(f"  friction: {name}")
+        log(f"  friction: {name} ({build})")
         run(cmd)
         records = compare_runs.load(out)
         r = compare_runs.row(label, records)
         r.update(friction_per_frame(records))
-        r.update({"scene": name, "command": " ".join(str(c) for c in cmd[1:]).replace(str(ROOT) + "/", "")})
+        r.update({"scene": name, "build": build,
+                  "command": " ".join(str(c) for c in cmd[1:]).replace(str(ROOT) + "/", "")})
         rows.append(r)
     first = rows[0]
     for r in rows:  # with friction / without, per frame
         r["ms_ratio"] = r["ms_per_frame"] / first["ms_per_frame"] if first["ms_per_frame"] else float("nan")
         r["newton_ratio"] = (r["newton_per_frame"] / first["newton_per_frame"] if first["newton_per_frame"]
                              else float("nan"))
-    columns = ["run", "scene", "frames", "ms_per_frame", "ms_ratio", "newton_per_frame", "newton_ratio",
+    columns = ["run", "scene", "build", "frames", "ms_per_frame", "ms_ratio", "newton_per_frame", "newton_ratio",
                "friction_ms_per_frame", "friction_contacts_per_frame", "friction_sticking_per_frame",
                "line_search_failures", "iteration_caps", "frames_with_intersections"] + compare_runs.STAGES
     write_csv(ctx.results / "friction.csv", rows, columns)
-    return {"frames": frames, "scenes": [name for _, name in FRICTION_SCENES], "rows": rows}
+    return {"frames": frames, "scenes": [name for _, name in FRICTION_SCENES], "before": ctx.before, "rows": rows}
 
 
 # The compile_time step: what including pce costs a user's build.
@@ -740,11 +746,28 @@ def write_friction_section(A, friction):
       "failures, iteration caps and frames with intersecting triangle pairs over the run "
       "(`benchmarks/results/friction.csv`).\n"
       % (friction["frames"], rows[0]["scene"], rows[-1]["scene"]))
-    A(md_table(["scene", "ms/frame", "Newton it/frame", "friction ms/frame", "friction contacts/frame",
-                "ls failures", "caps", "intersecting frames"],
-               [[f"`{r['scene']}`", fmt(r["ms_per_frame"]), fmt(r["newton_per_frame"]),
-                 fmt(r["friction_ms_per_frame"]), fmt(r["friction_contacts_per_frame"]), r["line_search_failures"],
+    before = [r for r in rows if r.get("build", "this build") != "this build"]
+    if before:
+        A("The row *before* is commit %s's `pce-sim` on `%s` (`benchmarks/run_all --steps friction --before %s`), run "
+          "right before this build's on the same scene: its Newton iterations stopped at the first direction below the "
+          "tolerance, which static friction's stiff spring made small where a contact had to slide; this build's go on "
+          "while the model loads a contact beyond Coulomb's bound (`docs/simulation.md` §5.2).\n"
+          % (before[0]["build"], before[0]["scene"], friction.get("before") or before[0]["build"]))
+    A(md_table(["scene", "build", "ms/frame", "Newton it/frame", "friction ms/frame", "friction contacts/frame",
+                "sticking/frame", "ls failures", "caps", "intersecting frames"],
+               [[f"`{r['scene']}`", r.get("build", "this build"), fmt(r["ms_per_frame"]), fmt(r["newton_per_frame"]),
+                 fmt(r["friction_ms_per_frame"]), fmt(r["friction_contacts_per_frame"]),
+                 fmt(r.get("friction_sticking_per_frame", float("nan"))), r["line_search_failures"],
                  r["iteration_caps"], r["frames_with_intersections"]] for r in rows]) + "\n")
+    if before:
+        a, b = before[0], rows[-1]
+        A("This build's stopping rule costs %s× the time per frame of %s's (%s ms against %s ms) and %s× the Newton "
+          "iterations (%s against %s); the contacts counted sticking at a frame's last evaluation go from %s to %s "
+          "per frame.\n"
+          % (fmt(b["ms_per_frame"] / a["ms_per_frame"]), a["build"], fmt(b["ms_per_frame"]), fmt(a["ms_per_frame"]),
+             fmt(b["newton_per_frame"] / a["newton_per_frame"]), fmt(b["newton_per_frame"]),
+             fmt(a["newton_per_frame"]), fmt(a.get("friction_sticking_per_frame", float("nan"))),
+             fmt(b.get("friction_sticking_per_frame", float("nan")))))
     if len(rows) >= 2:
         a, b = rows[0], rows[-1]
         ms = b["ms_per_frame"] / a["ms_per_frame"] if a["ms_per_frame"] else float("nan")

@@ -225,14 +225,16 @@ TEST(LaggedFriction, TheModelForceIsTheGradientPlusTheHessianTimesTheStep) {
   // model's tangential force; with ddx = 0, φ is the force at u (|φ| ≤ μλ).
   std::mt19937 rng(11);
   for (int i = 0; i < 30; ++i) {
-    const LaggedFriction<double, 4> f = frozen(VecN<double, 4>(0.3, 0.7, -0.6, -0.4), Vec3<double>(0.2, 0.1, 1).normalized());
+    const LaggedFriction<double, 4> f =
+        frozen(VecN<double, 4>(0.3, 0.7, -0.6, -0.4), Vec3<double>(0.2, 0.1, 1).normalized());
     const VecN<double, 12> dx = displacement<4>(rng, f.eps, i), ddx = displacement<4>(rng, f.eps, i + 1);
     const VecN<double, 12> model = friction_gradient(f, dx) + friction_hessian(f, dx) * ddx;
     Vec3<double> sum = Vec3<double>::Zero();
     for (int j = 0; j < 4; ++j) sum += f.weights[j] * model.segment<3>(3 * j);
     const Eigen::Vector2d phi = friction_model_force(f, dx, ddx);
     EXPECT_NEAR((sum - f.weights.squaredNorm() * (f.basis * phi)).norm(), 0.0, 1e-12 * f.mu_lambda) << i;
-    EXPECT_LE(friction_model_force(f, dx, VecN<double, 12>(VecN<double, 12>::Zero())).norm(), f.mu_lambda * (1 + 1e-15));
+    EXPECT_LE(friction_model_force(f, dx, VecN<double, 12>(VecN<double, 12>::Zero())).norm(),
+              f.mu_lambda * (1 + 1e-15));
   }
   // From rest (u = 0) the model is the static spring 2μλ/ε: a slip of ε/2 asks exactly μλ of
   // it, the most Coulomb allows; a slip of 0.9 ε asks 1.8 μλ (the true force is 0.99 μλ).

@@ -223,8 +223,7 @@ json incline_at_defaults(bool on_box, double mu, Start start) {
   } else {
     effects.push_back(
         {{"type", "pins"}, {"groups", {{{"mesh", "lower"}, {"box", {{"min", {-5, -5, -5}}, {"max", {5, 5, 5}}}}}}}});
-    effects.push_back(
-        with_friction({{"type", "self_vertex_face"}, {"penalty", penalty}, {"closest_features", true}}));
+    effects.push_back(with_friction({{"type", "self_vertex_face"}, {"penalty", penalty}, {"closest_features", true}}));
     effects.push_back(with_friction({{"type", "self_edge_edge"}, {"penalty", penalty}}));
     json lower = sheet("lower", 1.2, 12, on_slope(0, 0), kTheta);
     lower["generator"]["height"] = 0.4;
@@ -253,10 +252,11 @@ void slides_and_sticks_at_defaults(bool on_box) {
       const double distance = a * kDefaultDt * kDefaultDt * N * (N + 1) / 2;
       int iterations = 0;
       for (const FrameStats& st : r.stats) iterations += st.newton_iterations;
-      std::printf("%s, %s, mu %.1f: a = %.4f m/s^2 (expected %.4f), %.4f m in %.2f s (from rest %.4f), %.2f "
-                  "iterations per frame\n",
-                  on_box ? "box" : "sheet", to_string(start), mu, measured, a, downhill(r, N), N * kDefaultDt,
-                  distance, double(iterations) / N);
+      std::printf(
+          "%s, %s, mu %.1f: a = %.4f m/s^2 (expected %.4f), %.4f m in %.2f s (from rest %.4f), %.2f "
+          "iterations per frame\n",
+          on_box ? "box" : "sheet", to_string(start), mu, measured, a, downhill(r, N), N * kDefaultDt, distance,
+          double(iterations) / N);
       EXPECT_NEAR(measured, a, 0.05 * a);
       if (start == Start::inside && on_box) {
         EXPECT_NEAR(downhill(r, N), distance, 0.05 * distance);
@@ -267,7 +267,8 @@ void slides_and_sticks_at_defaults(bool on_box) {
       int small_first = 0;
       for (const FrameStats& st : r.stats) {
         EXPECT_FALSE(st.hit_iteration_cap) << "frame " << st.frame;
-        small_first += st.iterations.size() > 1 && st.iterations[0].residual < 0.01 && st.iterations[0].friction_load > 1;
+        small_first +=
+            st.iterations.size() > 1 && st.iterations[0].residual < 0.01 && st.iterations[0].friction_load > 1;
       }
       if (mu > 0 && start == Start::inside) {
         EXPECT_GE(small_first, 1);

@@ -144,8 +144,7 @@ int main(int argc, char** argv) {
       }
       const FrameStats& s = r.stats;
       const int f = sim.frame;
-      std::fprintf(stderr,
-                   "frame %d of %d: %.1f ms, %d Newton iterations, residual %.2e, %s%ld intersecting pairs\n",
+      std::fprintf(stderr, "frame %d of %d: %.1f ms, %d Newton iterations, residual %.2e, %s%ld intersecting pairs\n",
                    f, sim.frames, s.wall_ms, s.newton_iterations, s.residual,
                    s.hit_iteration_cap ? "iteration cap hit, " : "", r.intersections);
       if (s.line_search_failures > 0 && s.newton_iterations == 1)

@@ -59,12 +59,11 @@ json frame_record(const FrameStats& s, long intersections) {
   r["counters"] = counters;
   json iterations = json::array();
   for (const NewtonIteration& it : s.iterations)
-    iterations.push_back(
-        {{"residual", it.residual},
-         {"friction_load", it.friction_load},
-         {"step_limit", it.step_limit},
-         {"limited_by", it.limited_by},
-         {"alpha", it.alpha}});
+    iterations.push_back({{"residual", it.residual},
+                          {"friction_load", it.friction_load},
+                          {"step_limit", it.step_limit},
+                          {"limited_by", it.limited_by},
+                          {"alpha", it.alpha}});
   r["iterations"] = iterations;
   return r;
 }

@@ -220,16 +220,22 @@ double Simulation::friction_load(const Eigen::Matrix3Xd& y, const Eigen::Matrix3
 
 void Simulation::gather_friction() {
   friction_.clear();
-  for (const auto& e : effects) friction_.insert(friction_.end(), e->frozen_friction().begin(), e->frozen_friction().end());
+  for (const auto& e : effects)
+    friction_.insert(friction_.end(), e->frozen_friction().begin(), e->frozen_friction().end());
 }
 
 const char* to_string(StopReason reason) {
   switch (reason) {
-    case StopReason::tolerance: return "tolerance";
-    case StopReason::rounding: return "rounding";
-    case StopReason::line_search: return "line_search";
-    case StopReason::iteration_cap: return "iteration_cap";
-    case StopReason::single_solve: return "single_solve";
+    case StopReason::tolerance:
+      return "tolerance";
+    case StopReason::rounding:
+      return "rounding";
+    case StopReason::line_search:
+      return "line_search";
+    case StopReason::iteration_cap:
+      return "iteration_cap";
+    case StopReason::single_solve:
+      return "single_solve";
   }
   return "";
 }

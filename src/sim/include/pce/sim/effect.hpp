@@ -31,8 +31,8 @@ using EffectCounters = Counters;
 /// (`Effect::frozen_friction`): its vertices (up to four; unused ones have weight 0) and the
 /// lagged quantities of `pce/friction/lagged_friction.hpp`.
 struct FrozenFriction {
-  std::array<int, 4> vertices{};
-  LaggedFriction<double, 4> friction;
+  std::array<int, 4> vertices{};       ///< the contact's vertices, in the order of the weights
+  LaggedFriction<double, 4> friction;  ///< weights (0 for unused vertices), basis, offset, μλ, ε
 };
 
 /// One term of the incremental potential (see the file comment); the solver calls these

@@ -54,7 +54,7 @@ struct SolverSettings {
 /// One Newton iteration of a step, for diagnosing slow convergence (`stats.json`'s
 /// `iterations`): how far the direction went and what cut it short.
 struct NewtonIteration {
-  double residual = 0;          ///< max|Δx|/(h·ℓ) of this iteration's direction
+  double residual = 0;  ///< max|Δx|/(h·ℓ) of this iteration's direction
   /// The friction test's largest |φ|/(μλ) over the frozen contacts at the accepted step
   /// (`pce::friction_model_force`), when the direction was below the tolerance; else 0.
   double friction_load = 0;
@@ -88,14 +88,14 @@ struct FrameStats {
   double wall_ms = 0;
   /// Linear solves in this step.
   int newton_iterations = 0;
-  double residual = 0;           ///< max|Δx|/(h·ℓ) of the last Newton direction
+  double residual = 0;  ///< max|Δx|/(h·ℓ) of the last Newton direction
   /// The friction test's largest |φ|/(μλ) at the last direction below the tolerance that was
   /// taken (0 without friction or without such a direction): above 1 + `kCoulombMargin` it
   /// did not end the step.
   double friction_load = 0;
   StopReason stop = StopReason::iteration_cap;  ///< why the Newton iterations ended
-  double energy = 0;             ///< incremental potential at the accepted state
-  double kinetic_energy = 0;     ///< ½ Σᵢ mᵢ |vᵢ|² at the end of the step (J)
+  double energy = 0;                            ///< incremental potential at the accepted state
+  double kinetic_energy = 0;                    ///< ½ Σᵢ mᵢ |vᵢ|² at the end of the step (J)
   int line_search_failures = 0;  ///< 1 when a line search found no decrease (which ends the step), else 0
   /// Newton mode only: `max_iterations` were used up.
   bool hit_iteration_cap = false;
