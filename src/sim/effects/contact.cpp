@@ -41,6 +41,7 @@
 #include "contact/pair_geometry.hpp"
 #include "friction.hpp"
 #include "penalty_spec.hpp"
+#include "util/stopwatch.hpp"
 
 #include <pce/energy/closest_feature.hpp>
 #include <pce/energy/pair_energy.hpp>
@@ -51,7 +52,6 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -60,9 +60,6 @@
 namespace pce::sim {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 /// An active pair's result of one evaluation (k its candidate index). Kept per chunk, for
 /// active pairs only, so the serial pass that sums and scatters touches those alone (a

@@ -37,8 +37,7 @@
 /// shape (d ≥ |xᵢ − cₖ| − Rₖ for every shape).
 #include "friction.hpp"
 #include "penalty_spec.hpp"
-
-#include <chrono>
+#include "util/stopwatch.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -67,9 +66,6 @@ double bounding_radius(const Obstacle& o) {
   }
   return std::numeric_limits<double>::infinity();
 }
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 class ObstacleContact final : public Effect {
  public:

@@ -29,6 +29,7 @@
 #pragma once
 
 #include "pair_geometry.hpp"
+#include "util/stopwatch.hpp"
 
 #include <pce/energy/closest_feature.hpp>
 #include <pce/penalties/quadratic.hpp>
@@ -39,7 +40,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -50,10 +50,6 @@ namespace pce::sim::contact {
 
 template <bool VF> class CandidateSet {
   using Geometry = PairGeometry<VF>;
-  using Clock = std::chrono::steady_clock;
-  static double ms_since(Clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-  }
 
  public:
   using Pair = std::array<int, 2>;

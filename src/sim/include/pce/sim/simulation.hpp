@@ -187,6 +187,20 @@ class Simulation {
   std::vector<FrozenFriction> friction_;  ///< every effect's frozen friction contacts, this step
   struct LinearState;
   std::shared_ptr<LinearState> linear_;
+  /// What one step carries from stage to stage (solver/simulation.cpp).
+  struct StepState;
+  // The stages of `step`, in order (docs/simulation.md §5.2).
+  void predict(StepState& s);
+  void rebuild_pattern(StepState& s);
+  void newton(StepState& s);
+  void assemble(StepState& s, int it);
+  void solve_direction(StepState& s, int it);
+  bool cover(StepState& s);
+  bool line_search(StepState& s, int it, bool small_step, bool& converged);
+  void refresh(StepState& s);
+  bool update_lagged(StepState& s);
+  void accept(StepState& s);
+  void report(StepState& s);
 };
 
 }  // namespace pce::sim

@@ -1,0 +1,158 @@
+// SPDX-License-Identifier: MIT
+// The Newton system's linear solvers (linear_state.hpp).
+#include "solver/linear_state.hpp"
+
+#include "util/stopwatch.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+
+namespace pce::sim {
+
+namespace {
+
+/// factor_reuse's back-off. A CG failure costs the whole CG cap and then a factorisation
+/// anyway. After one failure CG is tried again at the next solve (with the factor just
+/// made, which is usually a good preconditioner); after the second failure in a row the next
+/// solve refactors without trying CG, after the third the next 2, then 4, … up to this
+/// many; a CG success resets the count. Where the kept factor is a poor preconditioner (in
+/// contact the Hessian changes a lot from one Newton iteration to the next) this bounds the
+/// CG work spent in vain to about one attempt per this many solves; where it is a good one
+/// (free fall) CG is tried every time. The rule counts solves, not time, so runs are
+/// reproducible.
+constexpr int kMaxReuseBackoff = 16;
+
+/// Runs CHOLMOD (and the other factorisations) with OpenMP's parallel regions inactive.
+/// SuiteSparse 5's supernodal factorisation opens a region of CHOLMOD_OMP_NUM_THREADS = 4
+/// threads (a compile-time constant that neither omp_set_num_threads nor `--threads`
+/// reaches) around its scatter and clear loops; on a 2-core machine those regions cost
+/// more in waking and parking threads than the copies they share out, and they made a
+/// `--threads 1` run use four. The dense work is in BLAS, which is serial here.
+class SerialRegions {
+ public:
+  SerialRegions() : levels_(omp_get_max_active_levels()) { omp_set_max_active_levels(0); }
+  ~SerialRegions() { omp_set_max_active_levels(levels_); }
+  SerialRegions(const SerialRegions&) = delete;
+  SerialRegions& operator=(const SerialRegions&) = delete;
+
+ private:
+  int levels_;
+};
+}  // namespace
+
+/// Symbolic analysis when the pattern changed, then the numerical factorisation, each
+/// timed; false when the factorisation fails.
+template <class Factorization> bool Simulation::LinearState::factor(Factorization& f, const SparseMatrix& A) {
+  factored = nullptr;
+  if (!analyzed) {
+    const auto t0 = Clock::now();
+    f.analyzePattern(A);
+    analyze_ms += ms_since(t0);
+    ++analyses;
+    analyzed = true;
+  }
+  const auto t0 = Clock::now();
+  f.factorize(A);
+  factorize_ms += ms_since(t0);
+  ++factorizations;
+  if (f.info() != Eigen::Success) return false;
+  factored = &f;
+  return true;
+}
+
+/// factor_reuse: solves H dx = rhs by conjugate gradients preconditioned by `f`, the
+/// factor of an earlier H (one forward and back substitution per iteration), from dx = 0.
+/// True when ‖rhs − H dx‖ ≤ `eta` ‖rhs‖ within `max_iterations` and dx is a descent
+/// direction (rhsᵀdx > 0, rhs = −g); false when it is not, or when pᵀHp or rᵀz is not > 0
+/// (the preconditioned operator is not SPD along the search direction, or a value is not
+/// finite). The loop is written out rather than Eigen's ConjugateGradient with an
+/// adapter preconditioner class pointing at the factor: twenty lines in which every exit
+/// (converged, breakdown, cap) is explicit and counted, where Eigen's loop reports only
+/// success or no convergence and does not stop at pᵀHp ≤ 0.
+template <class Factorization>
+bool Simulation::LinearState::preconditioned_cg(const Factorization& f, const SparseMatrix& A,
+                                                const Eigen::VectorXd& rhs, double eta, int max_iterations,
+                                                Eigen::VectorXd& dx) {
+  const double target = eta * rhs.norm();
+  dx.setZero(rhs.size());
+  if (rhs.norm() == 0) return true;
+  r = rhs;
+  z = f.solve(r);
+  p = z;
+  double rz = r.dot(z);
+  for (int k = 0; k < max_iterations; ++k) {
+    q.noalias() = A.selfadjointView<Eigen::Upper>() * p;
+    const double pq = p.dot(q);
+    if (!(pq > 0) || !(rz > 0)) return false;
+    const double alpha = rz / pq;
+    dx += alpha * p;
+    r -= alpha * q;
+    ++cg_iterations;
+    if (r.norm() <= target) return rhs.dot(dx) > 0;
+    z = f.solve(r);
+    const double rz_next = r.dot(z);
+    p = z + (rz_next / rz) * p;
+    rz = rz_next;
+  }
+  return false;
+}
+
+/// factor_reuse with the factor object `f`: CG preconditioned by the kept factor; when
+/// there is none, or CG does not converge, a new factorisation of the current H, whose
+/// solve is the exact direction. After repeated CG failures the next `reuse_skip` solves
+/// refactor without trying CG (the back-off, see kMaxReuseBackoff). False when the
+/// factorisation or its solve fails.
+template <class Factorization> bool Simulation::LinearState::reuse_solve(Factorization& f, const SparseMatrix& A,
+                                                                         const Eigen::VectorXd& rhs, double eta,
+                                                                         int max_iterations, Eigen::VectorXd& dx) {
+  if (factored == &f && reuse_skip == 0) {
+    if (preconditioned_cg(f, A, rhs, eta, max_iterations, dx)) {
+      reuse_failures = 0;
+      return true;
+    }
+    ++reuse_failures;
+    if (reuse_failures >= 2) reuse_skip = std::min(1 << std::min(reuse_failures - 2, 30), kMaxReuseBackoff);
+  } else if (reuse_skip > 0) {
+    --reuse_skip;
+  }
+  if (!factor(f, A)) return false;
+  dx = f.solve(rhs);
+  return f.info() == Eigen::Success;
+}
+
+/// Solves H dx = rhs; false when the factorisation or the iteration fails.
+bool Simulation::LinearState::solve(const SolverSettings& settings, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx) {
+  const SparseMatrix& A = H.matrix();
+  const SerialRegions serial;
+  switch (settings.linear) {
+    case LinearSolver::factor_reuse:
+#ifdef PCE_SIM_HAVE_CHOLMOD
+      return reuse_solve(cholmod, A, rhs, settings.reuse_tolerance, settings.reuse_max_cg_iterations, dx);
+#else
+      return reuse_solve(ldlt, A, rhs, settings.reuse_tolerance, settings.reuse_max_cg_iterations, dx);
+#endif
+    case LinearSolver::cg:
+      cg.setTolerance(1e-8);
+      cg.setMaxIterations(static_cast<Eigen::Index>(4 * rhs.size()));
+      cg.compute(A);
+      dx = cg.solve(rhs);
+      cg_iterations += static_cast<int>(cg.iterations());
+      return cg.info() == Eigen::Success;
+    case LinearSolver::direct:
+#ifdef PCE_SIM_HAVE_CHOLMOD
+      if (!factor(cholmod, A)) return false;
+      dx = cholmod.solve(rhs);
+      return cholmod.info() == Eigen::Success;
+#else
+      [[fallthrough]];
+#endif
+    case LinearSolver::ldlt:
+      if (!factor(ldlt, A)) return false;
+      dx = ldlt.solve(rhs);
+      return ldlt.info() == Eigen::Success;
+  }
+  return false;
+}
+
+}  // namespace pce::sim

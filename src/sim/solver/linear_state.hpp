@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// The Newton system's matrix and the linear solvers of `SolverSettings::linear`, kept
+/// between steps (internal to `Simulation`): a factorisation every iteration (CHOLMOD when
+/// built with it, else Eigen's LDLᵀ), factor_reuse's conjugate gradients preconditioned by a
+/// kept factor, or Eigen's diagonally preconditioned conjugate gradients
+/// (docs/simulation.md §5.3).
+#pragma once
+
+#include <pce/sim/block_hessian.hpp>
+#include <pce/sim/simulation.hpp>
+
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
+#ifdef PCE_SIM_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
+
+namespace pce::sim {
+
+/// The linear solver and the global Hessian, kept between steps (no allocation per
+/// iteration once the pattern is built).
+struct Simulation::LinearState {
+  using SparseMatrix = Eigen::SparseMatrix<double>;
+  BlockHessian H;
+  /// The factor object's symbolic analysis is that of H's current pattern (cleared when the
+  /// pattern changes; `factor` analyses again before it factorises).
+  bool analyzed = false;
+#ifdef PCE_SIM_HAVE_CHOLMOD
+  Eigen::CholmodDecomposition<SparseMatrix, Eigen::Upper> cholmod;
+#endif
+  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Upper> ldlt;
+  Eigen::ConjugateGradient<SparseMatrix, Eigen::Upper> cg;
+  /// The factor object that holds a complete numerical factor (of some earlier H, maybe of
+  /// another pattern), or null: what factor_reuse may precondition with.
+  const void* factored = nullptr;
+  double analyze_ms = 0, factorize_ms = 0;  ///< this step's symbolic and numeric factorisation time
+  int analyses = 0;                         ///< symbolic analyses this step
+  int factorizations = 0;                   ///< numerical factorisations this step
+  int cg_iterations = 0;                    ///< conjugate-gradient iterations this step (factor_reuse, cg)
+  Eigen::VectorXd r, z, p, q;               ///< factor_reuse's CG vectors
+  int reuse_failures = 0;                   ///< factor_reuse: CG failures since the last CG success
+  int reuse_skip = 0;                       ///< factor_reuse: solves still to refactor without trying CG
+
+  /// Solves H dx = rhs with `settings.linear`; false when the factorisation, its solve or the
+  /// iteration fails. OpenMP's parallel regions are inactive meanwhile (SerialRegions in
+  /// linear_state.cpp).
+  bool solve(const SolverSettings& settings, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx);
+
+ private:
+  /// Symbolic analysis when the pattern changed, then the numerical factorisation, each
+  /// timed; false when the factorisation fails.
+  template <class Factorization> bool factor(Factorization& f, const SparseMatrix& A);
+  /// factor_reuse: CG on H preconditioned by `f`, the factor of an earlier H (linear_state.cpp).
+  template <class Factorization> bool preconditioned_cg(const Factorization& f, const SparseMatrix& A,
+                                                        const Eigen::VectorXd& rhs, double eta, int max_iterations,
+                                                        Eigen::VectorXd& dx);
+  /// factor_reuse with the factor object `f` (linear_state.cpp).
+  template <class Factorization> bool reuse_solve(Factorization& f, const SparseMatrix& A, const Eigen::VectorXd& rhs,
+                                                  double eta, int max_iterations, Eigen::VectorXd& dx);
+};
+
+}  // namespace pce::sim
