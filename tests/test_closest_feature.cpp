@@ -355,16 +355,15 @@ TEST(ClosestFeature, FootConsistencyRefusesNoisyInsideClaims) {
   f.beta = 1;
   f.gamma = 0;
   f.l = 3.5e-4;
-  EXPECT_FALSE(pce::detail::foot_consistent<pce::EdgeEdge>(x, f));
+  EXPECT_FALSE(pce::foot_consistent<pce::EdgeEdge>(x, f));
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1, 1);
   int accepted_vf = 0, accepted_ee = 0;
   for (int trial = 0; trial < 500; ++trial) {
     const pce::Vec12<double> y = four(V(u(rng), u(rng), u(rng)), V(u(rng), u(rng), u(rng)), V(u(rng), u(rng), u(rng)),
                                       V(u(rng), u(rng), u(rng)));
-    if (pce::VertexFace::frame(y, f) == pce::Status::ok)
-      accepted_vf += pce::detail::foot_consistent<pce::VertexFace>(y, f);
-    if (pce::EdgeEdge::frame(y, f) == pce::Status::ok) accepted_ee += pce::detail::foot_consistent<pce::EdgeEdge>(y, f);
+    if (pce::VertexFace::frame(y, f) == pce::Status::ok) accepted_vf += pce::foot_consistent<pce::VertexFace>(y, f);
+    if (pce::EdgeEdge::frame(y, f) == pce::Status::ok) accepted_ee += pce::foot_consistent<pce::EdgeEdge>(y, f);
   }
   EXPECT_EQ(accepted_vf, 500);
   EXPECT_EQ(accepted_ee, 500);

@@ -9,7 +9,7 @@
 
 #include <Eigen/Geometry>
 
-namespace pce::detail {
+namespace pce {
 
 /// A unit vector orthogonal to the unit vector `u`: `u × e_k` normalised, with e_k the axis of
 /// u's smallest component (the first such), so that the cross product is far from zero.
@@ -19,4 +19,4 @@ template <class Scalar> Vec3<Scalar> any_orthogonal(const Vec3<Scalar>& u) {
   return u.cross(Vec3<Scalar>::Unit(k)).normalized();
 }
 
-}  // namespace pce::detail
+}  // namespace pce

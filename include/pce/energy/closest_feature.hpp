@@ -94,29 +94,6 @@ template <class Scalar> Scalar point_segment(const Vec3<Scalar>& p, const Vec3<S
   return e.cross(r).squaredNorm() / ee;
 }
 
-/// Whether the frame's closest points (the foot (1 − β − γ, β, γ) on the triangle; the points
-/// ea0 + β e0 and eb0 − γ e1 on the two lines) are really |l| apart, to √ε of the pair's
-/// size. They are wherever the frame is accurate; where it is not — edges or a sliver
-/// triangle at an angle below the scalar's rounding, whose normal is noise — β and γ are
-/// noise too and can claim "inside" for two collinear disjoint edges whose line distance l
-/// is ~0 while the edges are far apart. Such a claim is refused, and the point-segment
-/// distances, which are well conditioned, decide.
-template <class Pair, class Scalar> bool foot_consistent(const Vec12<Scalar>& x, const Frame<Scalar>& f) {
-  using std::abs;
-  using std::sqrt;
-  const Vec3<Scalar> p0 = x.template segment<3>(0), p1 = x.template segment<3>(3), p2 = x.template segment<3>(6),
-                     p3 = x.template segment<3>(9);
-  Vec3<Scalar> gap;
-  if constexpr (std::is_same_v<Pair, VertexFace>)  // p − foot
-    gap = (p0 - p1) - f.beta * (p2 - p1) - f.gamma * (p3 - p1);
-  else  // (eb0 − γ e1) − (ea0 + β e0)
-    gap = (p2 - p0) - f.gamma * (p3 - p2) - f.beta * (p1 - p0);
-  Scalar size = Scalar(0);
-  for (int j = 1; j < 4; ++j)
-    size = (std::max)(size, Scalar((x.template segment<3>(3 * j) - p0).cwiseAbs().maxCoeff()));
-  return abs(Scalar(gap.norm()) - abs(f.l)) <= sqrt(Constants<Scalar>::epsilon()) * size;
-}
-
 /// Classifies the pair by its closest features (`VertexFace` or `EdgeEdge` layout).
 /// `plane_inside` says whether the plane kind's frame exists and its closest point lies
 /// inside the primitives, `plane_l` is then its length l. The plane kind is chosen when its
@@ -190,6 +167,29 @@ template <int N, class Scalar> Mat12<Scalar> scatter(const MatN<Scalar, 3 * N>& 
 
 }  // namespace detail
 
+/// Whether the frame's closest points (the foot (1 − β − γ, β, γ) on the triangle; the points
+/// ea0 + β e0 and eb0 − γ e1 on the two lines) are really |l| apart, to √ε of the pair's
+/// size. They are wherever the frame is accurate; where it is not — edges or a sliver
+/// triangle at an angle below the scalar's rounding, whose normal is noise — β and γ are
+/// noise too and can claim "inside" for two collinear disjoint edges whose line distance l
+/// is ~0 while the edges are far apart. Such a claim is refused, and the point-segment
+/// distances, which are well conditioned, decide.
+template <class Pair, class Scalar> bool foot_consistent(const Vec12<Scalar>& x, const Frame<Scalar>& f) {
+  using std::abs;
+  using std::sqrt;
+  const Vec3<Scalar> p0 = x.template segment<3>(0), p1 = x.template segment<3>(3), p2 = x.template segment<3>(6),
+                     p3 = x.template segment<3>(9);
+  Vec3<Scalar> gap;
+  if constexpr (std::is_same_v<Pair, VertexFace>)  // p − foot
+    gap = (p0 - p1) - f.beta * (p2 - p1) - f.gamma * (p3 - p1);
+  else  // (eb0 − γ e1) − (ea0 + β e0)
+    gap = (p2 - p0) - f.gamma * (p3 - p2) - f.beta * (p1 - p0);
+  Scalar size = Scalar(0);
+  for (int j = 1; j < 4; ++j)
+    size = (std::max)(size, Scalar((x.template segment<3>(3 * j) - p0).cwiseAbs().maxCoeff()));
+  return abs(Scalar(gap.norm()) - abs(f.l)) <= sqrt(Constants<Scalar>::epsilon()) * size;
+}
+
 /// Classifies the candidate `x` (`Pair` = `VertexFace`: p, t0, t1, t2; `EdgeEdge`: ea0,
 /// ea1, eb0, eb1) by its closest features and evaluates that kind with the unsigned
 /// distance. Statuses: `invalid_input` for bad coordinates or parameters or a
@@ -212,7 +212,7 @@ Status closest_feature_energy(const Vec12<Scalar>& x, const Length&, const Penal
       inside = f.beta >= Scalar(0) && f.gamma >= Scalar(0) && f.beta + f.gamma <= Scalar(1);
     else  // closest points ea0 + β e0 and eb0 − γ e1
       inside = f.beta >= Scalar(0) && f.beta <= Scalar(1) && f.gamma <= Scalar(0) && f.gamma >= Scalar(-1);
-    inside = inside && detail::foot_consistent<Pair>(x, f);
+    inside = inside && foot_consistent<Pair>(x, f);
   }
   detail::classify<Pair>(x, inside, l, e.feature, e.points);
   Status s = Status::ok;

@@ -49,16 +49,6 @@ PCE_ALWAYS_INLINE Vec12<Scalar> plane_gradient(const Scalar& c, const Row& p2, c
   for (int j = 0; j < 4; ++j) g.template segment<3>(3 * j) = (c * p2[j]) * m;
   return g;
 }
-/// ψ, ψ′, ψ″ at `L`: `out_of_domain` where the penalty is undefined, `overflow` when a
-/// derivative is not finite; `psi` is written only on `ok`.
-template <class Penalty, class Scalar>
-PCE_ALWAYS_INLINE Status evaluate_penalty(const Penalty& penalty, const Scalar& L, PenaltyDerivatives<Scalar>& psi) {
-  if (!penalty_in_domain(penalty, L)) return Status::out_of_domain;
-  const PenaltyDerivatives<Scalar> v = penalty.template evaluate<Scalar>(L);
-  if (!finite_all(v.value, v.first, v.second)) return Status::overflow;
-  psi = v;
-  return Status::ok;
-}
 /// The point kinds' `pair_energy` (their length is the frame's distance d, unsigned only):
 /// `invalid_input` for a `SignedLength` or invalid penalty parameters, then the frame's
 /// status, then the penalty's; `out` is written only on `ok`.
@@ -88,7 +78,7 @@ Status pair_energy(const Vec12<Scalar>& x, const Length& length, const Penalty& 
   if (s != Status::ok) return s;
   e.sigma = length.sigma(e.frame);
   e.length = e.sigma * e.frame.l;
-  const Status sp = detail::evaluate_penalty(penalty, e.length, e.psi);
+  const Status sp = evaluate_penalty(penalty, e.length, e.psi);
   if (sp != Status::ok) return sp;
   out = e;
   return Status::ok;

@@ -55,4 +55,17 @@ template <class Penalty> bool penalty_valid(const Penalty& penalty) {
     return true;
 }
 
+/// ψ(L), ψ′(L), ψ″(L) of `penalty`, checked: `Status::out_of_domain` where the penalty is
+/// undefined (`penalty_in_domain`), `Status::overflow` when a value or derivative is not
+/// finite, else `Status::ok`; `psi` is written only on `ok`. The one evaluation every pair
+/// energy makes (paper Sec. 3: the energy is ψ of the pair's length).
+template <class Penalty, class Scalar>
+PCE_ALWAYS_INLINE Status evaluate_penalty(const Penalty& penalty, const Scalar& L, PenaltyDerivatives<Scalar>& psi) {
+  if (!penalty_in_domain(penalty, L)) return Status::out_of_domain;
+  const PenaltyDerivatives<Scalar> v = penalty.template evaluate<Scalar>(L);
+  if (!detail::finite_all(v.value, v.first, v.second)) return Status::overflow;
+  psi = v;
+  return Status::ok;
+}
+
 }  // namespace pce

@@ -216,7 +216,7 @@ void rotation_variant_svd(const Mat3<Scalar>& F, Mat3<Scalar>& U, Vec3<Scalar>& 
   if (n1 > Scalar(0)) {
     u1 /= n1;
   } else {  // rank ≤ 1: any unit vector orthogonal to u₀
-    u1 = detail::any_orthogonal<Scalar>(U.col(0));
+    u1 = any_orthogonal<Scalar>(U.col(0));
   }
   U.col(1) = u1;
   U.col(2) = U.col(0).cross(u1);

@@ -615,7 +615,7 @@ template <bool VF> class SelfContact final : public Effect {
     e.frame = a.frame;
     e.sigma = a.sigma;
     e.length = a.sigma * a.frame.l;
-    const Status s = detail::evaluate_penalty(pk, e.length, e.psi);
+    const Status s = evaluate_penalty(pk, e.length, e.psi);
     if (s == Status::out_of_domain) return fail_infinite(o);
     if (s != Status::ok) return;
     o.active = true;
@@ -690,7 +690,7 @@ template <bool VF> class SelfContact final : public Effect {
           Eigen::Vector3d normal;
           if (a.mode == Activity::Mode::plane) {
             PenaltyDerivatives<double> psi;
-            if (detail::evaluate_penalty(pk, a.sigma * a.frame.l, psi) != Status::ok) continue;
+            if (evaluate_penalty(pk, a.sigma * a.frame.l, psi) != Status::ok) continue;
             lambda = -psi.first;
             friction_geometry(a.frame, w, normal);
           } else {
@@ -751,7 +751,7 @@ template <bool VF> class SelfContact final : public Effect {
       if constexpr (VF)
         if (!Geometry::may_be_plane_active(xp, kAnyDistance)) continue;
       Frame<double> f;
-      if (Kind::frame(xp, f) != Status::ok || !Geometry::inside(f) || !detail::foot_consistent<Kind>(xp, f)) continue;
+      if (Kind::frame(xp, f) != Status::ok || !Geometry::inside(f) || !foot_consistent<Kind>(xp, f)) continue;
       if (std::abs(f.l) > 1e-3 * spec_.penalty.distance) side = f.l < 0 ? -1 : 1;
     }
   }
@@ -762,7 +762,7 @@ template <bool VF> class SelfContact final : public Effect {
   /// deeper than 2d.
   bool plane_active(const Vec12<double>& xp, std::size_t k, double limit, Frame<double>& f, double& sigma) const {
     if (!Geometry::may_be_plane_active(xp, std::max(limit, 2 * spec_.penalty.distance))) return false;
-    if (Kind::frame(xp, f) != Status::ok || !Geometry::inside(f) || !detail::foot_consistent<Kind>(xp, f)) return false;
+    if (Kind::frame(xp, f) != Status::ok || !Geometry::inside(f) || !foot_consistent<Kind>(xp, f)) return false;
     if (!Geometry::well_conditioned(xp)) return false;
     const signed char side = spec_.signed_length ? sides_[k] : 0;
     sigma = side != 0 ? static_cast<double>(side) : (f.l < 0 ? -1.0 : 1.0);

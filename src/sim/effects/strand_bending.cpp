@@ -68,7 +68,7 @@ class StrandBending final : public Effect {
       const Eigen::Vector3d t1 = e1 / l1, t2 = e2 / l2;
       const Eigen::Vector3d b = t1.cross(t2);
       const double s = b.norm();
-      const Eigen::Vector3d bh = s > 1e-10 ? Eigen::Vector3d(b / s) : pce::detail::any_orthogonal<double>(t1);
+      const Eigen::Vector3d bh = s > 1e-10 ? Eigen::Vector3d(b / s) : pce::any_orthogonal<double>(t1);
       const Eigen::Vector3d d1 = -bh.cross(t1) / l1, d2 = bh.cross(t2) / l2;  // ∂φ/∂e1, ∂φ/∂e2
       Vector9 g;
       g << -d1, d1 - d2, d2;

@@ -76,7 +76,7 @@ inline double arap_triangle(const Eigen::Matrix3d& X, const Matrix32& D, double 
     u3 = n - n.dot(u1) * u1;  // exact orthogonality to u1
     u3.normalize();
   } else {
-    u3 = pce::detail::any_orthogonal<double>(u1);  // σ₂ ≈ 0: any completion is a closest orthonormal frame
+    u3 = pce::any_orthogonal<double>(u1);  // σ₂ ≈ 0: any completion is a closest orthonormal frame
   }
   const Eigen::Vector3d u2 = u3.cross(u1);  // F v₂ lies along u₃ × u₁ (σ₂ ≥ 0)
   const Matrix32 R = u1 * v1.transpose() + u2 * v2.transpose();
