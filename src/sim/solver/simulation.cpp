@@ -34,21 +34,22 @@ double Simulation::friction_load(const Eigen::Matrix3Xd& y, const Eigen::Matrix3
                                  const Eigen::Matrix3Xd& step) const {
   double load = 0;
   Eigen::Matrix<double, 12, 1> dx, ddx;
-  for (const FrozenFriction& c : friction_) {
-    for (int j = 0; j < 4; ++j) {
-      const int v = c.vertices[static_cast<std::size_t>(j)];
-      dx.segment<3>(3 * j) = y.col(v) - x_start.col(v);
-      ddx.segment<3>(3 * j) = step.col(v);
+  for (const auto& e : effects)
+    for (const FrozenFriction& c : e->frozen_friction()) {
+      for (int j = 0; j < 4; ++j) {
+        const int v = c.vertices[static_cast<std::size_t>(j)];
+        dx.segment<3>(3 * j) = y.col(v) - x_start.col(v);
+        ddx.segment<3>(3 * j) = step.col(v);
+      }
+      load = std::max(load, friction_model_force(c.friction, dx, ddx).norm() / c.friction.mu_lambda);
     }
-    load = std::max(load, friction_model_force(c.friction, dx, ddx).norm() / c.friction.mu_lambda);
-  }
   return load;
 }
 
-void Simulation::gather_friction() {
-  friction_.clear();
+bool Simulation::has_friction() const {
   for (const auto& e : effects)
-    friction_.insert(friction_.end(), e->frozen_friction().begin(), e->frozen_friction().end());
+    if (!e->frozen_friction().empty()) return true;
+  return false;
 }
 
 const char* to_string(StopReason reason) {
@@ -186,7 +187,6 @@ void Simulation::predict(StepState& s) {
     effects[k]->begin_step(ctx);
     s.effect_ms[k] += ms_since(t0);
   }
-  gather_friction();
   rebuild_pattern(s);
   s.y = s.x_start;
   s.g.resize(3, n);
@@ -224,7 +224,7 @@ void Simulation::newton(StepState& s) {
     // (2μλ/(ε_v h)) holds over a slip of ε_v h only, so it makes a step small far from the
     // solution when the contact must slide (docs/simulation.md §5.2).
     const bool small_step = st.residual < solver.tolerance;
-    bool converged = small_step && friction_.empty();
+    bool converged = small_step && !has_friction();
     s.covered = cover(s);
     const bool accepted = line_search(s, it, small_step, converged);
     if (trace)
@@ -362,7 +362,7 @@ bool Simulation::line_search(StepState& s, int it, bool small_step, bool& conver
     const double E1 = potential(s.y1, &s.effect_ms);
     s.evaluated_at_y = false;
     if (std::isfinite(E1) && E1 <= s.E + 1e-4 * alpha * slope) {
-      if (small_step && !friction_.empty()) {
+      if (small_step && has_friction()) {
         record.friction_load = st.friction_load = friction_load(s.y, s.x_start, alpha * s.dxm);
         converged = st.friction_load <= 1 + kCoulombMargin;
       }
@@ -404,7 +404,6 @@ bool Simulation::update_lagged(StepState& s) {
     s.effect_ms[k] += ms_since(tl);
   }
   if (!again) return false;
-  gather_friction();
   rebuild_pattern(s);
   s.evaluated_at_y = false;
   return true;

@@ -95,8 +95,8 @@ class Effect {
 
   /// The friction contacts this effect froze for the step (μλ > 0 only): Newton's stopping
   /// rule checks that its model does not ask more of any than Coulomb's μλ (docs/simulation.md
-  /// §5.2). The solver reads it after `begin_step` and after an `update_lagged` that returned
-  /// true; empty for every effect without friction.
+  /// §5.2). The solver reads it at each step below the tolerance; the effect sets it in
+  /// `begin_step` and `update_lagged`. Empty for every effect without friction.
   const std::vector<FrozenFriction>& frozen_friction() const { return frozen_friction_; }
 
  protected:

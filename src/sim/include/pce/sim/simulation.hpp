@@ -179,12 +179,11 @@ class Simulation {
   /// assigns to contact k after `step` from y (displacements from `x_start`), in units of its
   /// Coulomb bound (`pce::friction_model_force`); 0 without friction.
   double friction_load(const Eigen::Matrix3Xd& y, const Eigen::Matrix3Xd& x_start, const Eigen::Matrix3Xd& step) const;
-  /// Gathers the effects' `frozen_friction` into `friction_`.
-  void gather_friction();
+  /// Whether any effect froze a friction contact for this step.
+  bool has_friction() const;
   Eigen::VectorXd mass3_;  ///< per coordinate m/h²
   Eigen::Matrix3Xd x_tilde_;
   double scale_ = 1;
-  std::vector<FrozenFriction> friction_;  ///< every effect's frozen friction contacts, this step
   struct LinearState;
   std::shared_ptr<LinearState> linear_;
   /// What one step carries from stage to stage (solver/simulation.cpp).
