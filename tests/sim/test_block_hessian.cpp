@@ -101,3 +101,17 @@ TEST(BlockHessian, RejectsAPatternNamingAVertexBeyondN) {
   BlockHessian H;
   EXPECT_THROW(H.set_pattern(5, p), std::logic_error);
 }
+
+TEST(BlockHessian, ADiagonalBlockIsReadBackSymmetric) {
+  Pattern pattern;
+  pattern.add(std::array<int, 2>{0, 1});
+  BlockHessian H;
+  H.set_pattern(2, pattern);
+  H.set_zero();
+  Eigen::Matrix3d B;
+  B << 4, 1, 2, 1, 5, 3, 2, 3, 6;
+  H.add_block(1, 1, B);
+  H.add_block(1, 1, B);
+  EXPECT_EQ(H.diagonal_block(1), 2 * B);
+  EXPECT_EQ(H.diagonal_block(0), Eigen::Matrix3d::Zero());
+}

@@ -6,6 +6,7 @@
 #include <pce/energy/closest_feature.hpp>
 #include <pce/penalties/quadratic.hpp>
 #include <pce/sim/candidates.hpp>
+#include <pce/sim/contact_effect.hpp>
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/instrumentation.hpp>
 #include <pce/sim/intersections.hpp>
@@ -24,6 +25,9 @@ using namespace pce::sim;
 using nlohmann::json;
 
 namespace {
+
+/// The scene's effect as the contact effect it is.
+ContactEffect& contact_of(const std::unique_ptr<Effect>& e) { return dynamic_cast<ContactEffect&>(*e); }
 
 /// Two small sheets, the second `gap` above the first and turned by 10°.
 std::unique_ptr<Scene> two_sheets(const json& contact, double gap) {
@@ -82,7 +86,7 @@ double queries_of(const Effect& e) {
   return c.at("broad_phase_queries");
 }
 
-Eigen::MatrixXd dense_hessian(Effect& e, const Eigen::Matrix3Xd& x) {
+Eigen::MatrixXd dense_hessian(ContactEffect& e, const Eigen::Matrix3Xd& x) {
   e.update_pattern(x);  // the pairs active at x join the pattern
   Pattern p;
   e.declare(p);
@@ -99,14 +103,14 @@ Eigen::MatrixXd dense_hessian(Effect& e, const Eigen::Matrix3Xd& x) {
 /// the other the full pass it must agree with.
 struct Twins {
   std::unique_ptr<Scene> a, b;
-  Effect& ea;
-  Effect& eb;
+  ContactEffect& ea;
+  ContactEffect& eb;
   Eigen::Matrix3Xd x;
   Twins(const json& effect, double gap)
       : a(two_sheets(effect, gap)),
         b(two_sheets(effect, gap)),
-        ea((begin(*a), *a->simulation.effects[0])),
-        eb((begin(*b), *b->simulation.effects[0])),
+        ea((begin(*a), contact_of(a->simulation.effects[0]))),
+        eb((begin(*b), contact_of(b->simulation.effects[0]))),
         x(a->simulation.x) {
     for (Eigen::Index i = 0; i < x.cols(); ++i) x(2, i) += 1e-3 * std::sin(1.7 * static_cast<double>(i));
   }
@@ -130,7 +134,7 @@ TEST_P(ContactDerivatives, GradientMatchesCentralDifferencesAndHessianIsPsd) {
     SCOPED_TRACE(std::string(type) + " " + length + " " + hessian + (closest ? " closest" : " plane"));
     auto s = two_sheets(contact(type, length, hessian, closest), 0.008);
     begin(*s);
-    Effect& e = *s->simulation.effects[0];
+    ContactEffect& e = contact_of(s->simulation.effects[0]);
     Eigen::Matrix3Xd x = s->simulation.x;
     // a little out-of-plane noise so edge-edge pairs have frames
     for (Eigen::Index i = 0; i < x.cols(); ++i) x(2, i) += 1e-3 * std::sin(1.7 * static_cast<double>(i));
@@ -174,7 +178,7 @@ TEST(Contact, PassesThatReuseAnEarlierPassAgreeWithAFullPass) {
         std::make_tuple("self_edge_edge", "unsigned", false), std::make_tuple("self_edge_edge", "unsigned", true)}) {
     SCOPED_TRACE(std::string(type) + " " + length + (closest ? " closest" : " plane"));
     Twins t(contact(type, length, "analytic", closest), 0.008);
-    Effect &ea = t.ea, &eb = t.eb;
+    ContactEffect &ea = t.ea, &eb = t.eb;
     const Eigen::Matrix3Xd& x = t.x;
     const auto n = static_cast<int>(x.cols());
     // a: update_pattern tests every candidate; the evaluation then visits the active ones.
@@ -218,7 +222,7 @@ TEST(Contact, LineSearchTrialsOnTheStepAgreeWithAFullPass) {
         std::make_tuple("self_edge_edge", "unsigned", true)}) {
     SCOPED_TRACE(std::string(type) + " " + length + (closest ? " closest" : " plane"));
     Twins twins(contact(type, length, "analytic", closest), 0.025);
-    Effect &ea = twins.ea, &eb = twins.eb;
+    ContactEffect &ea = twins.ea, &eb = twins.eb;
     const Eigen::Matrix3Xd& x = twins.x;
     Eigen::Matrix3Xd dx = Eigen::Matrix3Xd::Zero(3, x.cols());
     const Eigen::Index half = x.cols() / 2;
@@ -269,7 +273,7 @@ TEST(Contact, LineSearchTrialsOnTheStepAgreeWithAFullPass) {
 TEST(Contact, SignedSideIsRecordedAtEntryAndKeptWhileTracked) {
   auto s = two_sheets(contact("self_vertex_face", "signed", "analytic", false), 0.008);
   begin(*s);
-  Effect& e = *s->simulation.effects[0];
+  ContactEffect& e = contact_of(s->simulation.effects[0]);
   const Eigen::Matrix3Xd above = s->simulation.x;
   const Eigen::Matrix3Xd below = lift_b(above, -0.016);  // b now 0.008 below a: it passed through
   const double E_above = e.evaluate(above, nullptr, nullptr);
@@ -282,7 +286,7 @@ TEST(Contact, SignedSideIsRecordedAtEntryAndKeptWhileTracked) {
 
   auto u = two_sheets(contact("self_vertex_face", "unsigned", "analytic", false), 0.008);
   begin(*u);
-  Effect& eu = *u->simulation.effects[0];
+  ContactEffect& eu = contact_of(u->simulation.effects[0]);
   EXPECT_NEAR(eu.evaluate(below, nullptr, nullptr), eu.evaluate(above, nullptr, nullptr),
               1e-9 * eu.evaluate(above, nullptr, nullptr));
 }
@@ -290,7 +294,7 @@ TEST(Contact, SignedSideIsRecordedAtEntryAndKeptWhileTracked) {
 TEST(Contact, BarrierStepNeverReachesZeroDistance) {
   auto s = two_sheets(contact("self_vertex_face", "unsigned", "analytic", true, "log_barrier"), 0.008);
   begin(*s);
-  Effect& e = *s->simulation.effects[0];
+  ContactEffect& e = contact_of(s->simulation.effects[0]);
   const Eigen::Matrix3Xd x = s->simulation.x;
   const Eigen::Matrix3Xd dx = lift_b(x, -0.05) - x;  // straight through the other sheet
   const double t = e.max_step(x, dx);
@@ -318,7 +322,7 @@ TEST(Contact, DeclaresExactlyThePairsActiveAtTheIterate) {
     SCOPED_TRACE(std::string(type) + " " + length + (closest ? " closest" : " plane"));
     auto s = two_sheets(contact(type, length, "analytic", closest), 0.008);
     begin(*s);
-    Effect& e = *s->simulation.effects[0];
+    ContactEffect& e = contact_of(s->simulation.effects[0]);
     Eigen::Matrix3Xd x = s->simulation.x;
     for (Eigen::Index i = 0; i < x.cols(); ++i) x(2, i) += 1e-3 * std::sin(1.7 * static_cast<double>(i));
     const std::string kind = std::string(type) == "self_vertex_face" ? "vertex_face" : "edge_edge";
@@ -430,7 +434,7 @@ TEST(Contact, StepKeepsEveryCandidateATenthOfItsDistanceAlongTheWholeStep) {
       SCOPED_TRACE(std::string(type) + " seed " + std::to_string(seed));
       auto s = two_sheets(contact(type, "unsigned", "analytic", true), 0.004);
       begin(*s);
-      Effect& e = *s->simulation.effects[0];
+      ContactEffect& e = contact_of(s->simulation.effects[0]);
       const Eigen::Matrix3Xd x = s->simulation.x;
       const Eigen::Matrix3Xd dx = closing_motion(x, seed + 100);
       const double t = e.max_step(x, dx);
@@ -477,7 +481,7 @@ TEST(Contact, StepBoundFollowsASlidingPairToTheEndOfTheStep) {
   // goes on to the whole step.
   auto s = two_sheets(contact("self_vertex_face", "unsigned", "analytic", true), 0.008);
   begin(*s);
-  Effect& e = *s->simulation.effects[0];
+  ContactEffect& e = contact_of(s->simulation.effects[0]);
   const Eigen::Matrix3Xd x = s->simulation.x;
   const Eigen::Index half = x.cols() / 2;
   Eigen::Matrix3Xd dx = Eigen::Matrix3Xd::Zero(3, x.cols());
@@ -490,7 +494,7 @@ TEST(Contact, StepBoundIgnoresACommonTranslation) {
   // step is not limited; moving only one sheet the same way is.
   auto s = two_sheets(contact("self_vertex_face", "unsigned", "analytic", true), 0.008);
   begin(*s);
-  Effect& e = *s->simulation.effects[0];
+  ContactEffect& e = contact_of(s->simulation.effects[0]);
   const Eigen::Matrix3Xd x = s->simulation.x;
   Eigen::Matrix3Xd dx = Eigen::Matrix3Xd::Zero(3, x.cols());
   dx.row(2).setConstant(-0.5);
@@ -507,7 +511,7 @@ TEST(Contact, StepNeverCarriesAVertexThroughAFaceThatWasNotACandidate) {
     SCOPED_TRACE(type);
     auto s = two_sheets(contact(type, "unsigned", "analytic", true), 0.1);
     begin(*s);
-    Effect& e = *s->simulation.effects[0];
+    ContactEffect& e = contact_of(s->simulation.effects[0]);
     const Eigen::Matrix3Xd x = s->simulation.x;
     const Eigen::Matrix3Xd dx = lift_b(x, -0.2) - x;  // (the candidates are pairs within one sheet)
     const double t = e.max_step(x, dx);
@@ -517,9 +521,9 @@ TEST(Contact, StepNeverCarriesAVertexThroughAFaceThatWasNotACandidate) {
     // is taken whole (a sheet falling away from the others is not held back)
     auto far = two_sheets(contact(type, "unsigned", "analytic", true), 0.5);
     begin(*far);
-    EXPECT_EQ(
-        far->simulation.effects[0]->max_step(far->simulation.x, lift_b(far->simulation.x, -0.2) - far->simulation.x),
-        1.0);
+    EXPECT_EQ(contact_of(far->simulation.effects[0])
+                  .max_step(far->simulation.x, lift_b(far->simulation.x, -0.2) - far->simulation.x),
+              1.0);
   }
 }
 
@@ -533,7 +537,7 @@ TEST(Contact, LandingSheetIsCoveredByOneQueryOverItsSweep) {
   for (const char* type : {"self_vertex_face", "self_edge_edge"}) {
     SCOPED_TRACE(type);
     auto s = two_sheets(contact(type, "unsigned", "analytic", true), 0.1);
-    Effect& e = *s->simulation.effects[0];
+    ContactEffect& e = contact_of(s->simulation.effects[0]);
     const Eigen::Matrix3Xd x = s->simulation.x;
     const double dt = 0.01;
     Eigen::Matrix3Xd v = (lift_b(x, -0.09) - x) / dt;
@@ -569,7 +573,7 @@ TEST(Contact, StepBeyondTheSetIsCoveredByAQueryOverIt) {
     SCOPED_TRACE(type);
     auto s = two_sheets(contact(type, "unsigned", "analytic", true), 0.008);
     begin(*s);
-    Effect& e = *s->simulation.effects[0];
+    ContactEffect& e = contact_of(s->simulation.effects[0]);
     const Eigen::Matrix3Xd x = s->simulation.x;
     Eigen::Matrix3Xd dx = Eigen::Matrix3Xd::Zero(3, x.cols());
     dx.block(0, x.cols() / 2, 1, x.cols() / 2).setConstant(0.05);
@@ -594,7 +598,7 @@ TEST(Contact, SetStillValidAtTheNextStepIsKeptWithoutAQuery) {
   for (const char* type : {"self_vertex_face", "self_edge_edge"}) {
     SCOPED_TRACE(type);
     auto s = two_sheets(contact(type, "unsigned", "analytic", true), 0.008);
-    Effect& e = *s->simulation.effects[0];
+    ContactEffect& e = contact_of(s->simulation.effects[0]);
     const auto queries = [&e] { return queries_of(e); };
     begin(*s);
     EXPECT_EQ(queries(), 1.0);
@@ -611,7 +615,7 @@ TEST(Contact, SavedStateCarriesTheQueryAndRefusesACorruptOne) {
   // without the query part (as older checkpoints wrote) loads and makes the next step query;
   // a corrupt header or a non-finite position is refused, naming what is wrong.
   auto s = two_sheets(contact("self_vertex_face", "unsigned", "analytic", true), 0.008);
-  Effect& e = *s->simulation.effects[0];
+  ContactEffect& e = contact_of(s->simulation.effects[0]);
   begin(*s);
   const std::string state = e.save_state();
   const std::size_t n = static_cast<std::size_t>(s->simulation.x.cols());
@@ -671,7 +675,7 @@ TEST(Contact, StepBoundEqualsTheBoundOverEveryCandidate) {
       SCOPED_TRACE(std::string(type) + " seed " + std::to_string(seed));
       auto s = two_sheets(contact(type, "unsigned", "analytic", true), 0.004);  // ccd on by default
       begin(*s);                                                                // queried at the scene's positions
-      Effect& e = *s->simulation.effects[0];
+      ContactEffect& e = contact_of(s->simulation.effects[0]);
       const Eigen::Matrix3Xd x = s->simulation.x;
       const Eigen::Matrix3Xd dx = closing_motion(x, seed);  // different pairs bind from seed to seed
       const Candidates c = brute_force_candidates(x, s->simulation.model.triangles, s->simulation.model.edges, 0.03);

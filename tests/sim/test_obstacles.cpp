@@ -9,6 +9,7 @@
 // input names its JSON path.
 #include "scene/effect_loaders.hpp"
 
+#include <pce/sim/contact_effect.hpp>
 #include <pce/sim/fcl_distance.hpp>
 #include <pce/sim/obstacle.hpp>
 
@@ -257,7 +258,7 @@ Scene contact_scene(const std::string& penalty_type) {
   return s;
 }
 
-std::unique_ptr<pce::sim::Effect> build(const Scene& s, double time) {
+std::unique_ptr<pce::sim::ContactEffect> build(const Scene& s, double time) {
   pce::sim::BuildContext ctx;
   ctx.model = &s.model;
   ctx.obstacles = &s.obstacles;
@@ -271,7 +272,7 @@ std::unique_ptr<pce::sim::Effect> build(const Scene& s, double time) {
   step.model = &s.model;
   step.x_start = &s.model.rest;
   effect->begin_step(step);
-  return effect;
+  return std::unique_ptr<pce::sim::ContactEffect>(pce::sim::as_contact(effect.release()));
 }
 
 Eigen::MatrixXd dense_hessian(pce::sim::Effect& e, const Eigen::Matrix3Xd& x) {

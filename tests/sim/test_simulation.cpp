@@ -50,8 +50,8 @@ TEST(Simulation, FreeFallIsBackwardEulerExactly) {
 /// Armijo test rejects it. The direction's residual is h|k|/ℓ, chosen by k.
 class RejectedDirection final : public Effect {
  public:
-  RejectedDirection(const Model& model, const Eigen::Vector3d& k) : mass_(model.mass), k_(k) {}
-  const char* name() const override { return "rejected_direction"; }
+  RejectedDirection(const Model& model, const Eigen::Vector3d& k)
+      : Effect("rejected_direction"), mass_(model.mass), k_(k) {}
   void declare(Pattern&) const override {}
   double evaluate(const Eigen::Matrix3Xd&, Eigen::Matrix3Xd* gradient, BlockHessian*) override {
     if (gradient)
@@ -155,8 +155,7 @@ namespace {
 /// An energy that is fine until `bad_frame`, then gives a NaN gradient at `vertex`.
 class BreaksAtFrame final : public Effect {
  public:
-  BreaksAtFrame(int bad_frame, int vertex) : bad_frame_(bad_frame), vertex_(vertex) {}
-  const char* name() const override { return "breaks_at_frame"; }
+  BreaksAtFrame(int bad_frame, int vertex) : Effect("breaks_at_frame"), bad_frame_(bad_frame), vertex_(vertex) {}
   void begin_step(const StepContext& ctx) override { frame_ = ctx.frame; }
   void declare(Pattern& /*pattern*/) const override {}
   double evaluate(const Eigen::Matrix3Xd& /*x*/, Eigen::Matrix3Xd* gradient, BlockHessian* /*hessian*/) override {

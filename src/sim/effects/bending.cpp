@@ -74,8 +74,7 @@ inline double angle_difference(double theta, double theta0) {
 
 class Bending final : public Effect {
  public:
-  explicit Bending(std::vector<Hinge> hinges) : hinges_(std::move(hinges)) {}
-  const char* name() const override { return "bending"; }
+  explicit Bending(std::vector<Hinge> hinges) : Effect("bending"), hinges_(std::move(hinges)) {}
   void declare(Pattern& pattern) const override {
     for (const Hinge& h : hinges_) pattern.add(h.v);
   }

@@ -13,8 +13,7 @@ namespace {
 
 class Damping final : public Effect {
  public:
-  Damping(const Model& model, double c) : model_(&model), c_(c), x_start_(model.rest) {}
-  const char* name() const override { return "damping"; }
+  Damping(const Model& model, double c) : Effect("damping"), model_(&model), c_(c), x_start_(model.rest) {}
   void begin_step(const StepContext& ctx) override {
     if (ctx.x_start) x_start_ = *ctx.x_start;  // same size: no allocation
     if (ctx.dt > 0) h_ = ctx.dt;
@@ -33,6 +32,17 @@ class Damping final : public Effect {
       if (hessian) hessian->add_block(static_cast<int>(i), static_cast<int>(i), s * m[i] * Eigen::Matrix3d::Identity());
     }
     return energy;
+  }
+  /// ∇ᵢE and ∇²ᵢᵢE of the listed vertices.
+  void evaluate_local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices, LocalTerms& terms) override {
+    if (c_ == 0) return;
+    const double s = c_ / h_;
+    for (std::size_t j = 0; j < vertices.size(); ++j) {
+      const int i = vertices[j];
+      const double w = s * model_->mass[i];
+      terms.gradient.col(static_cast<Eigen::Index>(j)) += w * (x.col(i) - x_start_.col(i));
+      terms.hessian[j] += w * Eigen::Matrix3d::Identity();
+    }
   }
 
  private:

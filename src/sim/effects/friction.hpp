@@ -9,6 +9,7 @@
 
 #include <pce/friction/lagged_friction.hpp>
 #include <pce/sim/block_hessian.hpp>
+#include <pce/sim/contact_effect.hpp>
 #include <pce/sim/effects.hpp>
 
 #include <array>

@@ -10,8 +10,7 @@ namespace {
 
 class Gravity final : public Effect {
  public:
-  Gravity(const Model& model, const Eigen::Vector3d& g) : model_(&model), g_(g) {}
-  const char* name() const override { return "gravity"; }
+  Gravity(const Model& model, const Eigen::Vector3d& g) : Effect("gravity"), model_(&model), g_(g) {}
   void declare(Pattern& /*pattern*/) const override {}
   /// E = −Σᵢ mᵢ g·xᵢ, ∇ᵢE = −mᵢ g.
   double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* /*hessian*/) override {
@@ -19,6 +18,11 @@ class Gravity final : public Effect {
     const double energy = -(g_.transpose() * x * m)(0);
     if (gradient) gradient->noalias() -= g_ * m.transpose();
     return energy;
+  }
+  /// ∇ᵢE = −mᵢ g; no Hessian.
+  void evaluate_local(const Eigen::Matrix3Xd& /*x*/, const std::vector<int>& vertices, LocalTerms& terms) override {
+    for (std::size_t j = 0; j < vertices.size(); ++j)
+      terms.gradient.col(static_cast<Eigen::Index>(j)) -= model_->mass[vertices[j]] * g_;
   }
 
  private:

@@ -35,9 +35,12 @@
 /// Culling: a vertex is skipped for obstacle k when |xᵢ − cₖ| − Rₖ ≥ activation distance,
 /// with cₖ the obstacle's origin and Rₖ the radius of a sphere about it that bounds the
 /// shape (d ≥ |xᵢ − cₖ| − Rₖ for every shape).
-#include "friction.hpp"
-#include "penalty_spec.hpp"
+#include "effects/contact/ordered_chunks.hpp"
+#include "effects/friction.hpp"
+#include "effects/penalty_spec.hpp"
 #include "util/stopwatch.hpp"
+
+#include <pce/sim/contact_effect.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -67,11 +70,12 @@ double bounding_radius(const Obstacle& o) {
   return std::numeric_limits<double>::infinity();
 }
 
-class ObstacleContact final : public Effect {
+class ObstacleContact final : public ContactEffect {
  public:
   ObstacleContact(const ObstacleContactSettings& settings, std::vector<Obstacle> obstacles, Eigen::VectorXd areas,
                   std::vector<char> surface)
-      : spec_(settings.penalty),
+      : ContactEffect("obstacle_contact"),
+        penalty_(settings.penalty),
         friction_(settings.friction),
         obstacles_(std::move(obstacles)),
         areas_(std::move(areas)),
@@ -83,8 +87,6 @@ class ObstacleContact final : public Effect {
     start_poses_ = poses_;
   }
 
-  const char* name() const override { return "obstacle_contact"; }
-
   void begin_step(const StepContext& ctx) override {
     for (std::size_t k = 0; k < obstacles_.size(); ++k) {
       poses_[k] = obstacles_[k].pose(ctx.time);
@@ -94,7 +96,7 @@ class ObstacleContact final : public Effect {
     const auto t0 = Clock::now();
     friction_stats_ = {};
     x_start_ = ctx.x_start;
-    eps_ = friction_->slip_velocity * ctx.dt;
+    slip_ = friction_->slip_velocity * ctx.dt;
     rounds_ = 1;
     freeze(*ctx.x_start, true);
     friction_stats_.ms += ms_since(t0);
@@ -113,20 +115,9 @@ class ObstacleContact final : public Effect {
   void declare(Pattern& /*pattern*/) const override {}
 
   double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) override {
-    gather(x);
-    if (blocked_) return std::numeric_limits<double>::infinity();
-    double energy = visit_penalty(spec_, [&](const auto& penalty) {
-      double energy = 0;
-      for (const Contact& c : contacts_) {
-        const PenaltyDerivatives<double> psi =
-            areas_.size() ? scaled(penalty, areas_[c.vertex]).evaluate(c.distance) : penalty.evaluate(c.distance);
-        energy += psi.value;
-        if (gradient) gradient->col(c.vertex) += psi.first * c.normal;
-        if (hessian && psi.second > 0)
-          hessian->add_block(c.vertex, c.vertex, psi.second * (c.normal * c.normal.transpose()));
-      }
-      return energy;
-    });
+    const bool blocked = visit_penalty(penalty_, [&](const auto& penalty) { return gather(x, penalty); });
+    if (blocked) return std::numeric_limits<double>::infinity();
+    double energy = contact::scatter(terms_, gradient, hessian);
     if (friction_) {
       const auto t0 = Clock::now();
       energy += add_friction(frozen_, x, *x_start_, gradient, hessian, friction_stats_.sticking);
@@ -136,24 +127,28 @@ class ObstacleContact final : public Effect {
   }
 
   double max_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) override {
-    if (!spec_.barrier()) return 1.0;
-    double t = 1.0;
-    for (Eigen::Index i = 0; i < x.cols(); ++i) {
-      if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;  // inside a volume
-      const double step = dx.col(i).norm();
-      if (!(step > 0)) continue;
-      const Eigen::Vector3d p = x.col(i);
-      for (std::size_t k = 0; k < obstacles_.size(); ++k) {
-        if ((p - poses_[k].translation()).norm() - radius_[k] > step) continue;  // d > |Δx|: t = 1 is safe
-        const double d = surface_distance(obstacles_[k], poses_[k], p).distance;
-        if (d > 0) t = std::min(t, 0.9 * d / step);  // d ≤ 0: already outside the domain, nothing to keep
+    if (!penalty_.barrier()) return 1.0;
+    return contact::min_over_chunks(x.cols(), kChunk, 1.0, [&](std::size_t, long begin, long end, double& t) {
+      for (long i = begin; i < end; ++i) {
+        if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;  // inside a volume
+        const double step = dx.col(i).norm();
+        if (!(step > 0)) continue;
+        const Eigen::Vector3d p = x.col(i);
+        for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+          if ((p - poses_[k].translation()).norm() - radius_[k] > step) continue;  // d > |Δx|: t = 1 is safe
+          const double d = surface_distance(obstacles_[k], poses_[k], p).distance;
+          if (d > 0) t = std::min(t, 0.9 * d / step);  // d ≤ 0: already outside the domain, nothing to keep
+        }
       }
-    }
-    return t;
+    });
   }
 
+  const std::vector<FrozenFriction>& frozen_friction() const override { return published_; }
+
   void report(EffectCounters& counters) const override {
-    counters[Counter::obstacle_contacts] = static_cast<double>(contacts_.size());
+    long contacts = 0;
+    terms_.for_each([&](const contact::PairTerm<1>&) { ++contacts; });
+    counters[Counter::obstacle_contacts] = static_cast<double>(contacts);
     counters[Counter::obstacle_min_distance] = min_distance_;
     if (friction_) {
       counters[Counter::obstacle_friction_contacts] = static_cast<double>(frozen_.size());
@@ -163,89 +158,115 @@ class ObstacleContact final : public Effect {
   }
 
  private:
-  struct Contact {
-    int vertex;
-    double distance;
-    Eigen::Vector3d normal;
-  };
+  /// Vertices per chunk of the parallel passes.
+  static constexpr long kChunk = 1024;
 
-  /// The active (vertex, obstacle) pairs at `x`, the minimum distance and whether a
-  /// barrier's domain is left.
-  void gather(const Eigen::Matrix3Xd& x) {
-    contacts_.clear();
-    blocked_ = false;
-    min_distance_ = std::numeric_limits<double>::max();
-    const double reach = spec_.distance;
-    for (Eigen::Index i = 0; i < x.cols(); ++i) {
-      if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;  // inside a volume
-      const Eigen::Vector3d p = x.col(i);
-      for (std::size_t k = 0; k < obstacles_.size(); ++k) {
-        const double bound = (p - poses_[k].translation()).norm() - radius_[k];
-        if (bound >= reach) {  // d ≥ bound ≥ reach: inactive
-          min_distance_ = std::min(min_distance_, bound);
-          continue;
+  /// The penalty of vertex i: the effect's, with its stiffness times the vertex's lumped
+  /// rest area when area weighted.
+  template <class Penalty> Penalty weighted(const Penalty& penalty, Eigen::Index i) const {
+    return areas_.size() ? scaled(penalty, areas_[i]) : penalty;
+  }
+
+  /// The active (vertex, obstacle) pairs at `x` with their terms (terms_, in vertex then
+  /// obstacle order) and the minimum distance; returns true when a barrier's domain is left
+  /// (a vertex at d ≤ 0).
+  template <class Penalty> bool gather(const Eigen::Matrix3Xd& x, const Penalty& penalty) {
+    const long n = x.cols();
+    const std::size_t chunks = contact::chunk_count(n, kChunk);
+    terms_.prepare(chunks);
+    chunk_min_.assign(chunks, std::numeric_limits<double>::max());
+    chunk_blocked_.assign(chunks, 0);
+    const double reach = penalty_.distance;
+    contact::for_each_chunk(n, kChunk, [&](std::size_t c, long begin, long end) {
+      terms_.clear(c);
+      for (long i = begin; i < end; ++i) {
+        if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;  // inside a volume
+        const Eigen::Vector3d p = x.col(i);
+        for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+          const double bound = (p - poses_[k].translation()).norm() - radius_[k];
+          if (bound >= reach) {  // d ≥ bound ≥ reach: inactive
+            chunk_min_[c] = std::min(chunk_min_[c], bound);
+            continue;
+          }
+          const SurfaceDistance s = surface_distance(obstacles_[k], poses_[k], p);
+          chunk_min_[c] = std::min(chunk_min_[c], s.distance);
+          if (!(s.distance < reach)) continue;
+          if (penalty_.barrier() && !(s.distance > 0)) chunk_blocked_[c] = 1;
+          const PenaltyDerivatives<double> psi = weighted(penalty, i).evaluate(s.distance);
+          contact::PairTerm<1> t;
+          t.k = i;
+          t.vertices = {static_cast<int>(i)};
+          t.energy = psi.value;
+          t.length = s.distance;
+          t.gradient = psi.first * s.normal;
+          terms_.terms[c].push_back(t);
+          if (psi.second > 0) terms_.blocks[c].push_back({t.vertices, psi.second * (s.normal * s.normal.transpose())});
         }
-        const SurfaceDistance s = surface_distance(obstacles_[k], poses_[k], p);
-        min_distance_ = std::min(min_distance_, s.distance);
-        if (!(s.distance < reach)) continue;
-        if (spec_.barrier() && !(s.distance > 0)) blocked_ = true;
-        contacts_.push_back({static_cast<int>(i), s.distance, s.normal});
       }
-    }
+    });
+    min_distance_ = *std::min_element(chunk_min_.begin(), chunk_min_.end());
+    return std::count(chunk_blocked_.begin(), chunk_blocked_.end(), char(1)) > 0;
   }
 
   /// Freezes the friction of every pair active at `x`, with the obstacles at their start
   /// poses (`at_start`) or their end poses: λ = −ψ′(d), the tangent basis of the normal, and
   /// the displacement over the step of the surface point nearest the vertex.
   void freeze(const Eigen::Matrix3Xd& x, bool at_start) {
-    frozen_.clear();
     const std::vector<Eigen::Isometry3d>& at = at_start ? start_poses_ : poses_;
     const std::vector<Eigen::Isometry3d>& other = at_start ? poses_ : start_poses_;
-    const double reach = spec_.distance;
-    visit_penalty(spec_, [&](const auto& penalty) {
-      for (Eigen::Index i = 0; i < x.cols(); ++i) {
-        if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;  // inside a volume
-        const Eigen::Vector3d p = x.col(i);
-        for (std::size_t k = 0; k < obstacles_.size(); ++k) {
-          if ((p - at[k].translation()).norm() - radius_[k] >= reach) continue;
-          const SurfaceDistance s = surface_distance(obstacles_[k], at[k], p);
-          if (!(s.distance < reach) || (spec_.barrier() && !(s.distance > 0))) continue;
-          const PenaltyDerivatives<double> psi =
-              areas_.size() ? scaled(penalty, areas_[i]).evaluate(s.distance) : penalty.evaluate(s.distance);
-          const double lambda = -psi.first;
-          if (!(lambda > 0) || !std::isfinite(lambda)) continue;
-          FrictionContact<1> c;
-          c.v = {static_cast<int>(i)};
-          c.f.weights << 1.0;
-          c.f.basis = tangent_basis<double>(s.normal);
-          const Eigen::Vector3d surface = p - s.distance * s.normal;
-          const Eigen::Vector3d moved = other[k] * (at[k].inverse() * surface);
-          c.f.offset = at_start ? Eigen::Vector3d(moved - surface) : Eigen::Vector3d(surface - moved);
-          c.f.mu_lambda = friction_->coefficient * lambda;
-          c.f.eps = eps_;
-          frozen_.push_back(c);
+    const double reach = penalty_.distance;
+    const long n = x.cols();
+    const std::size_t chunks = contact::chunk_count(n, kChunk);
+    if (parts_.size() < chunks) parts_.resize(chunks);
+    visit_penalty(penalty_, [&](const auto& penalty) {
+      contact::for_each_chunk(n, kChunk, [&](std::size_t c, long begin, long end) {
+        parts_[c].clear();
+        for (long i = begin; i < end; ++i) {
+          if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;  // inside a volume
+          const Eigen::Vector3d p = x.col(i);
+          for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+            if ((p - at[k].translation()).norm() - radius_[k] >= reach) continue;
+            const SurfaceDistance s = surface_distance(obstacles_[k], at[k], p);
+            if (!(s.distance < reach) || (penalty_.barrier() && !(s.distance > 0))) continue;
+            const double lambda = -weighted(penalty, i).evaluate(s.distance).first;
+            if (!(lambda > 0) || !std::isfinite(lambda)) continue;
+            FrictionContact<1> fc;
+            fc.v = {static_cast<int>(i)};
+            fc.f.weights << 1.0;
+            fc.f.basis = tangent_basis<double>(s.normal);
+            const Eigen::Vector3d surface = p - s.distance * s.normal;
+            const Eigen::Vector3d moved = other[k] * (at[k].inverse() * surface);
+            fc.f.offset = at_start ? Eigen::Vector3d(moved - surface) : Eigen::Vector3d(surface - moved);
+            fc.f.mu_lambda = friction_->coefficient * lambda;
+            fc.f.eps = slip_;
+            parts_[c].push_back(fc);
+          }
         }
-      }
+      });
     });
-    publish_friction(frozen_, frozen_friction_);
+    contact::join_chunks(parts_, chunks, frozen_);
+    publish_friction(frozen_, published_);
   }
 
-  ContactPenalty spec_;
+  ContactPenalty penalty_;
   std::optional<FrictionSettings> friction_;
   std::vector<Obstacle> obstacles_;
   Eigen::VectorXd areas_;      ///< per vertex, its lumped rest area (area weighting), else empty
   std::vector<char> surface_;  ///< per vertex, 0 inside a volume (no contact); empty: all take part
   std::vector<double> radius_;
-  std::vector<Eigen::Isometry3d> poses_;        ///< at the end of the step
-  std::vector<Eigen::Isometry3d> start_poses_;  ///< at its start (friction)
-  std::vector<FrictionContact<1>> frozen_;      ///< the step's frozen friction pairs
+  std::vector<Eigen::Isometry3d> poses_;                ///< at the end of the step
+  std::vector<Eigen::Isometry3d> start_poses_;          ///< at its start (friction)
+  std::vector<FrictionContact<1>> frozen_;              ///< the step's frozen friction pairs
+  std::vector<std::vector<FrictionContact<1>>> parts_;  ///< per chunk while freezing
+  std::vector<FrozenFriction> published_;               ///< frozen_ with μλ > 0, padded
   const Eigen::Matrix3Xd* x_start_ = nullptr;
-  double eps_ = 0;  ///< ε_v h
-  int rounds_ = 0;  ///< solves of this step with friction frozen so far
+  double slip_ = 0;  ///< ε_v h, the slip below which a contact sticks
+  int rounds_ = 0;   ///< solves of this step with friction frozen so far
   FrictionStats friction_stats_;
-  std::vector<Contact> contacts_;
+  contact::PairTerms<1> terms_;      ///< per chunk: the active pairs of the last evaluation
+  std::vector<double> chunk_min_;    ///< per chunk: its smallest distance (bound) of the last evaluation
+  std::vector<char> chunk_blocked_;  ///< per chunk: a barrier's domain was left
   double min_distance_ = std::numeric_limits<double>::max();
-  bool blocked_ = false;
 };
 
 /// Throws ArgumentError (field `obstacles[k].…`) unless `o` is a shape the distances handle.
@@ -286,14 +307,15 @@ void check_obstacle(const Obstacle& o, const std::string& at) {
 
 }  // namespace
 
-std::unique_ptr<Effect> make_obstacle_contact(const std::vector<Obstacle>& obstacles, const ContactPenalty& penalty) {
+std::unique_ptr<ContactEffect> make_obstacle_contact(const std::vector<Obstacle>& obstacles,
+                                                     const ContactPenalty& penalty) {
   ObstacleContactSettings settings;
   settings.penalty = penalty;
   return make_obstacle_contact(Model{}, obstacles, settings);  // unweighted: the model is not read
 }
 
-std::unique_ptr<Effect> make_obstacle_contact(const Model& model, const std::vector<Obstacle>& obstacles,
-                                              const ObstacleContactSettings& settings) {
+std::unique_ptr<ContactEffect> make_obstacle_contact(const Model& model, const std::vector<Obstacle>& obstacles,
+                                                     const ObstacleContactSettings& settings) {
   check_penalty(settings.penalty, "penalty.");
   check_friction(settings.friction);
   for (std::size_t k = 0; k < obstacles.size(); ++k)

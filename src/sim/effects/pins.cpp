@@ -32,14 +32,21 @@ struct Group {
 class Pins final : public Effect {
  public:
   Pins(const Model& model, std::vector<Group> groups, double k)
-      : model_(&model), groups_(std::move(groups)), k_(k), target_(model.rest) {}
-  const char* name() const override { return "pins"; }
+      : Effect("pins"),
+        model_(&model),
+        groups_(std::move(groups)),
+        k_(k),
+        target_(model.rest),
+        holds_(static_cast<std::size_t>(model.vertex_count()), 0) {
+    count_holds();
+  }
   void begin_step(const StepContext& ctx) override {
     for (Group& g : groups_) {
       g.active = g.release_frame == 0 || ctx.frame < g.release_frame;
       if (g.active && g.moving)
         for (int i : g.vertices) target_.col(i) = g.motion.apply(ctx.time, g.centre, model_->rest.col(i));
     }
+    count_holds();
   }
   void declare(Pattern& pattern) const override {
     for (const Group& g : groups_)
@@ -61,6 +68,16 @@ class Pins final : public Effect {
     }
     return energy;
   }
+  /// ∇ᵢE = c k (xᵢ − x̂ᵢ) and ∇²ᵢᵢE = c k I, c the active groups holding vertex i.
+  void evaluate_local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices, LocalTerms& terms) override {
+    for (std::size_t j = 0; j < vertices.size(); ++j) {
+      const int i = vertices[j];
+      const int c = holds_[static_cast<std::size_t>(i)];
+      if (c == 0) continue;
+      terms.gradient.col(static_cast<Eigen::Index>(j)) += c * k_ * (x.col(i) - target_.col(i));
+      terms.hessian[j] += c * k_ * Eigen::Matrix3d::Identity();
+    }
+  }
   void report(EffectCounters& counters) const override {
     double pinned = 0;
     for (const Group& g : groups_)
@@ -73,6 +90,15 @@ class Pins final : public Effect {
   std::vector<Group> groups_;
   double k_;
   Eigen::Matrix3Xd target_;  ///< x̂ per vertex (rest positions but for moving groups)
+  std::vector<int> holds_;   ///< per vertex: the active groups holding it
+
+  /// Counts, per vertex, the active groups holding it.
+  void count_holds() {
+    std::fill(holds_.begin(), holds_.end(), 0);
+    for (const Group& g : groups_)
+      if (g.active)
+        for (int i : g.vertices) ++holds_[static_cast<std::size_t>(i)];
+  }
 };
 
 }  // namespace

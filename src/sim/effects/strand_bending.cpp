@@ -45,8 +45,7 @@ inline double turning_angle(const Eigen::Vector3d& e1, const Eigen::Vector3d& e2
 
 class StrandBending final : public Effect {
  public:
-  explicit StrandBending(std::vector<Joint> joints) : joints_(std::move(joints)) {}
-  const char* name() const override { return "strand_bending"; }
+  explicit StrandBending(std::vector<Joint> joints) : Effect("strand_bending"), joints_(std::move(joints)) {}
   void declare(Pattern& pattern) const override {
     for (const Joint& j : joints_) pattern.add(j.v);
   }

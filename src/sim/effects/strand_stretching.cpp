@@ -26,8 +26,8 @@ struct Spring {
 
 class StrandStretching final : public Effect {
  public:
-  StrandStretching(std::vector<Spring> springs, double k) : springs_(std::move(springs)), k_(k) {}
-  const char* name() const override { return "strand_stretching"; }
+  StrandStretching(std::vector<Spring> springs, double k)
+      : Effect("strand_stretching"), springs_(std::move(springs)), k_(k) {}
   void declare(Pattern& pattern) const override {
     for (const Spring& s : springs_) pattern.add(s.v);
   }

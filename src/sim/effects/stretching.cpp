@@ -105,8 +105,7 @@ inline double arap_triangle(const Eigen::Matrix3d& X, const Matrix32& D, double 
 
 class Stretching final : public Effect {
  public:
-  explicit Stretching(std::vector<RestTriangle> triangles) : triangles_(std::move(triangles)) {}
-  const char* name() const override { return "stretching"; }
+  explicit Stretching(std::vector<RestTriangle> triangles) : Effect("stretching"), triangles_(std::move(triangles)) {}
   void declare(Pattern& pattern) const override {
     for (const RestTriangle& t : triangles_) pattern.add(t.v);
   }

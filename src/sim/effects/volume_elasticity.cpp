@@ -26,12 +26,10 @@ class VolumeElasticity final : public Effect {
  public:
   VolumeElasticity(const StableNeoHookean& material, VolumeProjection how, std::vector<std::array<int, 4>> tets,
                    std::vector<TetRest<double>> rests)
-      : material_(material), how_(how), tets_(std::move(tets)), rests_(std::move(rests)) {
+      : Effect("volume_elasticity"), material_(material), how_(how), tets_(std::move(tets)), rests_(std::move(rests)) {
     for (const auto& r : rests_) rest_volume_ += r.volume;
     volume_ = rest_volume_;
   }
-
-  const char* name() const override { return "volume_elasticity"; }
 
   void declare(Pattern& pattern) const override {
     for (const auto& t : tets_) pattern.add(t);

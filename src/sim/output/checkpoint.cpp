@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Checkpoint files (pce/sim/checkpoint.hpp).
 #include <pce/sim/checkpoint.hpp>
+#include <pce/sim/contact_effect.hpp>
 #include <pce/sim/input_error.hpp>
 
 #include <cmath>
@@ -17,6 +18,21 @@ namespace {
 
 constexpr char kMagic[8] = {'P', 'C', 'E', 'S', 'I', 'M', 'C', 'K'};
 constexpr std::uint32_t kByteOrderMark = 0x01020304;
+
+/// What `effect` carries from one step to the next: a contact effect's saved state, else nothing.
+std::string state_of(const Effect& effect) {
+  const auto* c = dynamic_cast<const ContactEffect*>(&effect);
+  return c ? c->save_state() : std::string();
+}
+
+/// Restores `state` (from state_of) into `effect`; throws std::invalid_argument when it does
+/// not fit.
+void restore_state(Effect& effect, const std::string& state) {
+  if (ContactEffect* c = as_contact(&effect))
+    c->load_state(state);
+  else if (!state.empty())
+    throw std::invalid_argument(std::string(effect.name()) + ": unexpected saved state");
+}
 
 template <class T> void put(std::string& out, const T& value) {
   out.append(reinterpret_cast<const char*>(&value), sizeof value);
@@ -102,7 +118,7 @@ void write_checkpoint(const std::filesystem::path& path, const Simulation& sim, 
   out.append(reinterpret_cast<const char*>(sim.v.data()), static_cast<std::size_t>(sim.v.size()) * sizeof(double));
   put(out, static_cast<std::uint32_t>(sim.effects.size()));
   for (const auto& e : sim.effects) {
-    const std::string name = e->name(), state = e->save_state();
+    const std::string name = e->name(), state = state_of(*e);
     put(out, static_cast<std::uint32_t>(name.size()));
     out += name;
     put(out, static_cast<std::uint64_t>(state.size()));
@@ -177,12 +193,12 @@ void read_checkpoint(const std::filesystem::path& path, Simulation& sim, std::ui
   }
   // Every effect checks its state before any is changed; then the simulation is restored.
   std::vector<std::string> previous;
-  for (const auto& e : sim.effects) previous.push_back(e->save_state());
+  for (const auto& e : sim.effects) previous.push_back(state_of(*e));
   std::size_t k = 0;
   try {
-    for (; k < sim.effects.size(); ++k) sim.effects[k]->load_state(states[k]);
+    for (; k < sim.effects.size(); ++k) restore_state(*sim.effects[k], states[k]);
   } catch (const std::invalid_argument& error) {
-    for (std::size_t j = 0; j < k; ++j) sim.effects[j]->load_state(previous[j]);
+    for (std::size_t j = 0; j < k; ++j) restore_state(*sim.effects[j], previous[j]);
     refuse(error.what());
   }
   sim.x = std::move(x);

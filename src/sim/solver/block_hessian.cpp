@@ -96,6 +96,18 @@ void BlockHessian::add_block(int i, int j, const Eigen::Matrix3d& B) {
   }
 }
 
+Eigen::Matrix3d BlockHessian::diagonal_block(int i) const {
+  const Eigen::Index o0 = offset(i, i);
+  const double* v = m_.valuePtr();
+  const Eigen::SparseMatrix<double>::StorageIndex* outer = m_.outerIndexPtr();
+  Eigen::Matrix3d B;
+  for (int c = 0; c < 3; ++c) {
+    const Eigen::Index o = o0 - outer[3 * i] + outer[3 * i + c];
+    for (int r = 0; r <= c; ++r) B(r, c) = B(c, r) = v[o + r];
+  }
+  return B;
+}
+
 void BlockHessian::add_diagonal(const Eigen::VectorXd& d) {
   for (int j = 0; j < n_; ++j) {
     const Eigen::Index o0 = offset(j, j);

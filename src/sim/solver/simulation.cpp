@@ -3,6 +3,7 @@
 #include "solver/linear_state.hpp"
 #include "util/stopwatch.hpp"
 
+#include <pce/sim/contact_effect.hpp>
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/simulation.hpp>
 
@@ -28,28 +29,6 @@ double Simulation::potential(const Eigen::Matrix3Xd& y, std::vector<double>* eff
     if (effect_ms) (*effect_ms)[k] += ms_since(t0);
   }
   return E;
-}
-
-double Simulation::friction_load(const Eigen::Matrix3Xd& y, const Eigen::Matrix3Xd& x_start,
-                                 const Eigen::Matrix3Xd& step) const {
-  double load = 0;
-  Eigen::Matrix<double, 12, 1> dx, ddx;
-  for (const auto& e : effects)
-    for (const FrozenFriction& c : e->frozen_friction()) {
-      for (int j = 0; j < 4; ++j) {
-        const int v = c.vertices[static_cast<std::size_t>(j)];
-        dx.segment<3>(3 * j) = y.col(v) - x_start.col(v);
-        ddx.segment<3>(3 * j) = step.col(v);
-      }
-      load = std::max(load, friction_model_force(c.friction, dx, ddx).norm() / c.friction.mu_lambda);
-    }
-  return load;
-}
-
-bool Simulation::has_friction() const {
-  for (const auto& e : effects)
-    if (!e->frozen_friction().empty()) return true;
-  return false;
 }
 
 const char* to_string(StopReason reason) {
@@ -140,7 +119,31 @@ struct Simulation::StepState {
   /// is accepted, cleared by a refresh (and by a trial that is not).
   bool evaluated_at_y = false;
   bool covered = false;  ///< a contact effect queried again over this iteration's step
+  /// The contact effects among the scene's (found once per step), with their indices.
+  std::vector<std::pair<std::size_t, ContactEffect*>> contacts;
 };
+
+double Simulation::friction_load(const StepState& s, const Eigen::Matrix3Xd& step) const {
+  const Eigen::Matrix3Xd &y = s.y, &x_start = s.x_start;
+  double load = 0;
+  Eigen::Matrix<double, 12, 1> dx, ddx;
+  for (const auto& [k, e] : s.contacts)
+    for (const FrozenFriction& c : e->frozen_friction()) {
+      for (int j = 0; j < 4; ++j) {
+        const int v = c.vertices[static_cast<std::size_t>(j)];
+        dx.segment<3>(3 * j) = y.col(v) - x_start.col(v);
+        ddx.segment<3>(3 * j) = step.col(v);
+      }
+      load = std::max(load, friction_model_force(c.friction, dx, ddx).norm() / c.friction.mu_lambda);
+    }
+  return load;
+}
+
+bool Simulation::has_friction(const StepState& s) const {
+  for (const auto& [k, e] : s.contacts)
+    if (!e->frozen_friction().empty()) return true;
+  return false;
+}
 
 FrameStats Simulation::step() {
   const auto t_frame = Clock::now();
@@ -186,6 +189,7 @@ void Simulation::predict(StepState& s) {
     const auto t0 = Clock::now();
     effects[k]->begin_step(ctx);
     s.effect_ms[k] += ms_since(t0);
+    if (ContactEffect* c = as_contact(effects[k].get())) s.contacts.emplace_back(k, c);
   }
   rebuild_pattern(s);
   s.y = s.x_start;
@@ -224,7 +228,7 @@ void Simulation::newton(StepState& s) {
     // (2μλ/(ε_v h)) holds over a slip of ε_v h only, so it makes a step small far from the
     // solution when the contact must slide (docs/simulation.md §5.2).
     const bool small_step = st.residual < solver.tolerance;
-    bool converged = small_step && !has_friction();
+    bool converged = small_step && !has_friction(s);
     s.covered = cover(s);
     const bool accepted = line_search(s, it, small_step, converged);
     if (trace)
@@ -265,9 +269,9 @@ void Simulation::assemble(StepState& s, int it) {
   const int n = s.n;
   const double h = solver.dt;
   bool changed_pattern = false;
-  for (std::size_t k = 0; k < effects.size(); ++k) {
+  for (const auto& [k, c] : s.contacts) {
     const auto tp = Clock::now();
-    changed_pattern = effects[k]->update_pattern(s.y) || changed_pattern;
+    changed_pattern = c->update_pattern(s.y) || changed_pattern;
     s.effect_ms[k] += ms_since(tp);
   }
   if (changed_pattern) rebuild_pattern(s);
@@ -311,15 +315,15 @@ void Simulation::solve_direction(StepState& s, int it) {
 /// at the same iteration); what each computes does not depend on it.
 bool Simulation::cover(StepState& s) {
   bool covered = false;
-  const long count = static_cast<long>(effects.size());
+  const long count = static_cast<long>(s.contacts.size());
   std::exception_ptr error;
 #pragma omp parallel for schedule(dynamic, 1) reduction(|| : covered) if (count > 1)
-  for (long k = 0; k < count; ++k) {
-    const auto uk = static_cast<std::size_t>(k);
+  for (long j = 0; j < count; ++j) {
+    const auto [k, c] = s.contacts[static_cast<std::size_t>(j)];
     try {
       const auto tc = Clock::now();
-      covered = effects[uk]->cover_step(s.y, s.dxm) || covered;
-      s.effect_ms[uk] += ms_since(tc);
+      covered = c->cover_step(s.y, s.dxm) || covered;
+      s.effect_ms[k] += ms_since(tc);
     } catch (...) {
 #pragma omp critical(pce_sim_cover_error)
       if (!error) error = std::current_exception();
@@ -338,7 +342,7 @@ bool Simulation::line_search(StepState& s, int it, bool small_step, bool& conver
   double alpha = 1.0;
   NewtonIteration record;
   record.residual = st.residual;
-  for (auto& e : effects)
+  for (const auto& [k, e] : s.contacts)
     if (const double t = e->max_step(s.y, s.dxm); t < alpha) {
       alpha = t;
       record.limited_by = e->name();
@@ -362,8 +366,8 @@ bool Simulation::line_search(StepState& s, int it, bool small_step, bool& conver
     const double E1 = potential(s.y1, &s.effect_ms);
     s.evaluated_at_y = false;
     if (std::isfinite(E1) && E1 <= s.E + 1e-4 * alpha * slope) {
-      if (small_step && has_friction()) {
-        record.friction_load = st.friction_load = friction_load(s.y, s.x_start, alpha * s.dxm);
+      if (small_step && has_friction(s)) {
+        record.friction_load = st.friction_load = friction_load(s, alpha * s.dxm);
         converged = st.friction_load <= 1 + kCoulombMargin;
       }
       s.y = s.y1;
@@ -383,10 +387,10 @@ bool Simulation::line_search(StepState& s, int it, bool small_step, bool& conver
 /// follows.
 void Simulation::refresh(StepState& s) {
   bool changed = false;
-  for (std::size_t k = 0; k < effects.size(); ++k)
-    if (!effects[k]->still_valid(s.y)) {
+  for (const auto& [k, c] : s.contacts)
+    if (!c->still_valid(s.y)) {
       const auto t0 = Clock::now();
-      effects[k]->refresh(s.y);
+      c->refresh(s.y);
       s.effect_ms[k] += ms_since(t0);
       changed = true;
       s.evaluated_at_y = false;
@@ -398,9 +402,9 @@ void Simulation::refresh(StepState& s) {
 /// do so; true when one did, and the step is solved again from y.
 bool Simulation::update_lagged(StepState& s) {
   bool again = false;
-  for (std::size_t k = 0; k < effects.size(); ++k) {
+  for (const auto& [k, c] : s.contacts) {
     const auto tl = Clock::now();
-    again = effects[k]->update_lagged(s.y) || again;
+    again = c->update_lagged(s.y) || again;
     s.effect_ms[k] += ms_since(tl);
   }
   if (!again) return false;

@@ -4,7 +4,7 @@
 /// broad-phase query over a sweep, the fold pairs, the validity of the set and its
 /// re-queries, and the per-pass filter that drops candidates which provably cannot be
 /// active. It knows nothing of energies: the effect classifies and evaluates the pairs
-/// (`effects/contact.cpp`).
+/// (`activity.hpp`, `pair_potential.hpp`).
 ///
 /// Validity: every pair that is not a candidate stays more than d apart while either of two
 /// conditions holds.
@@ -36,8 +36,6 @@
 #include <pce/sim/broad_phase.hpp>
 #include <pce/sim/instrumentation.hpp>
 
-#include <omp.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -62,18 +60,7 @@ template <bool VF> class CandidateSet {
 
   /// `distance` d, the activation distance; `bounded`: the effect bounds its steps
   /// (validity is then kept by step_limit, and re-queries wait until the limit binds).
-  CandidateSet(const Model& model, BroadPhaseKind kind, double distance, bool bounded)
-      : model_(&model),
-        broad_phase_(make_broad_phase(kind)),
-        distance_(distance),
-        margin_(0.5 * distance),
-        bounded_(bounded) {
-    mesh_of_.resize(static_cast<std::size_t>(model.vertex_count()));
-    for (std::size_t m = 0; m < model.meshes.size(); ++m)
-      for (int i = 0; i < model.meshes[m].vertex_count; ++i)
-        mesh_of_[static_cast<std::size_t>(model.meshes[m].first_vertex + i)] = static_cast<int>(m);
-    find_fold_pairs();
-  }
+  CandidateSet(const Model& model, BroadPhaseKind kind, double distance, bool bounded);
 
   /// Fold pairs are active below this fraction of their rest distance (and below d).
   static constexpr double kFoldReach = 0.5;
@@ -93,14 +80,7 @@ template <bool VF> class CandidateSet {
   /// the sweep x0 → x1 (the effect sweeps from xⁿ to the inertial prediction), after which
   /// `previous[k]` is the index the new candidate k had before, or −1. Returns true when it
   /// queried.
-  bool begin_step(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, std::vector<long>& previous) {
-    stats_ = {};
-    target_.resize(3, 0);
-    if (bounded_ && has_query(x0) && still_valid(x0)) return false;
-    validity_bound_ = false;
-    query(x0, x1, previous);
-    return true;
-  }
+  bool begin_step(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, std::vector<long>& previous);
 
   /// A query for this many vertices has been made (or restored), with its bounds.
   bool has_query(const Eigen::Matrix3Xd& x) const {
@@ -108,46 +88,23 @@ template <bool VF> class CandidateSet {
   }
 
   /// Whether the set still covers every pair within d at x (see the file comment).
-  bool still_valid(const Eigen::Matrix3Xd& x) const {
-    if (validity_bound_) return false;
-    const double limit = bounded_ ? 1.0 : 0.5;
-    return sweep_use(x) <= limit || validity_use(mesh_drift(x - query_at_), nullptr) <= limit;
-  }
+  bool still_valid(const Eigen::Matrix3Xd& x) const;
 
   /// Queries again at x, over the sweep to the last step's Newton target.
-  void refresh(const Eigen::Matrix3Xd& x, std::vector<long>& previous) {
-    const Eigen::Matrix3Xd to = target_.cols() == x.cols() ? target_ : x;
-    validity_bound_ = false;
-    query(x, to, previous);
-  }
+  void refresh(const Eigen::Matrix3Xd& x, std::vector<long>& previous);
 
   /// Before a step: when the set does not stay valid along the whole step x → x + dx (a
   /// step_limit below 1), queries again over the sweep x → x + c dx, c = min(1, `reach` /
   /// max|dxᵢ|) (a step that moves a vertex by more than `reach` is covered only that far), so
   /// the step is not cut short for the set's sake. Returns true when it queried (then
   /// `previous` maps the new candidates to the former ones). Only with a step bound.
-  bool cover(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, double reach, std::vector<long>& previous) {
-    if (!bounded_ || valid_fraction(x, dx, mesh_drift(dx)) >= 1) return false;
-    const double largest = dx.colwise().norm().maxCoeff();
-    const double c = largest > reach ? reach / largest : 1.0;
-    validity_bound_ = false;
-    query(x, x + c * dx, previous);
-    return true;
-  }
+  bool cover(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, double reach, std::vector<long>& previous);
 
   /// The largest t ∈ [0, 1] for which x + t dx keeps the set valid (the larger of the two
   /// conditions' limits, each where it holds at x); measures the drift (as measure_drift)
   /// and the step's reach (step_reach) for the step filter, and keeps x + dx as the target of
   /// a re-query.
-  double step_limit(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) {
-    const MeshDrift step = mesh_drift(dx);
-    const double t_valid = valid_fraction(x, dx, step);
-    target_ = x + dx;
-    measure_drift(x);
-    step_reach_ = step_reach(step);
-    spreads(dx, step_first_, step_second_);
-    return t_valid;
-  }
+  double step_limit(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx);
 
   /// Records the step limit's outcome: `t_valid` from step_limit, `t` the limit the effect
   /// returned; when the validity limit was the one that bound, the next still_valid says no.
@@ -157,16 +114,7 @@ template <bool VF> class CandidateSet {
   /// x − query point: no pair of meshes A, B has moved relatively by more since the query,
   /// so a candidate's distance at x is at least its bound at the query minus this. Called
   /// once per pass, before the pair loop.
-  void measure_drift(const Eigen::Matrix3Xd& x) {
-    drift_ = x - query_at_;
-    spreads(drift_, drift_first_, drift_second_);
-    rounding_ = 64 * std::numeric_limits<double>::epsilon() * x.cwiseAbs().maxCoeff();
-    const MeshDrift m = mesh_drift(drift_);
-    const std::size_t M = m.s.size();
-    drift_rel_.assign(M * M, 0.0);
-    for (std::size_t a = 0; a < M; ++a)
-      for (std::size_t b = a; b < M; ++b) drift_rel_[a * M + b] = relative(m, a, b);
-  }
+  void measure_drift(const Eigen::Matrix3Xd& x);
 
   /// The largest drift of the pair's vertices relative to each other since the query: max
   /// over i of the first primitive and j of the second of |Dᵢ − Dⱼ| (D = x − query point of
@@ -256,24 +204,12 @@ template <bool VF> class CandidateSet {
 
   /// Replaces the candidates with `pairs` (sorted; a checkpoint's), the fold pairs marked;
   /// the filter waits for the next query's bounds.
-  void restore(std::vector<Pair> pairs) {
-    pairs_ = std::move(pairs);
-    mark_fold_pairs();
-    query_lb_.clear();
-    query_at_.resize(3, 0);
-    validity_bound_ = false;
-  }
+  void restore(std::vector<Pair> pairs);
 
   /// restore, and the query these pairs came from (a checkpoint's: its sweep `at` → `to` and
   /// whether the last step's validity limit bound), so the next begin_step decides as it
   /// would have in the uninterrupted run; the bounds are those of a fresh query at `at`.
-  void restore(std::vector<Pair> pairs, const Eigen::Matrix3Xd& at, const Eigen::Matrix3Xd& to, bool validity_bound) {
-    restore(std::move(pairs));
-    set_sweep(at, to);
-    former_lb_.clear();
-    bound_at_query(std::vector<long>(pairs_.size(), -1));
-    validity_bound_ = validity_bound;
-  }
+  void restore(std::vector<Pair> pairs, const Eigen::Matrix3Xd& at, const Eigen::Matrix3Xd& to, bool validity_bound);
 
   /// The last query's sweep (x0 → x1; no columns before the first query) and whether the
   /// last step's validity limit bound: what a checkpoint keeps (restore).
@@ -303,29 +239,7 @@ template <bool VF> class CandidateSet {
     double radius;
   };
   /// Per primitive of either side (vertices or edges, triangles or edges): its Spread under D.
-  void spreads(const Eigen::Matrix3Xd& D, std::vector<Spread>& first, std::vector<Spread>& second) const {
-    const auto of = [&D](const auto& indices, std::vector<Spread>& out) {
-      const Eigen::Index count = indices.cols();
-      out.resize(static_cast<std::size_t>(count));
-      for (Eigen::Index p = 0; p < count; ++p) {
-        Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-        for (Eigen::Index j = 0; j < indices.rows(); ++j) mean += D.col(indices(j, p));
-        mean /= static_cast<double>(indices.rows());
-        double radius = 0;
-        for (Eigen::Index j = 0; j < indices.rows(); ++j)
-          radius = std::max(radius, (D.col(indices(j, p)) - mean).norm());
-        out[static_cast<std::size_t>(p)] = {mean, radius};
-      }
-    };
-    if constexpr (VF) {
-      first.resize(static_cast<std::size_t>(D.cols()));
-      for (Eigen::Index i = 0; i < D.cols(); ++i) first[static_cast<std::size_t>(i)] = {D.col(i), 0.0};
-      of(model_->triangles, second);
-    } else {
-      of(model_->edges, first);
-      second.clear();  // the second primitive is an edge too: first's entries serve
-    }
-  }
+  void spreads(const Eigen::Matrix3Xd& D, std::vector<Spread>& first, std::vector<Spread>& second) const;
   double spread_bound(const std::vector<Spread>& first, const std::vector<Spread>& second, std::size_t k) const {
     if (first.empty()) return std::numeric_limits<double>::infinity();
     const Spread& a = first[static_cast<std::size_t>(pairs_[k][0])];
@@ -338,54 +252,21 @@ template <bool VF> class CandidateSet {
     std::vector<Eigen::Vector3d> c;
     std::vector<double> s;
   };
-  MeshDrift mesh_drift(const Eigen::Matrix3Xd& D) const {
-    MeshDrift m;
-    for (const MeshRange& r : model_->meshes) {
-      const auto block = D.middleCols(r.first_vertex, r.vertex_count);
-      const Eigen::Vector3d c = block.rowwise().mean();
-      m.c.push_back(c);
-      m.s.push_back((block.colwise() - c).colwise().norm().maxCoeff());
-    }
-    return m;
-  }
+  MeshDrift mesh_drift(const Eigen::Matrix3Xd& D) const;
   static double relative(const MeshDrift& m, std::size_t a, std::size_t b) {
     return a == b ? 2 * m.s[a] : m.s[a] + m.s[b] + (m.c[a] - m.c[b]).norm();
   }
   /// Per pair of meshes, W_AB = max(2 s_A, 2 s_B, rel_AB(step)): no two vertices of a pair of
   /// primitives in A and B move by more than W_AB relative to each other, so neither moves
   /// by more than W_AB relative to their mean p̄ (the step bound's ma, mb).
-  static std::vector<double> step_reach(const MeshDrift& step) {
-    const std::size_t M = step.s.size();
-    std::vector<double> w(M * M, 0.0);
-    for (std::size_t a = 0; a < M; ++a)
-      for (std::size_t b = a; b < M; ++b) w[a * M + b] = std::max({2 * step.s[a], 2 * step.s[b], relative(step, a, b)});
-    return w;
-  }
+  static std::vector<double> step_reach(const MeshDrift& step);
   /// max over mesh pairs of rel_AB(D)/budget_AB (≤ 1: condition B holds). With `step`, also
   /// lowers *t to the largest fraction of `step` that keeps every rel within its budget.
-  double validity_use(const MeshDrift& now, const MeshDrift* step, double* t = nullptr) const {
-    double use = 0;
-    const std::size_t M = now.s.size();
-    for (std::size_t a = 0; a < M; ++a)
-      for (std::size_t b = a; b < M; ++b) {
-        const double budget = std::max(margin_, gaps_[a * M + b] - distance_);
-        const double rel = relative(now, a, b);
-        use = std::max(use, rel / budget);
-        if (step && t) {
-          const double moving = relative(*step, a, b);
-          if (moving > 0) *t = std::min(*t, std::max(0.0, budget - rel) / moving);
-        }
-      }
-    return use;
-  }
+  double validity_use(const MeshDrift& now, const MeshDrift* step, double* t = nullptr) const;
 
   /// The largest t ∈ [0, 1] for which x + t dx keeps the set valid: the larger of the two
   /// conditions' limits, each where it holds at x (`step` = mesh_drift(dx)).
-  double valid_fraction(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, const MeshDrift& step) const {
-    double t_drift = 1.0;
-    const bool drift_valid = validity_use(mesh_drift(x - query_at_), &step, &t_drift) <= 1;
-    return std::max(drift_valid ? t_drift : 0.0, sweep_step(x, dx));
-  }
+  double valid_fraction(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, const MeshDrift& step) const;
 
   /// Half the margin, the room each vertex has beyond its swept box (condition A), less a
   /// relative 1e-6 for the rounding of positions and steps.
@@ -393,170 +274,40 @@ template <bool VF> class CandidateSet {
 
   /// max over vertices and axes of (how far xᵢ lies outside its swept box) / sweep_room():
   /// condition A holds while this is ≤ 1.
-  double sweep_use(const Eigen::Matrix3Xd& x) const {
-    const double outside = (sweep_lo_ - x).cwiseMax(x - sweep_hi_).maxCoeff();
-    return std::max(outside, 0.0) / sweep_room();
-  }
+  double sweep_use(const Eigen::Matrix3Xd& x) const;
 
   /// The largest t ∈ [0, 1] for which x + t dx keeps every vertex within sweep_room() of its
   /// swept box on every axis (condition A along the step); 0 when x itself does not.
-  double sweep_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) const {
-    if (sweep_use(x) > 1) return 0.0;
-    const double room = sweep_room();
-    double t = 1.0;
-    for (Eigen::Index i = 0; i < x.cols(); ++i)
-      for (int c = 0; c < 3; ++c) {
-        const double d = dx(c, i);
-        if (d > 0)
-          t = std::min(t, (sweep_hi_(c, i) + room - x(c, i)) / d);
-        else if (d < 0)
-          t = std::min(t, (sweep_lo_(c, i) - room - x(c, i)) / d);
-      }
-    return std::max(t, 0.0);
-  }
+  double sweep_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) const;
 
   /// The query over the sweep x0 → x1 (x0 = x1: at one state): the candidates, each vertex's
   /// swept box (condition A), the gaps between the meshes' boxes at x0 (condition B), and
   /// every candidate's distance bound at x0 (the filter).
-  void query(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, std::vector<long>& previous) {
-    const auto t0 = Clock::now();
-    // The former query point and bounds: a pair that stays a candidate keeps its bound,
-    // less how far it moved since (bound_at_query).
-    if (query_lb_.size() == pairs_.size() && query_at_.cols() == x0.cols()) {
-      former_lb_.swap(query_lb_);
-      moved_ = x0 - query_at_;
-      rounding_ = 64 * std::numeric_limits<double>::epsilon() *
-                  std::max(x0.cwiseAbs().maxCoeff(), query_at_.cwiseAbs().maxCoeff());
-    } else {
-      former_lb_.clear();
-    }
-    set_sweep(x0, x1);
-    std::vector<Pair> fresh;
-    const auto t_tree = Clock::now();
-    const double r = distance_ + margin_;
-    if constexpr (VF) {
-      broad_phase_->vertex_face(query_at_, query_to_, model_->triangles, r, fresh);
-      drop_interior_vertices(fresh);
-    } else {
-      broad_phase_->edge_edge(query_at_, query_to_, model_->edges, r, fresh);
-    }
-    stats_.tree_ms += ms_since(t_tree);
-    // Both lists are sorted: one merge pass finds where each fresh pair was.
-    previous.assign(fresh.size(), -1);
-    std::size_t old = 0;
-    for (std::size_t k = 0; k < fresh.size(); ++k) {
-      while (old < pairs_.size() && pairs_[old] < fresh[k]) ++old;
-      if (old < pairs_.size() && pairs_[old] == fresh[k]) previous[k] = static_cast<long>(old);
-    }
-    pairs_ = std::move(fresh);
-    mark_fold_pairs();
-    bound_at_query(previous);
-    stats_.queries += 1;
-    ++instrumentation().broad_phase_queries;
-    stats_.broad_phase_ms += ms_since(t0);
-  }
+  void query(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, std::vector<long>& previous);
 
   /// Removes the (vertex, triangle) pairs whose vertex lies inside a volume
   /// (`Model::surface_vertex`): only a volume's surface takes part in contact. Keeps the
   /// order (the broad phase's lists are sorted).
-  void drop_interior_vertices(std::vector<Pair>& pairs) const {
-    if (model_->surface_vertex.empty()) return;
-    pairs.erase(
-        std::remove_if(pairs.begin(), pairs.end(), [&](const Pair& p) { return !model_->is_surface_vertex(p[0]); }),
-        pairs.end());
-  }
+  void drop_interior_vertices(std::vector<Pair>& pairs) const;
 
   /// The sweep of a query: its ends, each vertex's box over it (condition A) and the gaps
   /// between the meshes' boxes at x0 (condition B).
-  void set_sweep(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1) {
-    query_at_ = x0;
-    query_to_ = x1;
-    sweep_lo_ = x0.cwiseMin(x1);
-    sweep_hi_ = x0.cwiseMax(x1);
-    const std::size_t M = model_->meshes.size();
-    std::vector<Eigen::AlignedBox3d> boxes(M);
-    for (std::size_t a = 0; a < M; ++a) {
-      const MeshRange& r = model_->meshes[a];
-      const auto block = x0.middleCols(r.first_vertex, r.vertex_count);
-      boxes[a] = Eigen::AlignedBox3d(block.rowwise().minCoeff(), block.rowwise().maxCoeff());
-    }
-    gaps_.assign(M * M, 0.0);
-    for (std::size_t a = 0; a < M; ++a)
-      for (std::size_t b = a + 1; b < M; ++b) gaps_[a * M + b] = std::sqrt(boxes[a].squaredExteriorDistance(boxes[b]));
-  }
+  void set_sweep(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1);
 
   /// Per candidate, at the query point: the distance lower bound (box or spheres; for a pair
   /// that was a candidate before, at least its former bound less how far its vertices moved
   /// relative to each other since the former query and the rounding allowance) and the
   /// index a·M + b (a ≤ b) of its two primitives' meshes; what beyond and the step filter
   /// read.
-  void bound_at_query(const std::vector<long>& previous) {
-    const bool carry = !former_lb_.empty();
-    const long n = static_cast<long>(pairs_.size());
-    const int M = static_cast<int>(model_->meshes.size());
-    query_lb_.resize(pairs_.size());
-    mesh_pair_.resize(pairs_.size());
-#pragma omp parallel for schedule(static)
-    for (long k = 0; k < n; ++k) {
-      const auto uk = static_cast<std::size_t>(k);
-      const auto v = vertices(uk);
-      query_lb_[uk] = Geometry::distance_lower_bound(Geometry::gather(query_at_, v));
-      if (carry && previous[uk] >= 0) {
-        query_lb_[uk] = std::max(
-            query_lb_[uk], former_lb_[static_cast<std::size_t>(previous[uk])] - rounding_ - relative_motion(moved_, v));
-      }
-      const int a = mesh_of_[static_cast<std::size_t>(v[0])], b = mesh_of_[static_cast<std::size_t>(v[3])];
-      mesh_pair_[uk] = std::min(a, b) * M + std::max(a, b);
-    }
-  }
+  void bound_at_query(const std::vector<long>& previous);
 
   /// The same-mesh pairs whose primitives are closer than 2d in the rest shape (a sheet's
   /// neighbours one or two rings apart), sorted, with their reach min(d, kFoldReach · D₀):
   /// once per effect, by a rest-shape query of radius 2d filtered by the exact distance D₀.
-  void find_fold_pairs() {
-    const double r = 2 * distance_;
-    std::vector<Pair> rest_pairs;
-    if constexpr (VF) {
-      broad_phase_->vertex_face(model_->rest, model_->triangles, r, rest_pairs);
-      drop_interior_vertices(rest_pairs);
-    } else {
-      broad_phase_->edge_edge(model_->rest, model_->edges, r, rest_pairs);
-    }
-    const long n = static_cast<long>(rest_pairs.size());
-    std::vector<char> near(rest_pairs.size(), 0);
-    std::vector<double> rest_distance(rest_pairs.size(), 0.0);
-#pragma omp parallel for schedule(static)
-    for (long k = 0; k < n; ++k) {
-      const auto v = Geometry::vertices(*model_, rest_pairs[static_cast<std::size_t>(k)]);
-      if (mesh_of_[static_cast<std::size_t>(v[0])] != mesh_of_[static_cast<std::size_t>(v[3])]) continue;
-      const Vec12<double> rest = Geometry::gather(model_->rest, v);
-      if (Geometry::distance_lower_bound(rest) >= r) continue;
-      using Kind = std::conditional_t<VF, VertexFace, EdgeEdge>;
-      ClosestFeatureEnergy<double> ce;
-      const Status st = closest_feature_energy<Kind>(rest, UnsignedLength{}, QuadraticPenalty{1.0, 0.0}, ce);
-      near[static_cast<std::size_t>(k)] = st != Status::ok || ce.length < r;
-      rest_distance[static_cast<std::size_t>(k)] = st == Status::ok ? ce.length : 0.0;
-    }
-    folds_.clear();
-    fold_reaches_.clear();
-    for (std::size_t k = 0; k < rest_pairs.size(); ++k)
-      if (near[k]) {
-        folds_.push_back(rest_pairs[k]);
-        fold_reaches_.push_back(std::min(distance_, kFoldReach * rest_distance[k]));
-      }
-  }
+  void find_fold_pairs();
 
   /// fold_pair_[k]: candidate k is a fold pair, with its reach (one merge pass of two sorted lists).
-  void mark_fold_pairs() {
-    fold_pair_.assign(pairs_.size(), 0);
-    fold_reach_.assign(pairs_.size(), 0.0);
-    std::size_t j = 0;
-    for (std::size_t k = 0; k < pairs_.size(); ++k) {
-      while (j < folds_.size() && folds_[j] < pairs_[k]) ++j;
-      fold_pair_[k] = j < folds_.size() && folds_[j] == pairs_[k];
-      if (fold_pair_[k]) fold_reach_[k] = fold_reaches_[j];
-    }
-  }
+  void mark_fold_pairs();
 
   const Model* model_;
   std::unique_ptr<BroadPhase> broad_phase_;

@@ -71,6 +71,8 @@ class BlockHessian {
   /// Adds the 3×3 block `B` at vertex pair (i, j), i ≤ j (only the upper part of a
   /// diagonal block is stored).
   void add_block(int i, int j, const Eigen::Matrix3d& B);
+  /// The symmetric 3×3 diagonal block of vertex `i` (0 ≤ i < n).
+  Eigen::Matrix3d diagonal_block(int i) const;
   /// Adds `d` to the scalar diagonal (the mass term M/h²), length 3n.
   void add_diagonal(const Eigen::VectorXd& d);
   /// The assembled upper triangle.

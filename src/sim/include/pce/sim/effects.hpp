@@ -13,6 +13,7 @@
 
 #include <pce/energy/pair_energy.hpp>
 #include <pce/sim/broad_phase.hpp>
+#include <pce/sim/contact_effect.hpp>
 #include <pce/sim/effect.hpp>
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/model.hpp>
@@ -148,17 +149,18 @@ struct ContactSettings {
 /// with the activation distance min(d, half their rest distance), and every candidate is in
 /// the step bound. Needs triangles; the log barrier needs `closest_features`, which needs
 /// the unsigned length; d at most half the model's rest diagonal.
-std::unique_ptr<Effect> make_self_vertex_face(const Model& model, const ContactSettings& settings);
+std::unique_ptr<ContactEffect> make_self_vertex_face(const Model& model, const ContactSettings& settings);
 
 /// Edge-edge self contact: Σ ψ(L) over candidate pairs of the model's edges (triangle edges
 /// and strand segments). Needs two edges; the same settings rules as vertex-face.
-std::unique_ptr<Effect> make_self_edge_edge(const Model& model, const ContactSettings& settings);
+std::unique_ptr<ContactEffect> make_self_edge_edge(const Model& model, const ContactSettings& settings);
 
 /// Contact with kinematic obstacles: Σ ψ(d) over (vertex, obstacle) pairs, d the signed
 /// distance to the obstacle's surface (negative inside). The obstacles are copied; each
 /// must be a valid shape (sizes > 0, finite pose, a mesh with triangles). Frictionless and
 /// unweighted; the overload below takes every setting.
-std::unique_ptr<Effect> make_obstacle_contact(const std::vector<Obstacle>& obstacles, const ContactPenalty& penalty);
+std::unique_ptr<ContactEffect> make_obstacle_contact(const std::vector<Obstacle>& obstacles,
+                                                     const ContactPenalty& penalty);
 
 /// An obstacle-contact effect's settings (scene `obstacle_contact` object, but the list of
 /// obstacles).
@@ -175,7 +177,7 @@ struct ObstacleContactSettings {
 
 /// Contact with kinematic obstacles, as above, with area weighting and friction as
 /// `settings` says (`model`: the vertices' rest areas).
-std::unique_ptr<Effect> make_obstacle_contact(const Model& model, const std::vector<Obstacle>& obstacles,
-                                              const ObstacleContactSettings& settings);
+std::unique_ptr<ContactEffect> make_obstacle_contact(const Model& model, const std::vector<Obstacle>& obstacles,
+                                                     const ObstacleContactSettings& settings);
 
 }  // namespace pce::sim

@@ -175,12 +175,6 @@ class Simulation {
  private:
   [[noreturn]] void fail_non_finite(const Eigen::Matrix3Xd& y, int frame, const std::string& where);
   double potential(const Eigen::Matrix3Xd& y, std::vector<double>* effect_ms);
-  /// maxₖ |φₖ|/(μλ)ₖ over the frozen friction contacts: the friction force Newton's model
-  /// assigns to contact k after `step` from y (displacements from `x_start`), in units of its
-  /// Coulomb bound (`pce::friction_model_force`); 0 without friction.
-  double friction_load(const Eigen::Matrix3Xd& y, const Eigen::Matrix3Xd& x_start, const Eigen::Matrix3Xd& step) const;
-  /// Whether any effect froze a friction contact for this step.
-  bool has_friction() const;
   Eigen::VectorXd mass3_;  ///< per coordinate m/h²
   Eigen::Matrix3Xd x_tilde_;
   double scale_ = 1;
@@ -188,6 +182,12 @@ class Simulation {
   std::shared_ptr<LinearState> linear_;
   /// What one step carries from stage to stage (solver/simulation.cpp).
   struct StepState;
+  /// maxₖ |φₖ|/(μλ)ₖ over the contact effects' frozen friction contacts: the friction force
+  /// Newton's model assigns to contact k after `step` from the iterate (displacements from
+  /// xⁿ), in units of its Coulomb bound (`pce::friction_model_force`); 0 without friction.
+  double friction_load(const StepState& s, const Eigen::Matrix3Xd& step) const;
+  /// Whether any contact effect froze a friction contact for this step.
+  bool has_friction(const StepState& s) const;
   // The stages of `step`, in order (docs/simulation.md §5.2).
   void predict(StepState& s);
   void rebuild_pattern(StepState& s);
