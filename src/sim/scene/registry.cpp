@@ -26,10 +26,4 @@ const std::vector<RegisteredEffect>& effect_registry() {
   return registry;
 }
 
-std::vector<std::string> effect_names() {
-  std::vector<std::string> names;
-  for (const auto& e : effect_registry()) names.emplace_back(e.name);
-  return names;
-}
-
 }  // namespace pce::sim

@@ -55,7 +55,4 @@ std::unique_ptr<Scene> load_scene(const std::filesystem::path& file, const Scene
 std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::string& name,
                                        const std::filesystem::path& base, const SceneOverrides& overrides = {});
 
-/// The effect names a scene may use, in registry order.
-std::vector<std::string> effect_names();
-
 }  // namespace pce::sim
