@@ -28,7 +28,7 @@ template <class S, int N> LaggedFriction<S, N> cast(const LaggedFriction<double,
   g.basis = f.basis.template cast<S>();
   g.offset = f.offset.template cast<S>();
   g.mu_lambda = S(f.mu_lambda);
-  g.eps = S(f.eps);
+  g.static_slip = S(f.static_slip);
   return g;
 }
 
@@ -43,7 +43,7 @@ void check(const LaggedFriction<double, N>& f, const Eigen::Matrix<double, 3 * N
   const auto fh = cast<HP>(f);
   const V g = friction_gradient(f, dx);
   const Eigen::Matrix<double, 3 * N, 3 * N> H = friction_hessian(f, dx);
-  const long double h = 1e-7L * static_cast<long double>(f.eps);
+  const long double h = 1e-7L * static_cast<long double>(f.static_slip);
   const VL dxl = dx.template cast<long double>();
   const double gscale = f.mu_lambda * std::max(1.0, f.weights.cwiseAbs().maxCoeff());
   for (int i = 0; i < 3 * N; ++i) {
@@ -54,7 +54,7 @@ void check(const LaggedFriction<double, N>& f, const Eigen::Matrix<double, 3 * N
     EXPECT_NEAR(g[i], fd, 1e-7 * gscale) << "gradient " << i;
     const VL gfd = (friction_gradient(fl, p) - friction_gradient(fl, m)) / (2 * h);
     for (int j = 0; j < 3 * N; ++j)
-      EXPECT_NEAR(H(j, i), static_cast<double>(gfd[j]), 1e-6 * gscale / f.eps) << "hessian " << j << "," << i;
+      EXPECT_NEAR(H(j, i), static_cast<double>(gfd[j]), 1e-6 * gscale / f.static_slip) << "hessian " << j << "," << i;
   }
   // 50 digits.
   const Eigen::Matrix<HP, 3 * N, 1> dxh = dx.template cast<HP>();
@@ -70,7 +70,7 @@ void check(const LaggedFriction<double, N>& f, const Eigen::Matrix<double, 3 * N
   const Mat3<double> K = friction_tangent_block(f, dx);
   const Eigen::Vector2d u = friction_slip(f, dx);
   const double y = u.norm();
-  const FrictionMollifier<double> mol = friction_mollifier(y, f.eps);
+  const FrictionMollifier<double> mol = friction_mollifier(y, f.static_slip);
   EXPECT_LE((K * normal).norm(), 1e-12 * K.norm());
   if (y > 0) {
     const Vec3<double> along = f.basis * (u / y), across = normal.cross(along);
@@ -95,7 +95,7 @@ LaggedFriction<double, 4> frozen(const VecN<double, 4>& w, const Vec3<double>& n
   f.weights = w;
   f.basis = tangent_basis<double>(n);
   f.mu_lambda = 0.35;
-  f.eps = 1e-3;
+  f.static_slip = 1e-3;
   return f;
 }
 
@@ -154,7 +154,7 @@ TEST(LaggedFriction, PlaneKindsDerivativesAndWeights) {
     EXPECT_NEAR(w.sum(), 0.0, 1e-12);  // a common translation does not slip
     const auto f = frozen(w, n);
     SCOPED_TRACE(vf ? "vertex_face" : "edge_edge");
-    check<4>(f, displacement<4>(rng, f.eps, i / 2), n);
+    check<4>(f, displacement<4>(rng, f.static_slip, i / 2), n);
     ++checked[vf ? 0 : 1];
   }
   EXPECT_GE(checked[0], 25);
@@ -187,7 +187,7 @@ TEST(LaggedFriction, ClosestFeatureKindsDerivativesAndWeights) {
     ++seen[kind];
     const auto f = frozen(w, n);
     SCOPED_TRACE(kind);
-    check<4>(f, displacement<4>(rng, f.eps, seen[kind]), n);
+    check<4>(f, displacement<4>(rng, f.static_slip, seen[kind]), n);
   }
   for (int k = 0; k < 4; ++k) EXPECT_EQ(seen[k], 10) << "feature " << k;
 }
@@ -201,8 +201,8 @@ TEST(LaggedFriction, ASingleVertexOnAMovingSurface) {
     f.basis = tangent_basis<double>(n);
     f.offset = Vec3<double>(2e-3, -1e-3, 5e-4);  // the surface point's motion over the step
     f.mu_lambda = 0.02;
-    f.eps = 1e-3;
-    const Vec3<double> dx = f.offset + displacement<1>(rng, f.eps, i);
+    f.static_slip = 1e-3;
+    const Vec3<double> dx = f.offset + displacement<1>(rng, f.static_slip, i);
     check<1>(f, dx, n);
   }
   // Moving with the surface, along the normal or not at all relative to it: no slip, no force.
@@ -212,9 +212,9 @@ TEST(LaggedFriction, ASingleVertexOnAMovingSurface) {
   f.basis = tangent_basis<double>(n);
   f.offset = Vec3<double>(0.01, 0.02, 0);
   f.mu_lambda = 1;
-  f.eps = 1e-3;
+  f.static_slip = 1e-3;
   EXPECT_EQ(friction_gradient(f, Vec3<double>(0.01, 0.02, 0.3)).norm(), 0.0);
-  EXPECT_DOUBLE_EQ(friction_energy(f, Vec3<double>(0.01, 0.02, 0.3)), f.mu_lambda * f.eps / 3);
+  EXPECT_DOUBLE_EQ(friction_energy(f, Vec3<double>(0.01, 0.02, 0.3)), f.mu_lambda * f.static_slip / 3);
   // Sliding: Coulomb's force μλ, opposite the slip.
   const Vec3<double> g = friction_gradient(f, Vec3<double>(0.01 + 0.5, 0.02, 0));
   EXPECT_NEAR((g - Vec3<double>(1, 0, 0)).norm(), 0.0, 1e-15);
@@ -227,7 +227,8 @@ TEST(LaggedFriction, TheModelForceIsTheGradientPlusTheHessianTimesTheStep) {
   for (int i = 0; i < 30; ++i) {
     const LaggedFriction<double, 4> f =
         frozen(VecN<double, 4>(0.3, 0.7, -0.6, -0.4), Vec3<double>(0.2, 0.1, 1).normalized());
-    const VecN<double, 12> dx = displacement<4>(rng, f.eps, i), ddx = displacement<4>(rng, f.eps, i + 1);
+    const VecN<double, 12> dx = displacement<4>(rng, f.static_slip, i),
+                           ddx = displacement<4>(rng, f.static_slip, i + 1);
     const VecN<double, 12> model = friction_gradient(f, dx) + friction_hessian(f, dx) * ddx;
     Vec3<double> sum = Vec3<double>::Zero();
     for (int j = 0; j < 4; ++j) sum += f.weights[j] * model.segment<3>(3 * j);
@@ -242,14 +243,14 @@ TEST(LaggedFriction, TheModelForceIsTheGradientPlusTheHessianTimesTheStep) {
   f.weights << 1.0;
   f.basis = tangent_basis<double>(Vec3<double>(0, 0, 1));
   f.mu_lambda = 0.5;
-  f.eps = 2e-5;
+  f.static_slip = 2e-5;
   const Vec3<double> rest = Vec3<double>::Zero();
   for (const double s : {0.5, 0.9}) {
-    const Vec3<double> step = s * f.eps * (f.basis * Eigen::Vector2d(0.6, 0.8));
+    const Vec3<double> step = s * f.static_slip * (f.basis * Eigen::Vector2d(0.6, 0.8));
     EXPECT_NEAR(friction_model_force(f, rest, step).norm(), 2 * s * f.mu_lambda, 1e-14);
     EXPECT_NEAR(friction_gradient(f, step).norm(), (2 * s - s * s) * f.mu_lambda, 1e-14);
   }
   // Sliding (y > ε): only the direction turns, so a step along the slip keeps |φ| = μλ.
-  const Vec3<double> slid = 3 * f.eps * f.basis.col(0);
-  EXPECT_NEAR(friction_model_force(f, slid, Vec3<double>(f.eps * f.basis.col(0))).norm(), f.mu_lambda, 1e-15);
+  const Vec3<double> slid = 3 * f.static_slip * f.basis.col(0);
+  EXPECT_NEAR(friction_model_force(f, slid, Vec3<double>(f.static_slip * f.basis.col(0))).norm(), f.mu_lambda, 1e-15);
 }

@@ -6,24 +6,28 @@
 pce::sim is built in layers, each using only its own and those below (docs/conventions.md,
 "Layers of pce::sim"). Every public header of include/pce/sim belongs to one layer
 (PUBLIC below), every source folder to one (FOLDERS). A file may include a pce::sim header
-(public, or a source folder's) only of its own layer or a lower one. Prints every include
-that runs up and exits 1 if there is one, or a header or folder the tables do not place.
+(public, or a source folder's) only of its own layer or a lower one, and a public header's
+implementation (NAME.cpp or NAME_cgal.cpp) lives in a folder of the header's layer. Prints
+every include that runs up and every misplaced implementation, and exits 1 if there is one,
+or a header or folder the tables do not place.
 """
 import os
 import re
 import sys
 
-LAYERS = ["base", "mesh", "geometry", "effects", "solver", "scene", "output", "app"]
+LAYERS = ["base", "mesh", "geometry", "assembly", "effects", "solver", "scene", "output", "run", "app"]
 
 # Public headers (include/pce/sim/NAME.hpp) by layer.
 PUBLIC = {
-    "base": ["input_error", "counters", "instrumentation", "allocator"],
+    "base": ["input_error", "counters", "instrumentation"],
     "mesh": ["mesh", "obj", "tet_io", "generators", "model"],
     "geometry": ["obstacle", "fcl_distance", "broad_phase", "candidates", "intersections"],
-    "effects": ["block_hessian", "effect", "contact_effect", "effects"],
-    "solver": ["simulation", "start_state", "checkpoint"],
+    "assembly": ["block_hessian"],
+    "effects": ["effect", "contact_effect", "effects"],
+    "solver": ["simulation", "start_state", "allocator"],
     "scene": ["scene"],
-    "output": ["run", "render", "frames"],
+    "output": ["render", "frames", "checkpoint"],
+    "run": ["run"],
 }
 
 # Source folders (src/sim/FOLDER) by layer.
@@ -32,10 +36,13 @@ FOLDERS = {
     "mesh": "mesh",
     "obstacles": "geometry",
     "broad_phase": "geometry",
+    "geometry": "geometry",
+    "assembly": "assembly",
     "effects": "effects",
     "solver": "solver",
     "scene": "scene",
     "output": "output",
+    "run": "run",
     "app": "app",
 }
 
@@ -91,6 +98,16 @@ def main(root):
                             theirs = own
                     if rank[theirs] > rank[own]:
                         problems.append(f"{rel}:{number}: {own} includes {target} ({theirs}): an include running up")
+    for dirpath, _, files in os.walk(root):
+        for f in sorted(files):
+            rel = os.path.relpath(os.path.join(dirpath, f), root)
+            folder = rel.split(os.sep)[0]
+            name = re.sub(r"(_cgal)?\.cpp$", "", f)
+            if not f.endswith(".cpp") or folder not in FOLDERS or layer_of_public(name) is None:
+                continue
+            if FOLDERS[folder] != layer_of_public(name):
+                problems.append(f"{rel}: implements pce/sim/{name}.hpp ({layer_of_public(name)}) "
+                                f"in a folder of layer {FOLDERS[folder]}")
     for p in problems:
         print(p)
     print(f"include_layers: {len(problems)} problem(s) in {root}")

@@ -75,7 +75,7 @@ template <class Scalar, int N> struct LaggedFriction {
   Eigen::Matrix<Scalar, 3, 2> basis;           ///< T: two orthonormal columns orthogonal to the contact normal
   Vec3<Scalar> offset = Vec3<Scalar>::Zero();  ///< o: the other body's surface displacement over the step
   Scalar mu_lambda = Scalar(0);                ///< μλ ≥ 0, the Coulomb force bound (N)
-  Scalar eps = Scalar(1);                      ///< ε = ε_v h > 0 (m)
+  Scalar static_slip = Scalar(1);              ///< ε = ε_v h > 0 (m): below this slip the contact sticks
 };
 
 /// An orthonormal basis T (3×2) of the plane orthogonal to the unit vector `n`: the axis
@@ -106,7 +106,7 @@ template <class Scalar, int N> Eigen::Matrix<Scalar, 2, 1> friction_slip(const L
 /// D = μλ f₀(|u|), the friction potential of displacements `dx` since the step's start.
 template <class Scalar, int N>
 Scalar friction_energy(const LaggedFriction<Scalar, N>& f, const Eigen::Matrix<Scalar, 3 * N, 1>& dx) {
-  return f.mu_lambda * friction_mollifier(friction_slip(f, dx).norm(), f.eps).f0;
+  return f.mu_lambda * friction_mollifier(friction_slip(f, dx).norm(), f.static_slip).f0;
 }
 
 /// ∇D = μλ (f₁(y)/y) (w ⊗ T) u (3N).
@@ -114,7 +114,7 @@ template <class Scalar, int N>
 Eigen::Matrix<Scalar, 3 * N, 1> friction_gradient(const LaggedFriction<Scalar, N>& f,
                                                   const Eigen::Matrix<Scalar, 3 * N, 1>& dx) {
   const Eigen::Matrix<Scalar, 2, 1> u = friction_slip(f, dx);
-  const Vec3<Scalar> t = f.mu_lambda * friction_mollifier(u.norm(), f.eps).f1_over_y * (f.basis * u);
+  const Vec3<Scalar> t = f.mu_lambda * friction_mollifier(u.norm(), f.static_slip).f1_over_y * (f.basis * u);
   Eigen::Matrix<Scalar, 3 * N, 1> g;
   for (int j = 0; j < N; ++j) g.template segment<3>(3 * j) = f.weights[j] * t;
   return g;
@@ -127,7 +127,7 @@ Mat3<Scalar> friction_tangent_block(const LaggedFriction<Scalar, N>& f, const Ei
   using std::max;
   const Eigen::Matrix<Scalar, 2, 1> u = friction_slip(f, dx);
   const Scalar y = u.norm();
-  const FrictionMollifier<Scalar> m = friction_mollifier(y, f.eps);
+  const FrictionMollifier<Scalar> m = friction_mollifier(y, f.static_slip);
   Eigen::Matrix<Scalar, 2, 2> B = m.f1_over_y * Eigen::Matrix<Scalar, 2, 2>::Identity();
   if (y > Scalar(0)) {
     const Eigen::Matrix<Scalar, 2, 1> uh = u / y;
@@ -156,7 +156,7 @@ Eigen::Matrix<Scalar, 2, 1> friction_model_force(const LaggedFriction<Scalar, N>
   for (int j = 0; j < N; ++j) dr += f.weights[j] * ddx.template segment<3>(3 * j);
   const Eigen::Matrix<Scalar, 2, 1> du = f.basis.transpose() * dr;
   const Scalar y = u.norm();
-  const FrictionMollifier<Scalar> m = friction_mollifier(y, f.eps);
+  const FrictionMollifier<Scalar> m = friction_mollifier(y, f.static_slip);
   Eigen::Matrix<Scalar, 2, 1> phi = m.f1_over_y * (u + du);
   if (y > Scalar(0)) {
     const Eigen::Matrix<Scalar, 2, 1> uh = u / y;

@@ -54,7 +54,7 @@ void publish_friction(const std::vector<FrictionContact<N>>& contacts, std::vect
     p.friction.basis = c.f.basis;
     p.friction.offset = c.f.offset;
     p.friction.mu_lambda = c.f.mu_lambda;
-    p.friction.eps = c.f.eps;
+    p.friction.static_slip = c.f.static_slip;
     out.push_back(p);
   }
 }
@@ -79,7 +79,7 @@ template <int N> double add_friction(const std::vector<FrictionContact<N>>& cont
       dx.template segment<3>(3 * j) =
           x.col(c.v[static_cast<std::size_t>(j)]) - x_start.col(c.v[static_cast<std::size_t>(j)]);
     energy += friction_energy(c.f, dx);
-    sticking += friction_slip(c.f, dx).norm() < c.f.eps;
+    sticking += friction_slip(c.f, dx).norm() < c.f.static_slip;
     if (gradient) {
       const Eigen::Matrix<double, 3 * N, 1> g = friction_gradient(c.f, dx);
       for (int j = 0; j < N; ++j) gradient->col(c.v[static_cast<std::size_t>(j)]) += g.template segment<3>(3 * j);

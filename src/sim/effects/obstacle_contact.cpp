@@ -37,7 +37,7 @@
 /// shape (d ≥ |xᵢ − cₖ| − Rₖ for every shape).
 #include "effects/contact/ordered_chunks.hpp"
 #include "effects/friction.hpp"
-#include "effects/penalty_spec.hpp"
+#include "effects/contact_penalty.hpp"
 #include "util/stopwatch.hpp"
 
 #include <pce/sim/contact_effect.hpp>
@@ -238,7 +238,7 @@ class ObstacleContact final : public ContactEffect {
             const Eigen::Vector3d moved = other[k] * (at[k].inverse() * surface);
             fc.f.offset = at_start ? Eigen::Vector3d(moved - surface) : Eigen::Vector3d(surface - moved);
             fc.f.mu_lambda = friction_->coefficient * lambda;
-            fc.f.eps = slip_;
+            fc.f.static_slip = slip_;
             parts_[c].push_back(fc);
           }
         }

@@ -18,7 +18,7 @@
 /// edges' lumped areas).
 #pragma once
 
-#include "effects/penalty_spec.hpp"
+#include "effects/contact_penalty.hpp"
 #include "candidate_set.hpp"
 #include "pair_geometry.hpp"
 

@@ -84,7 +84,7 @@ template <bool VF> void FrictionFreezing<VF>::freeze(const Eigen::Matrix3Xd& x) 
         fc.f.weights = w;
         fc.f.basis = tangent_basis<double>(normal);
         fc.f.mu_lambda = mu * lambda;
-        fc.f.eps = slip_;
+        fc.f.static_slip = slip_;
         parts_[c].push_back(fc);
       }
     });
