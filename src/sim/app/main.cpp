@@ -13,6 +13,7 @@
 // current frame (everything written as at the end, plus a checkpoint); 1 anything else.
 #include <pce/sim/allocator.hpp>
 #include <pce/sim/checkpoint.hpp>
+#include <pce/sim/effects.hpp>
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/run.hpp>
 #include <pce/sim/scene.hpp>
@@ -23,6 +24,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <string>
+#include <vector>
 
 namespace {
 
@@ -34,6 +37,13 @@ volatile std::sig_atomic_t g_stop_signal = 0;
 extern "C" void on_stop_signal(int signal_number) {
   g_stop_signal = signal_number;
   std::signal(signal_number, SIG_DFL);  // a second signal ends the run at once
+}
+
+/// The names of `values` (enumerators), in their order: the accepted values of an option.
+template <class Values> std::vector<std::string> names(const Values& values) {
+  std::vector<std::string> out;
+  for (const auto v : values) out.emplace_back(pce::name_of(v));
+  return out;
 }
 
 }  // namespace
@@ -50,8 +60,9 @@ int main(int argc, char** argv) {
   app.add_option("--out", out_dir, "output directory (default: pce-sim-out/<scene name>)");
   app.add_option("--frames", frames, "frames to simulate (overrides the scene)")->check(CLI::Range(1, 10000000));
   app.add_option("--hessian", hessian, "Hessian strategy of every contact effect")
-      ->check(CLI::IsMember({"analytic", "exact", "numerical", "gauss_newton", "abs"}));
-  app.add_option("--broad-phase", broad_phase, "broad phase")->check(CLI::IsMember({"fcl", "bullet", "brute"}));
+      ->check(CLI::IsMember(names(kContactHessians)));
+  app.add_option("--broad-phase", broad_phase, "broad phase")
+      ->check(CLI::IsMember(names(pce::enumerators<BroadPhaseKind>())));
   app.add_option("--threads", threads, "threads for pair evaluation (0: all)")->check(CLI::Range(0, 1024));
   app.add_flag("--single-solve", single_solve, "one linearised solve per step (the paper's mode)");
   app.add_option("--tolerance", tolerance, "Newton tolerance on max|dx|/(h*size), 1/s")->check(CLI::PositiveNumber);
@@ -74,8 +85,8 @@ int main(int argc, char** argv) {
 
   SceneOverrides o;
   if (frames > 0) o.frames = frames;
-  if (!hessian.empty()) o.hessian = hessian;
-  if (!broad_phase.empty()) o.broad_phase = broad_phase_kind(broad_phase);  // checked by IsMember above
+  if (!hessian.empty()) o.hessian = pce::parse<pce::Projection>(hessian);  // checked by IsMember above
+  if (!broad_phase.empty()) o.broad_phase = pce::parse<BroadPhaseKind>(broad_phase);
   if (threads >= 0) o.threads = threads;
   if (single_solve) o.single_solve = true;
   if (tolerance > 0) o.tolerance = tolerance;
