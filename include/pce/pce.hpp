@@ -39,6 +39,7 @@
 /// into `<build>/docs/api/html/index.html`.
 #pragma once
 
+#include <pce/core/enum_names.hpp>
 #include <pce/core/jacobi.hpp>
 #include <pce/core/orthogonal.hpp>
 #include <pce/core/tridiagonal.hpp>

@@ -110,8 +110,8 @@ Penalty = Union[Quadratic, Cubic, LogBarrier]
 
 #: Pair kinds: name -> (code, coordinates per pair, frame-space eigenvalues per pair).
 KINDS = {"vertex_face": (0, 12, 9), "edge_edge": (1, 12, 9), "point_edge": (2, 9, 6), "point_point": (3, 6, 3)}
-#: PSD strategies, in ``pce::Projection``'s order.
-PROJECTIONS = {"none": 0, "analytic": 1, "numerical": 2, "gauss_newton": 3, "abs": 4, "exact": 5}
+#: PSD strategies: name -> code, in ``pce::kProjectionNames``' order (the compiled module's table).
+PROJECTIONS = dict(_pce._projections())
 #: The float outputs `evaluate` can compute (all by default).
 OUTPUTS = ("length", "value", "gradient", "hessian", "projected", "eigenvalues")
 #: Closest features, in ``pce::Feature``'s order.

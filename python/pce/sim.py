@@ -27,8 +27,9 @@ SimulationError = _pce.SimulationError
 #: faster linear solves on large scenes, at the price of keeping the peak heap.
 keep_freed_memory = _pce.keep_freed_memory
 
-_HESSIANS = ("analytic", "exact", "numerical", "gauss_newton", "abs")
-_BROAD_PHASES = ("fcl", "bullet", "brute")
+# The accepted names, from the compiled module's tables (pce::sim::kContactHessians, kBroadPhaseNames).
+_HESSIANS = tuple(_pce._contact_hessians())
+_BROAD_PHASES = tuple(_pce._broad_phases())
 
 
 def _optional_int(name, value, low, high):

@@ -37,6 +37,21 @@ template <class T> T* output(const std::optional<Output>& a, const char* name, s
   return static_cast<T*>(a->data());
 }
 
+/// Whether `code` is the integer of a strategy in `pce::kProjectionNames`.
+bool is_projection(int code) {
+  for (const auto& entry : pce::kProjectionNames)
+    if (static_cast<int>(entry.first) == code) return true;
+  return false;
+}
+
+/// `pce::kProjectionNames` as a list of (name, integer) pairs, in the table's order.
+nb::list projections() {
+  nb::list out;
+  for (const auto& entry : pce::kProjectionNames)
+    out.append(nb::make_tuple(std::string(entry.second), static_cast<int>(entry.first)));
+  return out;
+}
+
 template <class Scalar> void evaluate_in(const BatchCall& call, const Input& x, const std::optional<Output>& status,
                                          const std::optional<Output>& length, const std::optional<Output>& value,
                                          const std::optional<Output>& gradient, const std::optional<Output>& hessian,
@@ -68,8 +83,7 @@ void evaluate(int kind, const Input& x, bool signed_length, int side, int penalt
               const std::optional<Output>& feature) {
   if (kind < 0 || kind > 3) throw nb::value_error("pce._pce._evaluate: kind out of range");
   if (penalty < 0 || penalty > 2) throw nb::value_error("pce._pce._evaluate: penalty out of range");
-  if (projection < 0 || projection > static_cast<int>(pce::Projection::exact))
-    throw nb::value_error("pce._pce._evaluate: projection out of range");
+  if (!is_projection(projection)) throw nb::value_error("pce._pce._evaluate: projection out of range");
   if (side != 1 && side != -1) throw nb::value_error("pce._pce._evaluate: side must be 1 or -1");
   if (threads < 1) throw nb::value_error("pce._pce._evaluate: threads must be >= 1");
   BatchCall call;
@@ -111,5 +125,7 @@ NB_MODULE(_pce, m) {
         nb::arg("gradient").none(), nb::arg("hessian").none(), nb::arg("projected").none(),
         nb::arg("eigenvalues").none(), nb::arg("feature").none(),
         "Batched evaluation into preallocated arrays (pce.evaluate checks the arguments and allocates).");
+  m.def("_projections", &pce_python::projections,
+        "The PSD strategies as (name, code) pairs in pce::kProjectionNames' order (pce.PROJECTIONS).");
   pce_python::bind_simulation(m);
 }

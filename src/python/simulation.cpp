@@ -3,6 +3,7 @@
 
 #include <pce/sim/allocator.hpp>
 #include <pce/sim/checkpoint.hpp>
+#include <pce/sim/effects.hpp>
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/run.hpp>
 #include <pce/sim/scene.hpp>
@@ -92,14 +93,42 @@ class LoadedScene {
   std::string last_record_;
 };
 
+/// The names of `values` (enumerators), separated by ", ".
+template <class Values> std::string plain_names(const Values& values) {
+  std::string list;
+  for (const auto v : values) list += (list.empty() ? "" : ", ") + std::string(pce::name_of(v));
+  return list;
+}
+
+/// The names of `values` (enumerators), in their order.
+template <class Values> std::vector<std::string> names(const Values& values) {
+  std::vector<std::string> out;
+  for (const auto v : values) out.emplace_back(pce::name_of(v));
+  return out;
+}
+
+/// The strategy of `kContactHessians` named `name`; ValueError for any other name.
+pce::Projection contact_hessian(const std::string& name) {
+  const std::optional<pce::Projection> p = pce::parse<pce::Projection>(name);
+  for (const pce::Projection allowed : kContactHessians)
+    if (p == allowed) return allowed;
+  throw nb::value_error(("hessian: expected one of " + plain_names(kContactHessians) + ", got '" + name + "'").c_str());
+}
+
 std::unique_ptr<LoadedScene> load(const std::string& file, std::optional<int> frames,
                                   std::optional<std::string> hessian, std::optional<std::string> broad_phase,
                                   std::optional<int> threads, std::optional<bool> single_solve,
                                   std::optional<double> tolerance) {
   SceneOverrides o;
   o.frames = frames;
-  o.hessian = hessian;
-  if (broad_phase) o.broad_phase = broad_phase_kind(*broad_phase);
+  if (hessian) o.hessian = contact_hessian(*hessian);
+  if (broad_phase) {
+    o.broad_phase = pce::parse<BroadPhaseKind>(*broad_phase);
+    if (!o.broad_phase)
+      throw nb::value_error(("broad_phase: expected one of " + plain_names(pce::enumerators<BroadPhaseKind>()) +
+                             ", got '" + *broad_phase + "'")
+                                .c_str());
+  }
   o.threads = threads;
   o.single_solve = single_solve;
   o.tolerance = tolerance;
@@ -128,6 +157,12 @@ void bind_simulation(nb::module_& m) {
       .def_prop_ro("file", &LoadedScene::file)
       .def_prop_ro("warnings", &LoadedScene::warnings)
       .def_prop_ro("last_record", &LoadedScene::last_record);
+  m.def(
+      "_contact_hessians", [] { return names(kContactHessians); },
+      "The strategies a contact effect's hessian accepts, in pce::sim::kContactHessians' order.");
+  m.def(
+      "_broad_phases", [] { return names(pce::enumerators<BroadPhaseKind>()); },
+      "The broad phases' names, in pce::sim::kBroadPhaseNames' order.");
   m.def("_load", &load, nb::arg("file"), nb::arg("frames").none(), nb::arg("hessian").none(),
         nb::arg("broad_phase").none(), nb::arg("threads").none(), nb::arg("single_solve").none(),
         nb::arg("tolerance").none());

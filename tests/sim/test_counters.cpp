@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: MIT
 // pce/sim/counters.hpp: typed frame counters. Reported counters merge by their rule (sum, or
-// the minimum for distances), absent ones stay absent, names are the stats.json keys, and
-// asking for an unreported or unknown counter throws.
+// the minimum for distances), absent ones stay absent, names are the stats.json keys (each
+// enumerator's identifier, every one documented in docs/simulation.md §6.1), and asking for
+// an unreported or unknown counter throws.
 #include <pce/sim/counters.hpp>
 
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <fstream>
 #include <set>
+#include <sstream>
 #include <string>
 
 using pce::sim::Counter;
@@ -48,5 +51,35 @@ TEST(Counters, EveryCounterHasItsOwnName) {
     // only the minimum distances merge by their minimum
     EXPECT_EQ(pce::sim::counter_info(static_cast<Counter>(i)).minimum, std::strstr(name, "min_distance") != nullptr)
         << name;
+  }
+}
+
+TEST(Counters, EachEnumeratorIsNamedByItsIdentifier) {
+  int listed = 0;
+  // Every entry of the list: the enumerator's name is its identifier, at its own index.
+#define PCE_TEST_COUNTER_NAME(id, rule)                                                    \
+  EXPECT_STREQ(pce::sim::counter_info(Counter::id).name, #id);                             \
+  EXPECT_EQ(static_cast<int>(Counter::id), listed);                                        \
+  EXPECT_EQ(pce::sim::counter_info(Counter::id).minimum, std::string(#rule) == "minimum"); \
+  ++listed;
+  PCE_SIM_COUNTERS(PCE_TEST_COUNTER_NAME)
+#undef PCE_TEST_COUNTER_NAME
+  EXPECT_EQ(listed, static_cast<int>(Counter::count));
+}
+
+TEST(Counters, EveryNameIsDocumentedInStatsJsonSection) {
+  std::ifstream in(std::string(PCE_SOURCE_DIR) + "/docs/simulation.md");
+  ASSERT_TRUE(in) << "docs/simulation.md";
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string doc = text.str();
+  const std::size_t begin = doc.find("### 6.1 "), end = doc.find("### 6.2 ");
+  ASSERT_NE(begin, std::string::npos);
+  ASSERT_NE(end, std::string::npos);
+  const std::string section = doc.substr(begin, end - begin);
+  for (int i = 0; i < static_cast<int>(Counter::count); ++i) {
+    const std::string name = pce::sim::counter_info(static_cast<Counter>(i)).name;
+    EXPECT_NE(section.find("`" + name + "`"), std::string::npos)
+        << name << " is not documented in docs/simulation.md section 6.1";
   }
 }

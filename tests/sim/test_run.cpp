@@ -150,6 +150,6 @@ TEST(Run, PhysicsKeyHoldsTheOverridesThatChangeThePhysicsOnly) {
   o.single_solve = true;
   EXPECT_EQ(physics_key(file, o), plain + "\n--single-solve");
   SceneOverrides h;
-  h.hessian = "exact";
+  h.hessian = pce::Projection::exact;
   EXPECT_EQ(physics_key(file, h), plain + "\n--hessian exact");
 }

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file
 /// The PSD strategies a pair's Hessian can be projected with (`pce::Projection`), their
-/// names, and the dispatch from a strategy chosen at run time to the compile-time form
+/// names (`pce::kProjectionNames`), and the dispatch from a strategy chosen at run time to the compile-time form
 /// `projected_hessian<P>(e)` that every energy type provides.
 ///
 /// Compile cost: `projected_hessian(e, strategy)` must be able to run every strategy, so it
@@ -10,6 +10,8 @@
 /// only the strategy it names; a program that links `pce::precompiled` gets the run-time
 /// form for float, double and long double already compiled (`docs/conventions.md`).
 #pragma once
+
+#include <pce/core/enum_names.hpp>
 
 #include <type_traits>
 
@@ -26,23 +28,24 @@ enum class Projection {
                  ///< the Hessian's rank ≤ 5 structure: a ≤ 5×5 eigenproblem, no 12×12 eigensolve
 };
 
-/// Name of a strategy, as `pce-probe` spells it.
+/// The strategies' names (`pce-probe`'s and the scene's `hessian`, Python's
+/// `pce.PROJECTIONS`), in enumerator order.
+inline constexpr EnumNames<Projection, 6> kProjectionNames{{
+    {Projection::none, "none"},
+    {Projection::analytic, "analytic"},
+    {Projection::numerical, "numerical"},
+    {Projection::gauss_newton, "gauss_newton"},
+    {Projection::abs, "abs"},
+    {Projection::exact, "exact"},
+}};
+
+/// The table of `Projection`'s names (for `name_of` and `parse`).
+constexpr const EnumNames<Projection, 6>& enum_names(Projection) { return kProjectionNames; }
+
+/// Name of a strategy (`kProjectionNames`); "unknown" for a value outside the enumeration.
 inline const char* to_string(Projection p) {
-  switch (p) {
-    case Projection::none:
-      return "none";
-    case Projection::analytic:
-      return "analytic";
-    case Projection::numerical:
-      return "numerical";
-    case Projection::gauss_newton:
-      return "gauss_newton";
-    case Projection::abs:
-      return "abs";
-    case Projection::exact:
-      return "exact";
-  }
-  return "unknown";
+  const std::string_view name = name_of(p);
+  return name.empty() ? "unknown" : name.data();
 }
 
 /// A strategy as a type: `ProjectionConstant<P>::value == P`.

@@ -24,6 +24,7 @@
 /// elasticity of the given Lamé parameters at small strain (`from_lame`, `from_young_poisson`).
 #pragma once
 
+#include <pce/core/enum_names.hpp>
 #include <pce/core/jacobi.hpp>
 #include <pce/core/orthogonal.hpp>
 #include <pce/core/precompiled.hpp>
@@ -288,6 +289,17 @@ enum class VolumeProjection {
   analytic,   ///< eigenvalues clamped in the closed-form eigensystem (`snh_eigensystem`)
   numerical,  ///< the same clamp after a numerical 9×9 eigensolve (the reference)
 };
+
+/// The names of `VolumeProjection` (the scene's `volume_elasticity.hessian` takes `analytic`
+/// and `numerical`), in enumerator order.
+inline constexpr EnumNames<VolumeProjection, 3> kVolumeProjectionNames{{
+    {VolumeProjection::none, "none"},
+    {VolumeProjection::analytic, "analytic"},
+    {VolumeProjection::numerical, "numerical"},
+}};
+
+/// The table of `VolumeProjection`'s names (for `name_of` and `parse`).
+constexpr const EnumNames<VolumeProjection, 3>& enum_names(VolumeProjection) { return kVolumeProjectionNames; }
 
 namespace detail {
 /// Whether the symmetric 3×3 `A` is positive definite, by the pivots of `A = L D Lᵀ` (Cholesky

@@ -13,6 +13,7 @@
 // current frame (everything written as at the end, plus a checkpoint); 1 anything else.
 #include <pce/sim/allocator.hpp>
 #include <pce/sim/checkpoint.hpp>
+#include <pce/sim/effects.hpp>
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/run.hpp>
 #include <pce/sim/scene.hpp>
@@ -23,6 +24,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <string>
+#include <vector>
 
 namespace {
 
@@ -36,34 +39,57 @@ extern "C" void on_stop_signal(int signal_number) {
   std::signal(signal_number, SIG_DFL);  // a second signal ends the run at once
 }
 
-}  // namespace
+/// The names of `values` (enumerators), in their order: the accepted values of an option.
+template <class Values> std::vector<std::string> names(const Values& values) {
+  std::vector<std::string> out;
+  for (const auto v : values) out.emplace_back(pce::name_of(v));
+  return out;
+}
 
-int main(int argc, char** argv) {
-  pce::sim::keep_freed_memory();  // CHOLMOD's factors then reuse freed memory (allocator.hpp)
-  CLI::App app{"pce-sim: simulate a scene with pce's contact energies (docs/simulation.md)"};
+/// The command line.
+struct Options {
   std::string scene_file, out_dir, hessian, broad_phase, resume_dir;
   int frames = 0, threads = -1, checkpoint_every = 0;
   double tolerance = 0;
   bool single_solve = false, no_frames = false;
+
+  /// What the options override in the scene.
+  SceneOverrides overrides() const {
+    SceneOverrides o;
+    if (frames > 0) o.frames = frames;
+    if (!hessian.empty()) o.hessian = pce::parse<pce::Projection>(hessian);  // checked by IsMember
+    if (!broad_phase.empty()) o.broad_phase = pce::parse<BroadPhaseKind>(broad_phase);
+    if (threads >= 0) o.threads = threads;
+    if (single_solve) o.single_solve = true;
+    if (tolerance > 0) o.tolerance = tolerance;
+    return o;
+  }
+};
+
+/// Parses the command line into `o`: −1 to go on, else the exit code (help: 0; an invalid
+/// command line: 2, after one line on stderr).
+int parse_options(int argc, char** argv, Options& o) {
+  CLI::App app{"pce-sim: simulate a scene with pce's contact energies (docs/simulation.md)"};
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);  // later values win
-  app.add_option("scene", scene_file, "scene file (JSON)")->required();
-  app.add_option("--out", out_dir, "output directory (default: pce-sim-out/<scene name>)");
-  app.add_option("--frames", frames, "frames to simulate (overrides the scene)")->check(CLI::Range(1, 10000000));
-  app.add_option("--hessian", hessian, "Hessian strategy of every contact effect")
-      ->check(CLI::IsMember({"analytic", "exact", "numerical", "gauss_newton", "abs"}));
-  app.add_option("--broad-phase", broad_phase, "broad phase")->check(CLI::IsMember({"fcl", "bullet", "brute"}));
-  app.add_option("--threads", threads, "threads for pair evaluation (0: all)")->check(CLI::Range(0, 1024));
-  app.add_flag("--single-solve", single_solve, "one linearised solve per step (the paper's mode)");
-  app.add_option("--tolerance", tolerance, "Newton tolerance on max|dx|/(h*size), 1/s")->check(CLI::PositiveNumber);
-  app.add_flag("--no-frames", no_frames, "write no per-frame meshes (stats, picture and the last frame only)");
-  app.add_option("--checkpoint-every", checkpoint_every, "write DIR/checkpoint_NNNN.pcecp every K frames")
+  app.add_option("scene", o.scene_file, "scene file (JSON)")->required();
+  app.add_option("--out", o.out_dir, "output directory (default: pce-sim-out/<scene name>)");
+  app.add_option("--frames", o.frames, "frames to simulate (overrides the scene)")->check(CLI::Range(1, 10000000));
+  app.add_option("--hessian", o.hessian, "Hessian strategy of every contact effect")
+      ->check(CLI::IsMember(names(kContactHessians)));
+  app.add_option("--broad-phase", o.broad_phase, "broad phase")
+      ->check(CLI::IsMember(names(pce::enumerators<BroadPhaseKind>())));
+  app.add_option("--threads", o.threads, "threads for pair evaluation (0: all)")->check(CLI::Range(0, 1024));
+  app.add_flag("--single-solve", o.single_solve, "one linearised solve per step (the paper's mode)");
+  app.add_option("--tolerance", o.tolerance, "Newton tolerance on max|dx|/(h*size), 1/s")->check(CLI::PositiveNumber);
+  app.add_flag("--no-frames", o.no_frames, "write no per-frame meshes (stats, picture and the last frame only)");
+  app.add_option("--checkpoint-every", o.checkpoint_every, "write DIR/checkpoint_NNNN.pcecp every K frames")
       ->check(CLI::Range(1, 10000000));
-  app.add_option("--resume", resume_dir,
+  app.add_option("--resume", o.resume_dir,
                  "continue the run in DIR from its latest checkpoint (DIR is the output directory)");
   try {
     app.parse(argc, argv);
-    if (!resume_dir.empty() && !out_dir.empty() &&
-        std::filesystem::weakly_canonical(resume_dir) != std::filesystem::weakly_canonical(out_dir))
+    if (!o.resume_dir.empty() && !o.out_dir.empty() &&
+        std::filesystem::weakly_canonical(o.resume_dir) != std::filesystem::weakly_canonical(o.out_dir))
       throw CLI::ValidationError("--out", "--resume DIR writes into DIR; leave --out out or give the same folder");
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
@@ -71,113 +97,138 @@ int main(int argc, char** argv) {
     std::cerr << "pce-sim: command line: " << e.what() << " (see pce-sim --help)\n";
     return 2;
   }
+  return -1;
+}
 
-  SceneOverrides o;
-  if (frames > 0) o.frames = frames;
-  if (!hessian.empty()) o.hessian = hessian;
-  if (!broad_phase.empty()) o.broad_phase = broad_phase_kind(broad_phase);  // checked by IsMember above
-  if (threads >= 0) o.threads = threads;
-  if (single_solve) o.single_solve = true;
-  if (tolerance > 0) o.tolerance = tolerance;
-
+/// The scene, ready to run: loaded with the options' overrides, resumed from the latest
+/// checkpoint with --resume, otherwise its start state accepted (warnings on stderr). Throws
+/// InputError (exit code 2).
+struct Loaded {
   std::unique_ptr<Scene> scene;
   std::uint64_t fingerprint = 0;
-  std::filesystem::path resumed_from;
-  try {
-    scene = load_scene(scene_file, o);
-    fingerprint = simulation_fingerprint(physics_key(scene_file, o), scene->simulation.model);
-    if (!resume_dir.empty()) {
-      resumed_from = latest_checkpoint(resume_dir);
-      if (resumed_from.empty()) throw InputError(resume_dir, "", "no checkpoint to resume from (checkpoint_*.pcecp)");
-      read_checkpoint(resumed_from, scene->simulation, fingerprint);
-      if (scene->simulation.frame >= scene->simulation.frames)
-        throw InputError(resumed_from.string(), "",
-                         "the checkpoint is at frame " + std::to_string(scene->simulation.frame) + ", the run has " +
-                             std::to_string(scene->simulation.frames) +
-                             " frames: nothing to resume (give more with --frames)");
+  std::filesystem::path resumed_from;  ///< empty unless resumed
+};
+Loaded load(const Options& o) {
+  Loaded l;
+  const SceneOverrides overrides = o.overrides();
+  l.scene = load_scene(o.scene_file, overrides);
+  Simulation& sim = l.scene->simulation;
+  l.fingerprint = simulation_fingerprint(physics_key(o.scene_file, overrides), sim.model);
+  if (o.resume_dir.empty()) {
+    // The start state, before anything is written (a resumed state was checked when its run
+    // started).
+    for (const auto& w : accept_start_state(*l.scene, o.scene_file)) std::cerr << "pce-sim: warning: " << w << "\n";
+    return l;
+  }
+  l.resumed_from = latest_checkpoint(o.resume_dir);
+  if (l.resumed_from.empty()) throw InputError(o.resume_dir, "", "no checkpoint to resume from (checkpoint_*.pcecp)");
+  read_checkpoint(l.resumed_from, sim, l.fingerprint);
+  if (sim.frame >= sim.frames)
+    throw InputError(l.resumed_from.string(), "",
+                     "the checkpoint is at frame " + std::to_string(sim.frame) + ", the run has " +
+                         std::to_string(sim.frames) + " frames: nothing to resume (give more with --frames)");
+  return l;
+}
+
+/// The frame's line on stderr, and its warnings (a first line search without decrease, new
+/// intersecting triangle pairs).
+void report_frame(const FrameReport& r, const Simulation& sim) {
+  const FrameStats& s = r.stats;
+  const int f = sim.frame;
+  std::fprintf(stderr, "frame %d of %d: %.1f ms, %d Newton iterations, residual %.2e, %s%ld intersecting pairs\n", f,
+               sim.frames, s.wall_ms, s.newton_iterations, s.residual, s.hit_iteration_cap ? "iteration cap hit, " : "",
+               r.intersections);
+  if (s.line_search_failures > 0 && s.newton_iterations == 1)
+    std::fprintf(stderr,
+                 "pce-sim: warning: frame %d: the line search found no decrease at the first Newton iteration, so "
+                 "the state did not move (in plane mode: a pair sits at the energy's jump, docs/simulation.md "
+                 "section 10)\n",
+                 f);
+  if (r.new_intersections > 0)
+    std::fprintf(stderr, "pce-sim: warning: frame %d: %ld new intersecting triangle pairs (%ld in all)%s\n", f,
+                 r.new_intersections, r.intersections,
+                 s.hit_iteration_cap ? "; Newton ended at the iteration cap"
+                                     : (s.line_search_failures ? "; the line search found no decrease" : ""));
+}
+
+/// How a run ended.
+struct Ending {
+  int status = 0;                    ///< 0, 3 (failed) or 128 + the stopping signal
+  std::string failure;               ///< the failure's message (status 3)
+  const char* stopped_by = nullptr;  ///< "SIGINT" or "SIGTERM" when stopped
+};
+
+/// Runs the frames into `dir` until the last, a failure or a stop signal; throws what the
+/// output throws (exit code 1).
+Ending run_frames(const Options& o, Loaded& l, const std::filesystem::path& dir) {
+  Simulation& sim = l.scene->simulation;
+  Ending end;
+  Run run(*l.scene, o.scene_file);
+  RunOutput output;
+  output.dir = dir;
+  output.write_frames = !o.no_frames;
+  output.checkpoint_every = o.checkpoint_every;
+  output.fingerprint = l.fingerprint;
+  output.resumed = !l.resumed_from.empty();
+  run.open(output);
+  std::cerr << "pce-sim: " << o.scene_file << ": " << sim.model.vertex_count() << " vertices, " << sim.effects.size()
+            << " effects, " << sim.frames << " frames, dt = " << sim.solver.dt << " s";
+  if (!l.resumed_from.empty()) std::cerr << ", resumed at frame " << sim.frame << " from " << l.resumed_from.string();
+  std::cerr << "\n";
+  std::signal(SIGINT, on_stop_signal);
+  std::signal(SIGTERM, on_stop_signal);
+  while (sim.frame < sim.frames && !g_stop_signal) {
+    try {
+      report_frame(run.step(), sim);
+    } catch (const SimulationError& e) {
+      end.failure = o.scene_file + ": " + e.what();
+      end.status = 3;
+      break;
     }
+  }
+  if (g_stop_signal && end.status == 0) {
+    end.stopped_by = g_stop_signal == SIGINT ? "SIGINT" : "SIGTERM";
+    end.status = 128 + static_cast<int>(g_stop_signal);
+  }
+  run.close(end.failure, end.stopped_by);
+  return end;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  pce::sim::keep_freed_memory();  // CHOLMOD's factors then reuse freed memory (allocator.hpp)
+  Options o;
+  if (const int code = parse_options(argc, argv, o); code >= 0) return code;
+  Loaded l;
+  try {
+    l = load(o);
   } catch (const InputError& e) {
     std::cerr << "pce-sim: " << e.what() << "\n";
     return 2;
   }
-  Simulation& sim = scene->simulation;
-  if (resumed_from.empty()) {
-    // The start state, before anything is written (a resumed state was checked when its run
-    // started).
-    try {
-      for (const auto& w : accept_start_state(*scene, scene_file)) std::cerr << "pce-sim: warning: " << w << "\n";
-    } catch (const InputError& e) {
-      std::cerr << "pce-sim: " << e.what() << "\n";
-      return 2;
-    }
-  }
+  const Simulation& sim = l.scene->simulation;
   const std::filesystem::path dir =
-      !resume_dir.empty() ? std::filesystem::path(resume_dir)
-      : out_dir.empty()   ? std::filesystem::path("pce-sim-out") / std::filesystem::path(scene_file).stem()
-                          : std::filesystem::path(out_dir);
-  int status = 0;
-  std::string failure;
-  const char* stopped_by = nullptr;
+      !o.resume_dir.empty() ? std::filesystem::path(o.resume_dir)
+      : o.out_dir.empty()   ? std::filesystem::path("pce-sim-out") / std::filesystem::path(o.scene_file).stem()
+                            : std::filesystem::path(o.out_dir);
+  Ending end;
   try {
-    Run run(*scene, scene_file);
-    RunOutput output;
-    output.dir = dir;
-    output.write_frames = !no_frames;
-    output.checkpoint_every = checkpoint_every;
-    output.fingerprint = fingerprint;
-    output.resumed = !resumed_from.empty();
-    run.open(output);
-    std::cerr << "pce-sim: " << scene_file << ": " << sim.model.vertex_count() << " vertices, " << sim.effects.size()
-              << " effects, " << sim.frames << " frames, dt = " << sim.solver.dt << " s";
-    if (!resumed_from.empty()) std::cerr << ", resumed at frame " << sim.frame << " from " << resumed_from.string();
-    std::cerr << "\n";
-    std::signal(SIGINT, on_stop_signal);
-    std::signal(SIGTERM, on_stop_signal);
-    while (sim.frame < sim.frames && !g_stop_signal) {
-      FrameReport r;
-      try {
-        r = run.step();
-      } catch (const SimulationError& e) {
-        failure = scene_file + ": " + e.what();
-        status = 3;
-        break;
-      }
-      const FrameStats& s = r.stats;
-      const int f = sim.frame;
-      std::fprintf(stderr, "frame %d of %d: %.1f ms, %d Newton iterations, residual %.2e, %s%ld intersecting pairs\n",
-                   f, sim.frames, s.wall_ms, s.newton_iterations, s.residual,
-                   s.hit_iteration_cap ? "iteration cap hit, " : "", r.intersections);
-      if (s.line_search_failures > 0 && s.newton_iterations == 1)
-        std::fprintf(stderr,
-                     "pce-sim: warning: frame %d: the line search found no decrease at the first Newton iteration, so "
-                     "the state did not move (in plane mode: a pair sits at the energy's jump, docs/simulation.md "
-                     "section 10)\n",
-                     f);
-      if (r.new_intersections > 0)
-        std::fprintf(stderr, "pce-sim: warning: frame %d: %ld new intersecting triangle pairs (%ld in all)%s\n", f,
-                     r.new_intersections, r.intersections,
-                     s.hit_iteration_cap ? "; Newton ended at the iteration cap"
-                                         : (s.line_search_failures ? "; the line search found no decrease" : ""));
-    }
-    if (g_stop_signal && status == 0) {
-      stopped_by = g_stop_signal == SIGINT ? "SIGINT" : "SIGTERM";
-      status = 128 + static_cast<int>(g_stop_signal);
-    }
-    run.close(failure, stopped_by);
+    end = run_frames(o, l, dir);
   } catch (const std::exception& e) {
     std::cerr << "pce-sim: " << e.what() << "\n";
     return 1;
   }
-  if (status == 3) {
-    std::cerr << "pce-sim: " << failure << " (frame " << sim.frame << ", the last finite one, is in " << dir.string()
-              << ")\n";
-    return status;
+  if (end.status == 3) {
+    std::cerr << "pce-sim: " << end.failure << " (frame " << sim.frame << ", the last finite one, is in "
+              << dir.string() << ")\n";
+    return end.status;
   }
-  if (stopped_by) {
-    std::cerr << "pce-sim: stopped by " << stopped_by << " after frame " << sim.frame << "; wrote "
+  if (end.stopped_by) {
+    std::cerr << "pce-sim: stopped by " << end.stopped_by << " after frame " << sim.frame << "; wrote "
               << (dir / "summary.json").string() << " and " << checkpoint_path(dir.string(), sim.frame)
               << " (continue with --resume " << dir.string() << ")\n";
-    return status;
+    return end.status;
   }
   std::cerr << "pce-sim: wrote " << (dir / "stats.json").string() << ", " << (dir / "last_frame.png").string()
             << " and the frames in " << dir.string() << "\n";

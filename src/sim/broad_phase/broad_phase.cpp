@@ -6,22 +6,11 @@
 namespace pce::sim {
 
 const char* to_string(BroadPhaseKind kind) {
-  switch (kind) {
-    case BroadPhaseKind::fcl:
-      return "fcl";
-    case BroadPhaseKind::bullet:
-      return "bullet";
-    case BroadPhaseKind::brute:
-      return "brute";
-  }
-  return "unknown";
+  const std::string_view name = name_of(kind);
+  return name.empty() ? "unknown" : name.data();
 }
 
-std::optional<BroadPhaseKind> broad_phase_kind(const std::string& name) {
-  for (BroadPhaseKind k : {BroadPhaseKind::fcl, BroadPhaseKind::bullet, BroadPhaseKind::brute})
-    if (name == to_string(k)) return k;
-  return std::nullopt;
-}
+std::optional<BroadPhaseKind> broad_phase_kind(const std::string& name) { return parse<BroadPhaseKind>(name); }
 
 namespace {
 /// The O(n²) reference (`brute_force_candidates`), one primitive kind at a time.

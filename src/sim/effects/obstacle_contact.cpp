@@ -93,21 +93,19 @@ class ObstacleContact final : public ContactEffect {
       if (friction_) start_poses_[k] = obstacles_[k].pose(ctx.time - ctx.dt);
     }
     if (!friction_) return;
-    const auto t0 = Clock::now();
     friction_stats_ = {};
+    const ScopedTimer timer(friction_stats_.ms);
     x_start_ = ctx.x_start;
     slip_ = friction_->slip_velocity * ctx.dt;
     rounds_ = 1;
     freeze(*ctx.x_start, true);
-    friction_stats_.ms += ms_since(t0);
   }
 
   bool update_lagged(const Eigen::Matrix3Xd& x) override {
     if (!friction_ || rounds_ >= friction_->lagged_iterations) return false;
-    const auto t0 = Clock::now();
+    const ScopedTimer timer(friction_stats_.ms);
     ++rounds_;
     freeze(x, false);
-    friction_stats_.ms += ms_since(t0);
     return true;
   }
 
@@ -119,9 +117,8 @@ class ObstacleContact final : public ContactEffect {
     if (blocked) return std::numeric_limits<double>::infinity();
     double energy = contact::scatter(terms_, gradient, hessian);
     if (friction_) {
-      const auto t0 = Clock::now();
+      const ScopedTimer timer(friction_stats_.ms);
       energy += add_friction(frozen_, x, *x_start_, gradient, hessian, friction_stats_.sticking);
-      friction_stats_.ms += ms_since(t0);
     }
     return energy;
   }

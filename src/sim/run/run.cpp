@@ -7,6 +7,8 @@
 #include <pce/sim/run.hpp>
 #include <pce/sim/start_state.hpp>
 
+#include "../scene/scene_names.hpp"
+
 #include <nlohmann/json.hpp>
 #include <sys/resource.h>
 
@@ -28,7 +30,7 @@ json frame_record(const FrameStats& s, long intersections) {
   r["newton_iterations"] = s.newton_iterations;
   r["residual"] = s.residual;
   r["friction_load"] = s.friction_load;
-  r["stop"] = to_string(s.stop);
+  r["stop"] = std::string(name_of(s.stop));
   r["energy"] = s.energy;
   r["kinetic_energy"] = s.kinetic_energy;
   r["line_search_failures"] = s.line_search_failures;
@@ -129,7 +131,7 @@ json summary_of(const Simulation& sim, const std::string& scene_file, const json
   summary["triangles"] = sim.model.triangles.cols();
   summary["segments"] = sim.model.segments.cols();
   summary["dt"] = sim.solver.dt;
-  summary["mode"] = sim.solver.single_solve ? "single_solve" : "newton";
+  summary["mode"] = std::string(name_of(sim.solver.single_solve ? SolverMode::single_solve : SolverMode::newton));
   summary["total_s"] = total_s;
   summary["peak_memory_mib"] = peak_memory_mib();
   summary["failure"] = failure.empty() ? json(nullptr) : json(failure);
@@ -154,7 +156,7 @@ std::string physics_key(const std::filesystem::path& scene_file, const SceneOver
   std::stringstream text;
   text << in.rdbuf();
   std::string key = text.str();
-  if (o.hessian) key += "\n--hessian " + *o.hessian;
+  if (o.hessian) key += "\n--hessian " + std::string(name_of(*o.hessian));
   if (o.broad_phase) key += "\n--broad-phase " + std::to_string(static_cast<int>(*o.broad_phase));
   if (o.single_solve && *o.single_solve) key += "\n--single-solve";
   if (o.tolerance) key += "\n--tolerance " + json(*o.tolerance).dump();

@@ -7,6 +7,7 @@
 
 #include "../effects/arguments.hpp"
 #include "../effects/pins.hpp"
+#include "scene_names.hpp"
 
 #include <pce/sim/effects.hpp>
 
@@ -22,10 +23,7 @@ namespace {
 /// A contact effect's `penalty` object.
 ContactPenalty parse_penalty(const Params& p) {
   ContactPenalty s;
-  const std::string type = p.choice("type", {"quadratic", "cubic", "log_barrier"});
-  s.kind = type == "quadratic" ? ContactPenalty::Kind::quadratic
-           : type == "cubic"   ? ContactPenalty::Kind::cubic
-                               : ContactPenalty::Kind::log_barrier;
+  s.kind = p.choice<ContactPenalty::Kind>("type");
   if (s.kind == ContactPenalty::Kind::cubic)
     p.only({"type", "stiffness", "distance", "delta"});
   else
@@ -56,16 +54,10 @@ ContactSettings parse_contact(const Params& p, const BuildContext& ctx) {
   p.only({"type", "penalty", "length", "hessian", "closest_features", "ccd", "area_weighted", "friction"});
   ContactSettings s;
   s.penalty = parse_penalty(p.object("penalty"));
-  s.signed_length = p.choice("length", {"unsigned", "signed"}, std::string("unsigned")) == "signed";
+  s.signed_length = p.choice<LengthKind>("length", LengthKind::unsigned_length) == LengthKind::signed_length;
   s.closest_features = p.boolean("closest_features", false);
   s.ccd = p.boolean("ccd", true);
-  const std::string h =
-      p.choice("hessian", {"analytic", "exact", "numerical", "gauss_newton", "abs"}, std::string("analytic"));
-  s.hessian = h == "exact"          ? Projection::exact
-              : h == "numerical"    ? Projection::numerical
-              : h == "gauss_newton" ? Projection::gauss_newton
-              : h == "abs"          ? Projection::abs
-                                    : Projection::analytic;
+  s.hessian = p.choice_among("hessian", kContactHessians, Projection::analytic);
   s.broad_phase = ctx.broad_phase;
   s.area_weighted = p.boolean("area_weighted", false);
   if (p.has("friction")) s.friction = parse_friction(p.object("friction"));
@@ -82,14 +74,14 @@ std::unique_ptr<Effect> load_gravity(const Params& params, const BuildContext& c
 
 std::unique_ptr<Effect> load_stretching(const Params& params, const BuildContext& ctx) {
   params.only({"type", "model", "stiffness"});
-  params.choice("model", {"arap"}, std::string("arap"));
+  params.choice<StretchingModel>("model", StretchingModel::arap);
   const double mu = params.positive("stiffness");
   return params.build([&] { return make_stretching(*ctx.model, mu); });
 }
 
 std::unique_ptr<Effect> load_volume_elasticity(const Params& params, const BuildContext& ctx) {
   params.only({"type", "model", "young_modulus", "poisson_ratio", "mu", "lambda", "hessian"});
-  params.choice("model", {"stable_neo_hookean"}, std::string("stable_neo_hookean"));
+  params.choice<VolumeModel>("model", VolumeModel::stable_neo_hookean);
   const bool young = params.has("young_modulus") || params.has("poisson_ratio");
   const bool lame = params.has("mu") || params.has("lambda");
   if (young == lame)
@@ -111,10 +103,7 @@ std::unique_ptr<Effect> load_volume_elasticity(const Params& params, const Build
     material = StableNeoHookean::from_lame(mu, lambda);
   }
   if (!material.valid()) params.fail(young ? "young_modulus" : "mu", "the material's moduli overflow");
-  const VolumeProjection how =
-      params.choice("hessian", {"analytic", "numerical"}, std::string("analytic")) == "numerical"
-          ? VolumeProjection::numerical
-          : VolumeProjection::analytic;
+  const VolumeProjection how = params.choice_among("hessian", kVolumeHessians, VolumeProjection::analytic);
   return params.build([&] { return make_volume_elasticity(*ctx.model, material, how); });
 }
 

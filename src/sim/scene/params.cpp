@@ -112,18 +112,6 @@ std::string Params::string(const std::string& key, std::optional<std::string> fa
   return j.get<std::string>();
 }
 
-std::string Params::choice(const std::string& key, std::initializer_list<const char*> choices,
-                           std::optional<std::string> fallback) const {
-  const std::string v = string(key, fallback);
-  std::string list;
-  for (const char* c : choices) {
-    if (v == c) return v;
-    list += list.empty() ? "" : ", ";
-    list += std::string("\"") + c + "\"";
-  }
-  fail(key, "expected one of " + list + ", got \"" + v + "\"");
-}
-
 Eigen::Vector3d Params::vec3(const std::string& key, std::optional<Eigen::Vector3d> fallback) const {
   if (!has(key)) {
     if (fallback) return *fallback;

@@ -6,6 +6,7 @@
 /// never touch JSON or format errors themselves. Internal to pce::sim.
 #pragma once
 
+#include <pce/core/enum_names.hpp>
 #include <pce/sim/input_error.hpp>
 
 #include <Eigen/Core>
@@ -47,9 +48,24 @@ class Params {
                long hi = std::numeric_limits<int>::max()) const;
   bool boolean(const std::string& key, std::optional<bool> fallback = std::nullopt) const;
   std::string string(const std::string& key, std::optional<std::string> fallback = std::nullopt) const;
-  /// A string that must be one of `choices`.
-  std::string choice(const std::string& key, std::initializer_list<const char*> choices,
-                     std::optional<std::string> fallback = std::nullopt) const;
+  /// The enumerator of `E` a string names (`pce::parse<E>`), any of `E`'s table; the
+  /// error lists the table's names: `expected one of "a", "b", got "c"`.
+  template <class E> E choice(const std::string& key, std::optional<E> fallback = std::nullopt) const {
+    return choice_among(key, pce::enumerators<E>(), fallback);
+  }
+  /// The enumerator a string names, one of `allowed` (an array of enumerators, in the order
+  /// the error lists their names).
+  template <class Values> auto choice_among(const std::string& key, const Values& allowed,
+                                            std::optional<typename Values::value_type> fallback = std::nullopt) const ->
+      typename Values::value_type {
+    using E = typename Values::value_type;
+    if (!has(key) && fallback) return *fallback;
+    const std::string v = string(key);
+    if (const std::optional<E> e = pce::parse<E>(v))
+      for (const E a : allowed)
+        if (a == *e) return a;
+    fail(key, "expected one of " + pce::quoted_names(allowed) + ", got \"" + v + "\"");
+  }
   /// A 3-array of finite numbers.
   Eigen::Vector3d vec3(const std::string& key, std::optional<Eigen::Vector3d> fallback = std::nullopt) const;
   /// An array of integers in [0, hi).

@@ -6,6 +6,7 @@
 #include "../effects/arguments.hpp"
 #include "params.hpp"
 #include "registry.hpp"
+#include "scene_names.hpp"
 
 #include <pce/sim/generators.hpp>
 #include <pce/sim/obj.hpp>
@@ -97,33 +98,38 @@ Mesh read_mesh(const Params& p, const std::string& key, const std::filesystem::p
 }
 
 Mesh parse_generator(const Params& g) {
-  const std::string type = g.choice("type", {"grid", "strands", "tet_box", "tet_ball"});
+  const GeneratorKind type = g.choice<GeneratorKind>("type");
   try {  // the generators check their own limits too; their errors are named by this field
-    if (type == "tet_box") {
-      g.only({"type", "size", "n"});
-      const Eigen::Vector3d size = checked_vec3(g, "size", args::position);
-      if (!(size.minCoeff() > 0)) g.fail("size", "expected three numbers > 0");
-      const Eigen::Vector3d nd = g.vec3("n");
-      Eigen::Vector3i n;
-      for (int k = 0; k < 3; ++k) {
-        if (!(nd[k] >= 1 && nd[k] <= 256 && nd[k] == std::floor(nd[k])))
-          g.fail("n", "expected three integers in [1, 256] (cubes per side)");
-        n[k] = static_cast<int>(nd[k]);
+    // Every case but strands returns; strands is read after the switch.
+    switch (type) {
+      case GeneratorKind::tet_box: {
+        g.only({"type", "size", "n"});
+        const Eigen::Vector3d size = checked_vec3(g, "size", args::position);
+        if (!(size.minCoeff() > 0)) g.fail("size", "expected three numbers > 0");
+        const Eigen::Vector3d nd = g.vec3("n");
+        Eigen::Vector3i n;
+        for (int k = 0; k < 3; ++k) {
+          if (!(nd[k] >= 1 && nd[k] <= 256 && nd[k] == std::floor(nd[k])))
+            g.fail("n", "expected three integers in [1, 256] (cubes per side)");
+          n[k] = static_cast<int>(nd[k]);
+        }
+        return tet_box(size, n);
       }
-      return tet_box(size, n);
-    }
-    if (type == "tet_ball") {
-      g.only({"type", "radius", "n"});
-      const double radius = checked(g, "radius", args::length);
-      const int n = static_cast<int>(g.integer("n", std::nullopt, 1, 127));
-      return tet_ball(radius, n);
-    }
-    if (type == "grid") {
-      g.only({"type", "width", "height", "nx", "ny"});
-      const double width = checked(g, "width", args::length), height = checked(g, "height", args::length);
-      const int nx = static_cast<int>(g.integer("nx", std::nullopt, 1, 4096));
-      const int ny = static_cast<int>(g.integer("ny", std::nullopt, 1, 4096));
-      return grid(width, height, nx, ny);
+      case GeneratorKind::tet_ball: {
+        g.only({"type", "radius", "n"});
+        const double radius = checked(g, "radius", args::length);
+        const int n = static_cast<int>(g.integer("n", std::nullopt, 1, 127));
+        return tet_ball(radius, n);
+      }
+      case GeneratorKind::grid: {
+        g.only({"type", "width", "height", "nx", "ny"});
+        const double width = checked(g, "width", args::length), height = checked(g, "height", args::length);
+        const int nx = static_cast<int>(g.integer("nx", std::nullopt, 1, 4096));
+        const int ny = static_cast<int>(g.integer("ny", std::nullopt, 1, 4096));
+        return grid(width, height, nx, ny);
+      }
+      case GeneratorKind::strands:
+        break;
     }
     g.only({"type", "count", "segments", "length", "spacing", "curl"});
     const int count = static_cast<int>(g.integer("count", std::nullopt, 1, 1L << 20));
@@ -165,32 +171,33 @@ ModelMesh parse_mesh(const Params& p, const std::filesystem::path& base) {
 Obstacle parse_obstacle(const Params& p, const std::filesystem::path& base) {
   Obstacle o;
   o.name = p.string("name");
-  const std::string shape = p.choice("shape", {"sphere", "box", "capsule", "mesh"});
-  if (shape == "sphere") {
-    p.only({"name", "shape", "radius", "position", "rotation", "motion"});
-    o.kind = ShapeKind::sphere;
-    o.radius = checked(p, "radius", args::length);
-  } else if (shape == "box") {
-    p.only({"name", "shape", "half_extents", "position", "rotation", "motion"});
-    o.kind = ShapeKind::box;
-    o.half_extents = checked_vec3(p, "half_extents", args::position);
-    if (!(o.half_extents.minCoeff() > 0)) p.fail("half_extents", "expected three numbers > 0");
-  } else if (shape == "capsule") {
-    p.only({"name", "shape", "radius", "half_length", "position", "rotation", "motion"});
-    o.kind = ShapeKind::capsule;
-    o.radius = checked(p, "radius", args::length);
-    o.half_length = checked(p, "half_length", args::length);
-  } else {
-    p.only({"name", "shape", "file", "transform", "position", "rotation", "motion"});
-    o.kind = ShapeKind::mesh;
-    o.mesh = read_mesh(p, "file", base);
-    if (p.has("transform")) apply(parse_transform(p.object("transform")), o.mesh);
-    try {
-      validate(o.mesh, p.file());
-    } catch (const InputError& e) {
-      p.fail("file", e.what());
-    }
-    if (o.mesh.triangles.cols() == 0) p.fail("file", "a mesh obstacle needs triangles");
+  o.kind = p.choice<ShapeKind>("shape");
+  switch (o.kind) {
+    case ShapeKind::sphere:
+      p.only({"name", "shape", "radius", "position", "rotation", "motion"});
+      o.radius = checked(p, "radius", args::length);
+      break;
+    case ShapeKind::box:
+      p.only({"name", "shape", "half_extents", "position", "rotation", "motion"});
+      o.half_extents = checked_vec3(p, "half_extents", args::position);
+      if (!(o.half_extents.minCoeff() > 0)) p.fail("half_extents", "expected three numbers > 0");
+      break;
+    case ShapeKind::capsule:
+      p.only({"name", "shape", "radius", "half_length", "position", "rotation", "motion"});
+      o.radius = checked(p, "radius", args::length);
+      o.half_length = checked(p, "half_length", args::length);
+      break;
+    case ShapeKind::mesh:
+      p.only({"name", "shape", "file", "transform", "position", "rotation", "motion"});
+      o.mesh = read_mesh(p, "file", base);
+      if (p.has("transform")) apply(parse_transform(p.object("transform")), o.mesh);
+      try {
+        validate(o.mesh, p.file());
+      } catch (const InputError& e) {
+        p.fail("file", e.what());
+      }
+      if (o.mesh.triangles.cols() == 0) p.fail("file", "a mesh obstacle needs triangles");
+      break;
   }
   o.position = checked_vec3(p, "position", args::position, Eigen::Vector3d::Zero());
   if (p.has("rotation")) o.rotation = parse_rotation(p.object("rotation"));
@@ -202,54 +209,43 @@ Obstacle parse_obstacle(const Params& p, const std::filesystem::path& base) {
   return o;
 }
 
-}  // namespace
-
-std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::string& name,
-                                       const std::filesystem::path& base, const SceneOverrides& overrides) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {  // syntax errors, numbers beyond double's range
-    throw InputError(name, "", std::string("not valid JSON: ") + e.what());
-  }
-  const Params root(j, name, "");
-  root.only({"description", "dt", "frames", "solver", "meshes", "obstacles", "effects", "output_every",
-             "view_direction", "allow_initial_intersections"});
-  auto scene = std::make_unique<Scene>();
-  Simulation& sim = scene->simulation;
+/// The top level's numbers and `solver` (then the command line's overrides) into `scene`;
+/// returns the broad phase the contact effects are to use.
+BroadPhaseKind parse_settings(const Params& root, const SceneOverrides& overrides, Scene& scene) {
+  Simulation& sim = scene.simulation;
   sim.solver.dt = root.number("dt");
   if (!(sim.solver.dt >= kMinDt && sim.solver.dt <= kMaxDt))
     root.fail("dt", "expected a number in [" + args::limit_text(kMinDt) + ", " + args::limit_text(kMaxDt) +
                         "] (the time steps pce::sim accepts, in s), got " + args::text(sim.solver.dt));
   sim.frames = static_cast<int>(root.integer("frames", std::nullopt, 1, 10000000));
-  scene->output_every = static_cast<int>(root.integer("output_every", 1L, 1, 10000000));
+  scene.output_every = static_cast<int>(root.integer("output_every", 1L, 1, 10000000));
   if (root.has("view_direction")) {
-    scene->view_direction = root.vec3("view_direction");
-    if (!(scene->view_direction.norm() > 0)) root.fail("view_direction", "expected a non-zero direction");
+    scene.view_direction = root.vec3("view_direction");
+    if (!(scene.view_direction.norm() > 0)) root.fail("view_direction", "expected a non-zero direction");
   }
-  scene->allow_initial_intersections = root.boolean("allow_initial_intersections", false);
+  scene.allow_initial_intersections = root.boolean("allow_initial_intersections", false);
   BroadPhaseKind broad_phase = BroadPhaseKind::fcl;
   if (root.has("solver")) {
     const Params s = root.object("solver");
     s.only({"mode", "tolerance", "max_iterations", "linear_solver", "threads", "broad_phase"});
-    sim.solver.single_solve = s.choice("mode", {"newton", "single_solve"}, std::string("newton")) == "single_solve";
+    sim.solver.single_solve = s.choice<SolverMode>("mode", SolverMode::newton) == SolverMode::single_solve;
     sim.solver.tolerance = s.positive("tolerance", sim.solver.tolerance);
     sim.solver.max_iterations = static_cast<int>(s.integer("max_iterations", 50L, 1, 100000));
-    const std::string ls = s.choice("linear_solver", {"direct", "factor_reuse", "ldlt", "cg"}, std::string("direct"));
-    sim.solver.linear = ls == "cg"       ? LinearSolver::cg
-                        : ls == "ldlt"   ? LinearSolver::ldlt
-                        : ls == "direct" ? LinearSolver::direct
-                                         : LinearSolver::factor_reuse;
+    sim.solver.linear = s.choice<LinearSolver>("linear_solver", LinearSolver::direct);
     sim.solver.threads = static_cast<int>(s.integer("threads", 0L, 0, 1024));
-    broad_phase = *broad_phase_kind(s.choice("broad_phase", {"fcl", "bullet", "brute"}, std::string("fcl")));
+    broad_phase = s.choice<BroadPhaseKind>("broad_phase", BroadPhaseKind::fcl);
   }
   if (overrides.frames) sim.frames = *overrides.frames;
   if (overrides.threads) sim.solver.threads = *overrides.threads;
   if (overrides.single_solve) sim.solver.single_solve = *overrides.single_solve;
   if (overrides.tolerance) sim.solver.tolerance = *overrides.tolerance;
   if (overrides.broad_phase) broad_phase = *overrides.broad_phase;
+  return broad_phase;
+}
 
-  // Meshes (unique names), then the model.
+/// The meshes (unique names), the model built from them, and the obstacles (names unique
+/// among meshes and obstacles) into `sim`.
+void parse_bodies(const Params& root, const std::filesystem::path& base, Simulation& sim) {
   const nlohmann::json& meshes = root.array("meshes", true);
   if (meshes.empty()) root.fail("meshes", "expected at least one mesh");
   std::vector<ModelMesh> specs;
@@ -260,7 +256,6 @@ std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::strin
     if (!names.insert(specs.back().name).second) p.fail("name", "duplicate mesh name \"" + specs.back().name + "\"");
   }
   sim.model = root.build([&] { return build_model(specs); });
-
   const nlohmann::json& obstacles = root.array("obstacles");
   for (std::size_t k = 0; k < obstacles.size(); ++k) {
     const Params p = root.element("obstacles", k);
@@ -268,8 +263,12 @@ std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::strin
     if (!names.insert(sim.obstacles.back().name).second)
       p.fail("name", "duplicate name \"" + sim.obstacles.back().name + "\"");
   }
+}
 
-  // Effects: only the listed ones are built.
+/// The listed effects, each built by its registered loader (only the listed ones are built),
+/// into `sim`; a contact effect's `hessian` is the override's when there is one.
+void build_effects(const Params& root, const std::string& name, const SceneOverrides& overrides,
+                   BroadPhaseKind broad_phase, Simulation& sim) {
   BuildContext ctx;
   ctx.model = &sim.model;
   ctx.obstacles = &sim.obstacles;
@@ -290,11 +289,30 @@ std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::strin
     }
     if (!reg) p.fail("type", "unknown effect \"" + type + "\" (expected one of: " + known + ")");
     if (!declared.insert(type).second) p.fail("type", "effect \"" + type + "\" is declared twice");
-    if (reg->pair_contact && overrides.hessian) effects[k]["hessian"] = *overrides.hessian;
+    if (reg->pair_contact && overrides.hessian) effects[k]["hessian"] = std::string(name_of(*overrides.hessian));
     const Params q(effects[k], name, "effects[" + std::to_string(k) + "]");
     sim.effects.push_back(reg->make(q, ctx));
   }
-  sim.start_at_rest();
+}
+
+}  // namespace
+
+std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::string& name,
+                                       const std::filesystem::path& base, const SceneOverrides& overrides) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {  // syntax errors, numbers beyond double's range
+    throw InputError(name, "", std::string("not valid JSON: ") + e.what());
+  }
+  const Params root(j, name, "");
+  root.only({"description", "dt", "frames", "solver", "meshes", "obstacles", "effects", "output_every",
+             "view_direction", "allow_initial_intersections"});
+  auto scene = std::make_unique<Scene>();
+  const BroadPhaseKind broad_phase = parse_settings(root, overrides, *scene);
+  parse_bodies(root, base, scene->simulation);
+  build_effects(root, name, overrides, broad_phase, scene->simulation);
+  scene->simulation.start_at_rest();
   return scene;
 }
 

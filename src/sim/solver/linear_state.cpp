@@ -46,16 +46,18 @@ class SerialRegions {
 template <class Factorization> bool Simulation::LinearState::factor(Factorization& f, const SparseMatrix& A) {
   factored = nullptr;
   if (!analyzed) {
-    const auto t0 = Clock::now();
-    f.analyzePattern(A);
-    analyze_ms += ms_since(t0);
-    ++analyses;
+    {
+      const ScopedTimer timer(counters, Counter::analyze_ms);
+      f.analyzePattern(A);
+    }
+    counters[Counter::analyses] += 1;
     analyzed = true;
   }
-  const auto t0 = Clock::now();
-  f.factorize(A);
-  factorize_ms += ms_since(t0);
-  ++factorizations;
+  {
+    const ScopedTimer timer(counters, Counter::factorize_ms);
+    f.factorize(A);
+  }
+  counters[Counter::factorizations] += 1;
   if (f.info() != Eigen::Success) return false;
   factored = &f;
   return true;
@@ -88,7 +90,7 @@ bool Simulation::LinearState::preconditioned_cg(const Factorization& f, const Sp
     const double alpha = rz / pq;
     dx += alpha * p;
     r -= alpha * q;
-    ++cg_iterations;
+    counters[Counter::cg_iterations] += 1;
     if (r.norm() <= target) return rhs.dot(dx) > 0;
     z = f.solve(r);
     const double rz_next = r.dot(z);
@@ -137,7 +139,7 @@ bool Simulation::LinearState::solve(const SolverSettings& settings, const Eigen:
       cg.setMaxIterations(static_cast<Eigen::Index>(4 * rhs.size()));
       cg.compute(A);
       dx = cg.solve(rhs);
-      cg_iterations += static_cast<int>(cg.iterations());
+      counters[Counter::cg_iterations] += static_cast<double>(cg.iterations());
       return cg.info() == Eigen::Success;
     case LinearSolver::direct:
 #ifdef PCE_SIM_HAVE_CHOLMOD

@@ -34,13 +34,18 @@ struct Simulation::LinearState {
   /// The factor object that holds a complete numerical factor (of some earlier H, maybe of
   /// another pattern), or null: what factor_reuse may precondition with.
   const void* factored = nullptr;
-  double analyze_ms = 0, factorize_ms = 0;  ///< this step's symbolic and numeric factorisation time
-  int analyses = 0;                         ///< symbolic analyses this step
-  int factorizations = 0;                   ///< numerical factorisations this step
-  int cg_iterations = 0;                    ///< conjugate-gradient iterations this step (factor_reuse, cg)
-  Eigen::VectorXd r, z, p, q;               ///< factor_reuse's CG vectors
-  int reuse_failures = 0;                   ///< factor_reuse: CG failures since the last CG success
-  int reuse_skip = 0;                       ///< factor_reuse: solves still to refactor without trying CG
+  /// This step's counters: `analyze_ms`, `factorize_ms` (timed), `analyses`,
+  /// `factorizations` and `cg_iterations` (factor_reuse, cg); `start_step` zeroes them.
+  Counters counters;
+  /// Zeroes the step's counters (each is reported, 0 when nothing happened).
+  void start_step() {
+    for (const Counter c : {Counter::analyze_ms, Counter::factorize_ms, Counter::analyses, Counter::factorizations,
+                            Counter::cg_iterations})
+      counters[c] = 0;
+  }
+  Eigen::VectorXd r, z, p, q;  ///< factor_reuse's CG vectors
+  int reuse_failures = 0;      ///< factor_reuse: CG failures since the last CG success
+  int reuse_skip = 0;          ///< factor_reuse: solves still to refactor without trying CG
 
   /// Solves H dx = rhs with `settings.linear`; false when the factorisation, its solve or the
   /// iteration fails. OpenMP's parallel regions are inactive meanwhile (SerialRegions in

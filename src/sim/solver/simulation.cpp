@@ -24,28 +24,17 @@ double Simulation::potential(const Eigen::Matrix3Xd& y, std::vector<double>* eff
   const Eigen::Map<const Eigen::VectorXd> t(x_tilde_.data(), x_tilde_.size());
   double E = 0.5 * (mass3_.array() * (d - t).array().square()).sum();
   for (std::size_t k = 0; k < effects.size(); ++k) {
-    const auto t0 = Clock::now();
-    E += effects[k]->evaluate(y, nullptr, nullptr);
-    if (effect_ms) (*effect_ms)[k] += ms_since(t0);
+    double ms = 0;
+    {
+      const ScopedTimer timer(ms);
+      E += effects[k]->evaluate(y, nullptr, nullptr);
+    }
+    if (effect_ms) (*effect_ms)[k] += ms;
   }
   return E;
 }
 
-const char* to_string(StopReason reason) {
-  switch (reason) {
-    case StopReason::tolerance:
-      return "tolerance";
-    case StopReason::rounding:
-      return "rounding";
-    case StopReason::line_search:
-      return "line_search";
-    case StopReason::iteration_cap:
-      return "iteration_cap";
-    case StopReason::single_solve:
-      return "single_solve";
-  }
-  return "";
-}
+const char* to_string(StopReason reason) { return name_of(reason).data(); }
 
 void Simulation::start_at_rest() {
   x = model.rest;
@@ -151,8 +140,7 @@ FrameStats Simulation::step() {
   if (!linear_) linear_ = std::make_shared<LinearState>();
   if (solver.threads > 0) omp_set_num_threads(solver.threads);
   LinearState& ls = *linear_;
-  ls.analyze_ms = ls.factorize_ms = 0;
-  ls.analyses = ls.factorizations = ls.cg_iterations = 0;
+  ls.start_step();
   StepState s(ls, model.vertex_count());
   s.t_frame = t_frame;
   predict(s);
@@ -186,9 +174,10 @@ void Simulation::predict(StepState& s) {
   ctx.x_start = &s.x_start;
   ctx.v_start = &s.v_start;
   for (std::size_t k = 0; k < effects.size(); ++k) {
-    const auto t0 = Clock::now();
-    effects[k]->begin_step(ctx);
-    s.effect_ms[k] += ms_since(t0);
+    {
+      const ScopedTimer timer(s.effect_ms[k]);
+      effects[k]->begin_step(ctx);
+    }
     if (ContactEffect* c = as_contact(effects[k].get())) s.contacts.emplace_back(k, c);
   }
   rebuild_pattern(s);
@@ -203,11 +192,13 @@ void Simulation::predict(StepState& s) {
 /// The Hessian's pattern from every effect's declaration (a new symbolic analysis when it
 /// changed).
 void Simulation::rebuild_pattern(StepState& s) {
-  const auto t0 = Clock::now();
-  Pattern pattern;
-  for (const auto& e : effects) e->declare(pattern);
-  if (s.ls.H.set_pattern(s.n, pattern)) s.ls.analyzed = false;
-  const double ms = ms_since(t0);
+  double ms = 0;
+  {
+    const ScopedTimer timer(ms);
+    Pattern pattern;
+    for (const auto& e : effects) e->declare(pattern);
+    if (s.ls.H.set_pattern(s.n, pattern)) s.ls.analyzed = false;
+  }
   s.st.assembly_ms += ms;
   s.st.counters[Counter::pattern_ms] += ms;
   s.st.counters[Counter::pattern_builds] += 1;
@@ -237,7 +228,8 @@ void Simulation::newton(StepState& s) {
           "  it %d E %.9g slope %.3g alpha %.3g residual %.3g friction_load %.3g accepted %d factorizations %d "
           "cg_iterations %d covered %d\n",
           it, s.E, -s.rhs.dot(s.dx), st.iterations.back().alpha, st.residual, st.iterations.back().friction_load,
-          accepted, s.ls.factorizations, s.ls.cg_iterations, int(s.covered));
+          accepted, static_cast<int>(s.ls.counters.at(Counter::factorizations)),
+          static_cast<int>(s.ls.counters.at(Counter::cg_iterations)), int(s.covered));
     if (!accepted) {
       // A direction below the tolerance whose trial does not pass Armijo is rounding, not a
       // failure: the iterate already meets the tolerance, and the energy's change along such
@@ -270,22 +262,21 @@ void Simulation::assemble(StepState& s, int it) {
   const double h = solver.dt;
   bool changed_pattern = false;
   for (const auto& [k, c] : s.contacts) {
-    const auto tp = Clock::now();
+    const ScopedTimer timer(s.effect_ms[k]);
     changed_pattern = c->update_pattern(s.y) || changed_pattern;
-    s.effect_ms[k] += ms_since(tp);
   }
   if (changed_pattern) rebuild_pattern(s);
-  auto t0 = Clock::now();
-  s.ls.H.set_zero();
-  s.ls.H.add_diagonal(mass3_);
-  s.st.assembly_ms += ms_since(t0);
+  {
+    const ScopedTimer timer(s.st.assembly_ms);
+    s.ls.H.set_zero();
+    s.ls.H.add_diagonal(mass3_);
+  }
   s.g = (s.y - x_tilde_);
   for (int i = 0; i < n; ++i) s.g.col(i) *= model.mass[i] / (h * h);
   double E = 0.5 * ((s.y - x_tilde_).colwise().squaredNorm().transpose().array() * model.mass.array()).sum() / (h * h);
   for (std::size_t k = 0; k < effects.size(); ++k) {
-    t0 = Clock::now();
+    const ScopedTimer timer(s.effect_ms[k]);
     E += effects[k]->evaluate(s.y, &s.g, &s.ls.H);
-    s.effect_ms[k] += ms_since(t0);
   }
   s.E = E;
   if (!std::isfinite(E) || !s.g.allFinite())
@@ -295,10 +286,12 @@ void Simulation::assemble(StepState& s, int it) {
 /// The Newton direction H Δx = −g and its residual max|Δx|/(h ℓ); a failed solve ends the run.
 void Simulation::solve_direction(StepState& s, int it) {
   FrameStats& st = s.st;
-  const auto t0 = Clock::now();
-  s.rhs = -Eigen::Map<const Eigen::VectorXd>(s.g.data(), s.g.size());
-  const bool solved = s.ls.solve(solver, s.rhs, s.dx);
-  st.solve_ms += ms_since(t0);
+  bool solved = false;
+  {
+    const ScopedTimer timer(st.solve_ms);
+    s.rhs = -Eigen::Map<const Eigen::VectorXd>(s.g.data(), s.g.size());
+    solved = s.ls.solve(solver, s.rhs, s.dx);
+  }
   if (!solved || !s.dx.allFinite())
     throw SimulationError(st.frame, "", -1,
                           "frame " + std::to_string(st.frame) + ": the linear solve failed at Newton iteration " +
@@ -321,9 +314,8 @@ bool Simulation::cover(StepState& s) {
   for (long j = 0; j < count; ++j) {
     const auto [k, c] = s.contacts[static_cast<std::size_t>(j)];
     try {
-      const auto tc = Clock::now();
+      const ScopedTimer timer(s.effect_ms[k]);
       covered = c->cover_step(s.y, s.dxm) || covered;
-      s.effect_ms[k] += ms_since(tc);
     } catch (...) {
 #pragma omp critical(pce_sim_cover_error)
       if (!error) error = std::current_exception();
@@ -338,7 +330,7 @@ bool Simulation::cover(StepState& s) {
 /// below the tolerance sets `converged` by the friction test at the step taken.
 bool Simulation::line_search(StepState& s, int it, bool small_step, bool& converged) {
   FrameStats& st = s.st;
-  const auto t0 = Clock::now();
+  const ScopedTimer timer(st.line_search_ms);
   double alpha = 1.0;
   NewtonIteration record;
   record.residual = st.residual;
@@ -377,7 +369,6 @@ bool Simulation::line_search(StepState& s, int it, bool small_step, bool& conver
       break;
     }
   }
-  st.line_search_ms += ms_since(t0);
   record.alpha = accepted ? alpha : 0.0;
   st.iterations.push_back(record);
   return accepted;
@@ -389,9 +380,10 @@ void Simulation::refresh(StepState& s) {
   bool changed = false;
   for (const auto& [k, c] : s.contacts)
     if (!c->still_valid(s.y)) {
-      const auto t0 = Clock::now();
-      c->refresh(s.y);
-      s.effect_ms[k] += ms_since(t0);
+      {
+        const ScopedTimer timer(s.effect_ms[k]);
+        c->refresh(s.y);
+      }
       changed = true;
       s.evaluated_at_y = false;
     }
@@ -403,9 +395,8 @@ void Simulation::refresh(StepState& s) {
 bool Simulation::update_lagged(StepState& s) {
   bool again = false;
   for (const auto& [k, c] : s.contacts) {
-    const auto tl = Clock::now();
+    const ScopedTimer timer(s.effect_ms[k]);
     again = c->update_lagged(s.y) || again;
-    s.effect_ms[k] += ms_since(tl);
   }
   if (!again) return false;
   rebuild_pattern(s);
@@ -422,9 +413,10 @@ void Simulation::accept(StepState& s) {
   const double h = solver.dt;
   if (!s.y.allFinite()) fail_non_finite(s.y, st.frame, "after the line search");
   if (!s.evaluated_at_y) {
-    const auto t0 = Clock::now();
-    s.E_accepted = potential(s.y, &s.effect_ms);
-    st.line_search_ms += ms_since(t0);
+    {
+      const ScopedTimer timer(st.line_search_ms);
+      s.E_accepted = potential(s.y, &s.effect_ms);
+    }
     if (!std::isfinite(s.E_accepted)) fail_non_finite(s.y, st.frame, "at the accepted state");
   }
   v = (s.y - s.x_start) / h;
@@ -450,11 +442,7 @@ void Simulation::report(StepState& s) {
   st.pair_ms = counter(Counter::pair_ms);
   st.assembly_ms += counter(Counter::scatter_ms);
   st.counters[Counter::pattern_blocks] = static_cast<double>(ls.H.block_count());
-  st.counters[Counter::analyze_ms] = ls.analyze_ms;
-  st.counters[Counter::factorize_ms] = ls.factorize_ms;
-  st.counters[Counter::analyses] = ls.analyses;
-  st.counters[Counter::factorizations] = ls.factorizations;
-  st.counters[Counter::cg_iterations] = ls.cg_iterations;
+  st.counters.merge(ls.counters);
   st.wall_ms = ms_since(s.t_frame);
 }
 

@@ -79,6 +79,18 @@ template <bool VF> class Classifier {
     return a;
   }
 
+  /// Candidate k at x, read only as far as needed: false when the filter drops it or
+  /// classify finds it inactive; otherwise true with its vertices `v`, positions `xp` and
+  /// activity `a`.
+  bool active_candidate(const Eigen::Matrix3Xd& x, std::size_t k, std::array<int, 4>& v, Vec12<double>& xp,
+                        Activity& a) const {
+    if (filtered_out(k)) return false;
+    v = candidates_->vertices(k);
+    xp = Geometry::gather(x, v);
+    a = classify(xp, k);
+    return a.mode != Activity::Mode::none;
+  }
+
   /// Pairs farther apart than this are inactive in every mode: the activation distance d,
   /// or 2d for signed plane mode (a pair counts down to L = −2d).
   double inactive_beyond() const {

@@ -170,7 +170,7 @@ template <bool VF> double CandidateSet<VF>::sweep_step(const Eigen::Matrix3Xd& x
 
 template <bool VF>
 void CandidateSet<VF>::query(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, std::vector<long>& previous) {
-  const auto t0 = Clock::now();
+  const ScopedTimer timer(stats_.broad_phase_ms);
   // The former query point and bounds: a pair that stays a candidate keeps its bound,
   // less how far it moved since (bound_at_query).
   if (query_lb_.size() == pairs_.size() && query_at_.cols() == x0.cols()) {
@@ -183,15 +183,16 @@ void CandidateSet<VF>::query(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd&
   }
   set_sweep(x0, x1);
   std::vector<Pair> fresh;
-  const auto t_tree = Clock::now();
-  const double r = distance_ + margin_;
-  if constexpr (VF) {
-    broad_phase_->vertex_face(query_at_, query_to_, model_->triangles, r, fresh);
-    drop_interior_vertices(fresh);
-  } else {
-    broad_phase_->edge_edge(query_at_, query_to_, model_->edges, r, fresh);
+  {
+    const ScopedTimer tree_timer(stats_.tree_ms);
+    const double r = distance_ + margin_;
+    if constexpr (VF) {
+      broad_phase_->vertex_face(query_at_, query_to_, model_->triangles, r, fresh);
+      drop_interior_vertices(fresh);
+    } else {
+      broad_phase_->edge_edge(query_at_, query_to_, model_->edges, r, fresh);
+    }
   }
-  stats_.tree_ms += ms_since(t_tree);
   // Both lists are sorted: one merge pass finds where each fresh pair was.
   previous.assign(fresh.size(), -1);
   std::size_t old = 0;
@@ -203,8 +204,6 @@ void CandidateSet<VF>::query(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd&
   mark_fold_pairs();
   bound_at_query(previous);
   stats_.queries += 1;
-  ++instrumentation().broad_phase_queries;
-  stats_.broad_phase_ms += ms_since(t0);
 }
 
 template <bool VF> void CandidateSet<VF>::drop_interior_vertices(std::vector<Pair>& pairs) const {

@@ -34,7 +34,6 @@
 #include <pce/energy/closest_feature.hpp>
 #include <pce/penalties/quadratic.hpp>
 #include <pce/sim/broad_phase.hpp>
-#include <pce/sim/instrumentation.hpp>
 
 #include <algorithm>
 #include <array>

@@ -27,10 +27,8 @@ template <bool VF> bool FrictionFreezing<VF>::update_lagged(const Eigen::Matrix3
 
 template <bool VF>
 double FrictionFreezing<VF>::evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) {
-  const auto t0 = Clock::now();
-  const double energy = add_friction(frozen_, x, *x_start_, gradient, hessian, stats_.sticking);
-  stats_.ms += ms_since(t0);
-  return energy;
+  const ScopedTimer timer(stats_.ms);
+  return add_friction(frozen_, x, *x_start_, gradient, hessian, stats_.sticking);
 }
 
 template <bool VF> void FrictionFreezing<VF>::report(Counters& c) const {
@@ -42,9 +40,8 @@ template <bool VF> void FrictionFreezing<VF>::report(Counters& c) const {
 }
 
 template <bool VF> void FrictionFreezing<VF>::freeze(const Eigen::Matrix3Xd& x) {
-  using Geometry = PairGeometry<VF>;
   using Kind = std::conditional_t<VF, VertexFace, EdgeEdge>;
-  const auto t0 = Clock::now();
+  const ScopedTimer timer(stats_.ms);
   candidates_->measure_drift(x);
   const long n = static_cast<long>(candidates_->size());
   constexpr long chunk = 2048;
@@ -56,11 +53,10 @@ template <bool VF> void FrictionFreezing<VF>::freeze(const Eigen::Matrix3Xd& x) 
       parts_[c].clear();
       for (long k = begin; k < end; ++k) {
         const auto uk = static_cast<std::size_t>(k);
-        if (classifier_->filtered_out(uk)) continue;
-        const auto v = candidates_->vertices(uk);
-        const Vec12<double> xp = Geometry::gather(x, v);
-        const Activity a = classifier_->classify(xp, uk);
-        if (a.mode == Activity::Mode::none) continue;
+        std::array<int, 4> v;
+        Vec12<double> xp;
+        Activity a;
+        if (!classifier_->active_candidate(x, uk, v, xp, a)) continue;
         const auto pk = classifier_->weighted(penalty, uk);
         double lambda = 0;
         VecN<double, 4> w;
@@ -91,7 +87,6 @@ template <bool VF> void FrictionFreezing<VF>::freeze(const Eigen::Matrix3Xd& x) 
   });
   join_chunks(parts_, chunks, frozen_);
   publish_friction(frozen_, published_);
-  stats_.ms += ms_since(t0);
 }
 
 template class FrictionFreezing<true>;

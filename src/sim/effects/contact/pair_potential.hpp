@@ -32,7 +32,6 @@ struct PairOutcome {
 
 /// The pair potential of one self-contact effect (see the file comment).
 template <bool VF> class PairPotential {
-  using Geometry = PairGeometry<VF>;
   using Kind = std::conditional_t<VF, VertexFace, EdgeEdge>;
 
  public:
@@ -46,11 +45,10 @@ template <bool VF> class PairPotential {
                                          std::vector<PairBlock<4>>* blocks, PairOutcome& o) const {
     o.active = false;
     const auto uk = static_cast<std::size_t>(k);
-    if (classifier_->filtered_out(uk)) return;
-    const auto v = candidates_->vertices(uk);
-    const Vec12<double> xp = Geometry::gather(x, v);
-    const Activity a = classifier_->classify(xp, uk);
-    if (a.mode == Activity::Mode::none) return;
+    std::array<int, 4> v;
+    Vec12<double> xp;
+    Activity a;
+    if (!classifier_->active_candidate(x, uk, v, xp, a)) return;
     o.declare = a.mode == Activity::Mode::plane;  // is_active: plane mode is active
     o.term.k = k;
     o.term.vertices = v;

@@ -151,7 +151,7 @@ template <bool VF> class SelfContact final : public ContactEffect {
   /// After a query: pairs already tracked keep their side and their declaration (until the
   /// next update_pattern); new pairs start undeclared, with their side settled at xⁿ.
   void carry_over() {
-    const auto t0 = Clock::now();
+    const ScopedTimer timer(stats_.settle_ms);
     active_.carry_over(previous_);
     step_bound_.invalidate();
     std::vector<signed char>& sides = classifier_.sides();
@@ -160,7 +160,6 @@ template <bool VF> class SelfContact final : public ContactEffect {
       if (previous_[k] >= 0) carried[k] = sides[static_cast<std::size_t>(previous_[k])];
     sides = std::move(carried);
     if (settings_.signed_length) classifier_.settle_sides(*x_start_);
-    stats_.settle_ms += ms_since(t0);
   }
 
   ContactSettings settings_;

@@ -8,6 +8,8 @@
 /// tree and Bullet's `btDbvt` are refitted, not rebuilt, while the topology is unchanged).
 #pragma once
 
+#include <pce/core/enum_names.hpp>
+
 #include <Eigen/Core>
 
 #include <array>
@@ -22,7 +24,18 @@ namespace pce::sim {
 /// (`broad_phase/bullet.cpp`), or the O(n²) reference `brute_force_candidates`.
 enum class BroadPhaseKind { fcl, bullet, brute };
 
-/// `"fcl"`, `"bullet"`, `"brute"`.
+/// The broad phases' names (scene key `solver.broad_phase`, `pce-sim --broad-phase`), in
+/// enumerator order.
+inline constexpr EnumNames<BroadPhaseKind, 3> kBroadPhaseNames{{
+    {BroadPhaseKind::fcl, "fcl"},
+    {BroadPhaseKind::bullet, "bullet"},
+    {BroadPhaseKind::brute, "brute"},
+}};
+
+/// The table of `BroadPhaseKind`'s names (for `pce::name_of` and `pce::parse`).
+constexpr const EnumNames<BroadPhaseKind, 3>& enum_names(BroadPhaseKind) { return kBroadPhaseNames; }
+
+/// `"fcl"`, `"bullet"`, `"brute"` (`kBroadPhaseNames`).
 const char* to_string(BroadPhaseKind kind);
 
 /// The kind `to_string` names `name`; nothing for any other string.

@@ -2,7 +2,8 @@
 /// @file
 /// The counters of a frame's statistics (`stats.json`'s `counters`, docs/simulation.md
 /// §6.1), typed: every counter is an enumerator with one name and one rule for merging the
-/// reports of several effects (summed, or the smallest for the minimum distances). Effects
+/// reports of several effects (summed, or the smallest for the minimum distances), all
+/// three generated from one list (`PCE_SIM_COUNTERS`). Effects
 /// write them in `Effect::report`, the solver adds its own and merges the effects'.
 #pragma once
 
@@ -18,60 +19,80 @@
 
 namespace pce::sim {
 
-/// Every counter of `stats.json` (the enumerator's name is the key).
+/// Every counter of `stats.json`, in enumerator order: `X(id, rule)` with `id` the
+/// enumerator and its key, `rule` how several reports merge (`sum`, or `minimum` for the
+/// minimum distances). The enumeration `Counter`, the names and the merge rules are all
+/// generated from this list, so a counter cannot exist without its name and rule.
+#define PCE_SIM_COUNTERS(X)                                                    \
+  /* self contact, per kind */                                                 \
+  X(vertex_face_candidates, sum)                                               \
+  X(vertex_face_declared, sum)                                                 \
+  X(vertex_face_rest_neighbours, sum)                                          \
+  X(vertex_face_fold_contacts, sum)                                            \
+  X(vertex_face_contacts, sum)                                                 \
+  X(vertex_face_min_distance, minimum)                                         \
+  X(edge_edge_candidates, sum)                                                 \
+  X(edge_edge_declared, sum)                                                   \
+  X(edge_edge_rest_neighbours, sum)                                            \
+  X(edge_edge_fold_contacts, sum)                                              \
+  X(edge_edge_contacts, sum)                                                   \
+  X(edge_edge_min_distance, minimum)                                           \
+  /* friction, per kind of contact (reported only by effects with friction) */ \
+  X(vertex_face_friction_contacts, sum)                                        \
+  X(vertex_face_friction_sticking, sum)                                        \
+  X(vertex_face_friction_ms, sum)                                              \
+  X(edge_edge_friction_contacts, sum)                                          \
+  X(edge_edge_friction_sticking, sum)                                          \
+  X(edge_edge_friction_ms, sum)                                                \
+  X(obstacle_friction_contacts, sum)                                           \
+  X(obstacle_friction_sticking, sum)                                           \
+  X(obstacle_friction_ms, sum)                                                 \
+  /* self contact, summed over both kinds */                                   \
+  X(broad_phase_ms, sum)                                                       \
+  X(broad_phase_tree_ms, sum)                                                  \
+  X(broad_phase_queries, sum)                                                  \
+  X(pair_ms, sum)                                                              \
+  X(scatter_ms, sum)                                                           \
+  /* obstacle contact */                                                       \
+  X(obstacle_contacts, sum)                                                    \
+  X(obstacle_min_distance, minimum)                                            \
+  /* elastic effects and pins */                                               \
+  X(hinges, sum)                                                               \
+  X(degenerate_hinges, sum)                                                    \
+  X(joints, sum)                                                               \
+  X(degenerate_joints, sum)                                                    \
+  X(pinned_vertices, sum)                                                      \
+  /* volume elasticity, at the accepted state */                               \
+  X(tetrahedra, sum)                                                           \
+  X(inverted_tetrahedra, sum)                                                  \
+  X(volume_ratio, sum)                                                         \
+  /* the solver */                                                             \
+  X(pattern_ms, sum)                                                           \
+  X(pattern_builds, sum)                                                       \
+  X(pattern_blocks, sum)                                                       \
+  X(analyze_ms, sum)                                                           \
+  X(factorize_ms, sum)                                                         \
+  X(analyses, sum)                                                             \
+  X(factorizations, sum)                                                       \
+  X(cg_iterations, sum)
+
+/// Expands one entry of `PCE_SIM_COUNTERS` to its enumerator (for `Counter`).
+#define PCE_SIM_COUNTER_ENUMERATOR(id, rule) id,
+
+/// Every counter of `stats.json` (the enumerator's name is the key; `PCE_SIM_COUNTERS`).
 enum class Counter : int {
-  // self contact, per kind
-  vertex_face_candidates,
-  vertex_face_declared,
-  vertex_face_rest_neighbours,
-  vertex_face_fold_contacts,
-  vertex_face_contacts,
-  vertex_face_min_distance,
-  edge_edge_candidates,
-  edge_edge_declared,
-  edge_edge_rest_neighbours,
-  edge_edge_fold_contacts,
-  edge_edge_contacts,
-  edge_edge_min_distance,
-  // friction, per kind of contact (reported only by effects with friction)
-  vertex_face_friction_contacts,
-  vertex_face_friction_sticking,
-  vertex_face_friction_ms,
-  edge_edge_friction_contacts,
-  edge_edge_friction_sticking,
-  edge_edge_friction_ms,
-  obstacle_friction_contacts,
-  obstacle_friction_sticking,
-  obstacle_friction_ms,
-  // self contact, summed over both kinds
-  broad_phase_ms,
-  broad_phase_tree_ms,
-  broad_phase_queries,
-  pair_ms,
-  scatter_ms,
-  // obstacle contact
-  obstacle_contacts,
-  obstacle_min_distance,
-  // elastic effects and pins
-  hinges,
-  degenerate_hinges,
-  joints,
-  degenerate_joints,
-  pinned_vertices,
-  // volume elasticity, at the accepted state
-  tetrahedra,
-  inverted_tetrahedra,
-  volume_ratio,
-  // the solver
-  pattern_ms,
-  pattern_builds,
-  pattern_blocks,
-  analyze_ms,
-  factorize_ms,
-  analyses,
-  factorizations,
-  cg_iterations,
+  // clang-format off
+  PCE_SIM_COUNTERS(PCE_SIM_COUNTER_ENUMERATOR)
+  // clang-format on
   count  ///< the number of counters (not a counter)
+};
+
+#undef PCE_SIM_COUNTER_ENUMERATOR
+
+/// How several reports of one counter merge.
+enum class CounterRule {
+  sum,      ///< their sum
+  minimum,  ///< the smallest (the minimum distances)
 };
 
 /// A counter's key in `stats.json` and whether several reports merge by their minimum
@@ -81,56 +102,17 @@ struct CounterInfo {
   bool minimum;      ///< several reports merge by their minimum (true) or their sum (false)
 };
 
+/// Expands one entry of `PCE_SIM_COUNTERS` to its `CounterInfo` (for `kCounterInfo`).
+#define PCE_SIM_COUNTER_INFO(id, rule) {#id, CounterRule::rule == CounterRule::minimum},
+
+/// Every counter's name and merge rule, indexed by `Counter` (from `PCE_SIM_COUNTERS`).
+inline constexpr std::array<CounterInfo, static_cast<std::size_t>(Counter::count)> kCounterInfo{
+    {PCE_SIM_COUNTERS(PCE_SIM_COUNTER_INFO)}};
+
+#undef PCE_SIM_COUNTER_INFO
+
 /// The name and merge rule of `c`.
-inline const CounterInfo& counter_info(Counter c) {
-  static constexpr std::array<CounterInfo, static_cast<std::size_t>(Counter::count)> table = {{
-      {"vertex_face_candidates", false},
-      {"vertex_face_declared", false},
-      {"vertex_face_rest_neighbours", false},
-      {"vertex_face_fold_contacts", false},
-      {"vertex_face_contacts", false},
-      {"vertex_face_min_distance", true},
-      {"edge_edge_candidates", false},
-      {"edge_edge_declared", false},
-      {"edge_edge_rest_neighbours", false},
-      {"edge_edge_fold_contacts", false},
-      {"edge_edge_contacts", false},
-      {"edge_edge_min_distance", true},
-      {"vertex_face_friction_contacts", false},
-      {"vertex_face_friction_sticking", false},
-      {"vertex_face_friction_ms", false},
-      {"edge_edge_friction_contacts", false},
-      {"edge_edge_friction_sticking", false},
-      {"edge_edge_friction_ms", false},
-      {"obstacle_friction_contacts", false},
-      {"obstacle_friction_sticking", false},
-      {"obstacle_friction_ms", false},
-      {"broad_phase_ms", false},
-      {"broad_phase_tree_ms", false},
-      {"broad_phase_queries", false},
-      {"pair_ms", false},
-      {"scatter_ms", false},
-      {"obstacle_contacts", false},
-      {"obstacle_min_distance", true},
-      {"hinges", false},
-      {"degenerate_hinges", false},
-      {"joints", false},
-      {"degenerate_joints", false},
-      {"pinned_vertices", false},
-      {"tetrahedra", false},
-      {"inverted_tetrahedra", false},
-      {"volume_ratio", false},
-      {"pattern_ms", false},
-      {"pattern_builds", false},
-      {"pattern_blocks", false},
-      {"analyze_ms", false},
-      {"factorize_ms", false},
-      {"analyses", false},
-      {"factorizations", false},
-      {"cg_iterations", false},
-  }};
-  return table[static_cast<std::size_t>(c)];
-}
+inline const CounterInfo& counter_info(Counter c) { return kCounterInfo[static_cast<std::size_t>(c)]; }
 
 /// The counters one effect reports, or a frame's merged record: a value per `Counter`,
 /// each either reported or absent (absent counters are not written to `stats.json`).

@@ -11,6 +11,7 @@
 /// `Simulation::model` it will run in, after that model is final.
 #pragma once
 
+#include <pce/core/enum_names.hpp>
 #include <pce/energy/pair_energy.hpp>
 #include <pce/sim/broad_phase.hpp>
 #include <pce/sim/contact_effect.hpp>
@@ -23,6 +24,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -62,6 +64,11 @@ std::unique_ptr<Effect> make_damping(const Model& model, double coefficient);
 std::unique_ptr<Effect> make_volume_elasticity(const Model& model, const StableNeoHookean& material,
                                                VolumeProjection hessian = VolumeProjection::analytic);
 
+/// The strategies the scene's `volume_elasticity.hessian` accepts, in the order its error
+/// message lists them (names from `pce::kVolumeProjectionNames`).
+inline constexpr std::array<VolumeProjection, 2> kVolumeHessians{VolumeProjection::analytic,
+                                                                 VolumeProjection::numerical};
+
 /// A group of pinned vertices (scene `pins.groups[i]`).
 struct PinGroup {
   /// Global vertex indices (`Model` columns); at least one, each in range.
@@ -97,6 +104,16 @@ struct ContactPenalty {
   /// Whether ψ is the log barrier (infinite at zero length).
   bool barrier() const { return kind == Kind::log_barrier; }
 };
+
+/// The penalties' names (scene key `penalty.type`), in enumerator order.
+inline constexpr EnumNames<ContactPenalty::Kind, 3> kPenaltyNames{{
+    {ContactPenalty::Kind::quadratic, "quadratic"},
+    {ContactPenalty::Kind::cubic, "cubic"},
+    {ContactPenalty::Kind::log_barrier, "log_barrier"},
+}};
+
+/// The table of `ContactPenalty::Kind`'s names (for `pce::name_of` and `pce::parse`).
+constexpr const EnumNames<ContactPenalty::Kind, 3>& enum_names(ContactPenalty::Kind) { return kPenaltyNames; }
 
 /// A contact effect's friction (scene `friction` object): lagged smoothed Coulomb friction
 /// (IPC, Li et al. 2020; docs/simulation.md §4, "Friction"). Each time step freezes, at its
@@ -142,6 +159,12 @@ struct ContactSettings {
   /// Friction on the effect's pairs; none when absent (nothing of it is built).
   std::optional<FrictionSettings> friction = std::nullopt;
 };
+
+/// The strategies a contact effect's `hessian` accepts (scene key, `pce-sim --hessian`,
+/// `pce.sim.load(hessian=...)`), in the order their messages list them (names from
+/// `pce::kProjectionNames`; `none` is not PSD and not accepted).
+inline constexpr std::array<Projection, 5> kContactHessians{
+    Projection::analytic, Projection::exact, Projection::numerical, Projection::gauss_newton, Projection::abs};
 
 /// Vertex-face self contact: Σ ψ(L) over candidate (vertex, triangle) pairs of the model's
 /// triangles (docs/simulation.md §4). Only pairs that share a vertex are never candidates;

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// Process-wide counters that let tests prove a scene costs only what it declares: how many
-/// broad phases were built and queried, how many vertex-face and edge-edge pairs were
-/// evaluated, how many bending hinges were allocated. Incremented once per query or
+/// Process-wide counters that let tests prove a scene costs only what it declares, where no
+/// frame counter can (`pce/sim/counters.hpp` counts what an effect does, not whether something
+/// was built at all): how many broad phases were built, how many vertex-face and edge-edge
+/// pairs were evaluated, how many bending hinges were allocated. (Queries are the frame
+/// counter `broad_phase_queries`.) Incremented once per query or
 /// evaluation pass (never per pair), so they cost nothing measurable.
 #pragma once
 
@@ -14,8 +16,6 @@ namespace pce::sim {
 struct Instrumentation {
   /// Broad phases constructed (`make_broad_phase`).
   std::atomic<long> broad_phases_built{0};
-  /// Broad-phase queries made by contact effects.
-  std::atomic<long> broad_phase_queries{0};
   /// Vertex-face pairs visited by contact effects' energy passes (every candidate, or the
   /// pairs of a pass that reuses an earlier one's list).
   std::atomic<long> vertex_face_pairs_evaluated{0};

@@ -5,6 +5,7 @@
 /// the deformable vertices out of them and the renderer draws them.
 #pragma once
 
+#include <pce/core/enum_names.hpp>
 #include <pce/sim/mesh.hpp>
 
 #include <Eigen/Core>
@@ -17,6 +18,17 @@ namespace pce::sim {
 
 /// An obstacle's shape: closed-form `sphere`, `box` and `capsule`, or a triangle `mesh`.
 enum class ShapeKind { sphere, box, capsule, mesh };
+
+/// The shapes' names (scene key `obstacles[i].shape`), in enumerator order.
+inline constexpr EnumNames<ShapeKind, 4> kShapeNames{{
+    {ShapeKind::sphere, "sphere"},
+    {ShapeKind::box, "box"},
+    {ShapeKind::capsule, "capsule"},
+    {ShapeKind::mesh, "mesh"},
+}};
+
+/// The table of `ShapeKind`'s names (for `pce::name_of` and `pce::parse`).
+constexpr const EnumNames<ShapeKind, 4>& enum_names(ShapeKind) { return kShapeNames; }
 
 /// A rigid path: from `start` to `stop` (s) a body translates with `velocity` (m/s) and
 /// rotates about its centre with `angular_velocity` (rad/s, axis × rate); it rests before

@@ -9,6 +9,7 @@
 /// got -1`); nothing is built or written before the whole scene is accepted.
 #pragma once
 
+#include <pce/energy/projection.hpp>
 #include <pce/sim/simulation.hpp>
 
 #include <filesystem>
@@ -22,7 +23,8 @@ namespace pce::sim {
 struct SceneOverrides {
   /// Frames to simulate (`frames`).
   std::optional<int> frames;
-  std::optional<std::string> hessian;  ///< every contact effect's Hessian strategy
+  /// Every contact effect's Hessian strategy (`hessian`; one of `kContactHessians`).
+  std::optional<Projection> hessian;
   /// Every contact effect's broad phase (`solver.broad_phase`).
   std::optional<BroadPhaseKind> broad_phase;
   /// OpenMP threads (`solver.threads`).

@@ -16,6 +16,7 @@
 /// — or the iteration cap. The paper's cheap mode takes a single Newton step per time step.
 #pragma once
 
+#include <pce/core/enum_names.hpp>
 #include <pce/sim/broad_phase.hpp>
 #include <pce/sim/effect.hpp>
 #include <pce/sim/model.hpp>
@@ -35,6 +36,17 @@ namespace pce::sim {
 /// fast; the kept factor is not in a checkpoint, so a resumed run differs slightly), `ldlt` (Eigen's sparse LDLᵀ every
 /// iteration) or `cg` (conjugate gradients, diagonal preconditioner).
 enum class LinearSolver { factor_reuse, direct, ldlt, cg };
+
+/// The linear solvers' names, in the order the scene format lists them.
+inline constexpr EnumNames<LinearSolver, 4> kLinearSolverNames{{
+    {LinearSolver::direct, "direct"},
+    {LinearSolver::factor_reuse, "factor_reuse"},
+    {LinearSolver::ldlt, "ldlt"},
+    {LinearSolver::cg, "cg"},
+}};
+
+/// The table of `LinearSolver`'s names (for `pce::name_of` and `pce::parse`).
+constexpr const EnumNames<LinearSolver, 4>& enum_names(LinearSolver) { return kLinearSolverNames; }
 
 /// The scene's `solver` block: step size, Newton's stopping rule, linear solver, threads.
 struct SolverSettings {
@@ -77,7 +89,19 @@ enum class StopReason {
   single_solve,   ///< single-solve mode: one direction, no test
 };
 
-/// "tolerance", "rounding", "line_search", "iteration_cap" or "single_solve".
+/// The reasons' names (`stats.json`'s `stop`), in enumerator order.
+inline constexpr EnumNames<StopReason, 5> kStopReasonNames{{
+    {StopReason::tolerance, "tolerance"},
+    {StopReason::rounding, "rounding"},
+    {StopReason::line_search, "line_search"},
+    {StopReason::iteration_cap, "iteration_cap"},
+    {StopReason::single_solve, "single_solve"},
+}};
+
+/// The table of `StopReason`'s names (for `pce::name_of` and `pce::parse`).
+constexpr const EnumNames<StopReason, 5>& enum_names(StopReason) { return kStopReasonNames; }
+
+/// The name of `reason` in kStopReasonNames ("tolerance", "rounding", …).
 const char* to_string(StopReason reason);
 
 /// What one frame cost and reached (`stats.json`, docs/simulation.md §5).
