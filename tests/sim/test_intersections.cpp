@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// pce::sim exact intersection counts (src/sim/output/intersections_cgal.cpp): every case of
+// pce::sim exact intersection counts (src/sim/geometry/intersections_cgal.cpp): every case of
 // the header's rules (disjoint, crossing, touching, coplanar overlap, degenerate, non-finite),
 // the neighbour rule for shared edges and shared vertices in every vertex order, and the
 // box-filtered counts against the brute-force count over all pairs with the same predicate.

@@ -47,9 +47,9 @@ std::unique_ptr<Effect> load_strand_bending(const Params& params, const BuildCon
 std::unique_ptr<Effect> load_pins(const Params& params, const BuildContext& ctx);
 /// E = Σᵢ mᵢ c/(2h) |xᵢ − xᵢⁿ|² (drag force −c m v).
 std::unique_ptr<Effect> load_damping(const Params& params, const BuildContext& ctx);
-/// Σ ψ(L) over candidate (vertex, triangle) pairs (effects/contact.cpp).
+/// Σ ψ(L) over candidate (vertex, triangle) pairs (effects/contact/self_contact.cpp).
 std::unique_ptr<Effect> load_self_vertex_face(const Params& params, const BuildContext& ctx);
-/// Σ ψ(L) over candidate (edge, edge) pairs (effects/contact.cpp).
+/// Σ ψ(L) over candidate (edge, edge) pairs (effects/contact/self_contact.cpp).
 std::unique_ptr<Effect> load_self_edge_edge(const Params& params, const BuildContext& ctx);
 /// Σ ψ(d) over (vertex, obstacle) pairs, d the signed distance to the obstacle's surface.
 std::unique_ptr<Effect> load_obstacle_contact(const Params& params, const BuildContext& ctx);

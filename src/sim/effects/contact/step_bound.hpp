@@ -58,7 +58,7 @@ template <bool VF> class StepBound {
   /// one-shot bound 0.9 d₀/lp.
   static double advance(const Vec12<double>& xp, const Vec12<double>& dxp, double d0, double lp, double cap);
 
-  /// on_segment's tolerance per coordinate, relative to max(|x₀|, 1): far above the rounding
+  /// segment_at's tolerance per coordinate, relative to max(|x₀|, 1): far above the rounding
   /// of x₀ + α dx (a few ε), far below any distance that matters.
   static constexpr double kSegmentTolerance = 1e-12;
 

@@ -167,8 +167,8 @@ inline constexpr std::array<Projection, 5> kContactHessians{
     Projection::analytic, Projection::exact, Projection::numerical, Projection::gauss_newton, Projection::abs};
 
 /// Vertex-face self contact: Σ ψ(L) over candidate (vertex, triangle) pairs of the model's
-/// triangles (docs/simulation.md §4). Only pairs that share a vertex are never candidates;
-/// pairs of one mesh closer than 2d at rest (fold pairs) are evaluated by closest features
+/// triangles (docs/simulation.md §4). Pairs that share a vertex, and vertices inside a volume,
+/// are never candidates; pairs of one mesh closer than 2d at rest (fold pairs) are evaluated by closest features
 /// with the activation distance min(d, half their rest distance), and every candidate is in
 /// the step bound. Needs triangles; the log barrier needs `closest_features`, which needs
 /// the unsigned length; d at most half the model's rest diagonal.
