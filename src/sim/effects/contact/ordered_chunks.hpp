@@ -30,10 +30,11 @@ namespace pce::sim::contact {
 inline std::size_t chunk_count(long n, long chunk) { return static_cast<std::size_t>((n + chunk - 1) / chunk); }
 
 /// Runs `body(c, begin, end)` for every chunk c = [begin, end) of [0, n) on the threads, one
-/// chunk at a time as they come free. A body may write only chunk c's own outputs.
+/// chunk at a time as they come free (a single chunk runs on the calling thread: no parallel
+/// region for a pass that has nothing to share). A body may write only chunk c's own outputs.
 template <class Body> void for_each_chunk(long n, long chunk, const Body& body) {
   const auto chunks = static_cast<long>(chunk_count(n, chunk));
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) if (chunks > 1)
   for (long c = 0; c < chunks; ++c) body(static_cast<std::size_t>(c), c * chunk, std::min(n, (c + 1) * chunk));
 }
 
@@ -43,7 +44,7 @@ template <class Body> void for_each_chunk(long n, long chunk, const Body& body) 
 template <class Body> double min_over_chunks(long n, long chunk, double start, const Body& body) {
   const auto chunks = static_cast<long>(chunk_count(n, chunk));
   double t = start;
-#pragma omp parallel for schedule(dynamic, 1) reduction(min : t)
+#pragma omp parallel for schedule(dynamic, 1) reduction(min : t) if (chunks > 1)
   for (long c = 0; c < chunks; ++c) body(static_cast<std::size_t>(c), c * chunk, std::min(n, (c + 1) * chunk), t);
   return t;
 }
