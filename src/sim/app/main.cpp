@@ -131,10 +131,11 @@ Loaded load(const Options& o) {
 }
 
 /// The frame's line on stderr, and its warnings (a first line search without decrease, new
-/// intersecting triangle pairs).
+/// intersecting triangle pairs, and once per run contact held at its minimum separation).
 void report_frame(const FrameReport& r, const Simulation& sim) {
   const FrameStats& s = r.stats;
   const int f = sim.frame;
+  static bool warned_floor = false;
   std::fprintf(stderr, "frame %d of %d: %.1f ms, %d Newton iterations, residual %.2e, %s%ld intersecting pairs\n", f,
                sim.frames, s.wall_ms, s.newton_iterations, s.residual, s.hit_iteration_cap ? "iteration cap hit, " : "",
                r.intersections);
@@ -144,6 +145,14 @@ void report_frame(const FrameReport& r, const Simulation& sim) {
                  "the state did not move (in plane mode: a pair sits at the energy's jump, docs/simulation.md "
                  "section 10)\n",
                  f);
+  if (!warned_floor && s.counters.has(Counter::floor_holds) && s.counters.at(Counter::floor_holds) > 0) {
+    warned_floor = true;
+    std::fprintf(stderr,
+                 "pce-sim: warning: frame %d: %.0f contact pairs held at their minimum separation; their penalties "
+                 "were stiffened (a penalty too soft for its load; floor_holds and stiffened_pairs in stats.jsonl "
+                 "count them, docs/simulation.md section 4.6; warned once)\n",
+                 f, s.counters.at(Counter::floor_holds));
+  }
   if (r.new_intersections > 0)
     std::fprintf(stderr, "pce-sim: warning: frame %d: %ld new intersecting triangle pairs (%ld in all)%s\n", f,
                  r.new_intersections, r.intersections,

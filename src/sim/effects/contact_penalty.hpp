@@ -31,6 +31,12 @@ inline void check_penalty(const ContactPenalty& s, const std::string& prefix) {
     throw ArgumentError(prefix + "type", "expected quadratic, cubic or log_barrier");
 }
 
+/// Throws ArgumentError (`min_separation`) unless `fraction` is in [0, kMaxMinSeparation].
+inline void check_min_separation(double fraction) {
+  args::nonnegative_at_most("min_separation", fraction, kMaxMinSeparation,
+                            "the largest minimum separation, as a fraction of the activation distance");
+}
+
 /// The largest self-contact activation distance, as a fraction of the diagonal of the
 /// model's rest bounding box: a self-contact query grows every box by 2d, so at d = ½·diagonal
 /// every pair of the model is a candidate at every step — contact is no longer a thin

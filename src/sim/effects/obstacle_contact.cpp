@@ -18,6 +18,15 @@
 /// `max_step` keeps every distance positive: since d is 1-Lipschitz in the vertex
 /// position, t ≤ 0.9 d / |Δxᵢ| leaves d ≥ 0.1 d > 0 all along the segment.
 ///
+/// Minimum separation (`min_separation` f, docs/simulation.md §4.6): `max_step` also keeps
+/// every vertex that starts a Newton step at least f·d from an obstacle's surface (at the
+/// end pose) at least that far (plus a rounding allowance), by the same Lipschitz bound
+/// advanced as self contact's step bound is: from a distance dⱼ at tⱼ the vertex stays above
+/// the floor g up to tⱼ + (dⱼ − g)/|Δxᵢ|; each round advances 0.9 of that and measures again.
+/// A (vertex, obstacle) pair whose limit that set, and which the accepted update leaves
+/// closer than twice the floor, is held: its penalty's stiffness is multiplied by 4
+/// (`stiffen_held`), until it is beyond d at a step's start.
+///
 /// Area weighting (`area_weighted`): vertex i's energy is Aᵢ ψ(d), Aᵢ its lumped rest area
 /// (the penalty evaluated with stiffness Aᵢ k, which ψ is linear in).
 ///
@@ -44,7 +53,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -73,13 +85,15 @@ double bounding_radius(const Obstacle& o) {
 class ObstacleContact final : public ContactEffect {
  public:
   ObstacleContact(const ObstacleContactSettings& settings, std::vector<Obstacle> obstacles, Eigen::VectorXd areas,
-                  std::vector<char> surface)
+                  std::vector<char> surface, long vertices)
       : ContactEffect("obstacle_contact"),
         penalty_(settings.penalty),
+        floor_(settings.min_separation * settings.penalty.distance),
         friction_(settings.friction),
         obstacles_(std::move(obstacles)),
         areas_(std::move(areas)),
-        surface_(std::move(surface)) {
+        surface_(std::move(surface)),
+        surface_count_(vertices) {
     radius_.reserve(obstacles_.size());
     for (const Obstacle& o : obstacles_) radius_.push_back(bounding_radius(o));
     poses_.assign(obstacles_.size(), Eigen::Isometry3d::Identity());
@@ -92,6 +106,7 @@ class ObstacleContact final : public ContactEffect {
       poses_[k] = obstacles_[k].pose(ctx.time);
       if (friction_) start_poses_[k] = obstacles_[k].pose(ctx.time - ctx.dt);
     }
+    forget_stiffening(*ctx.x_start);
     if (!friction_) return;
     friction_stats_ = {};
     const ScopedTimer timer(friction_stats_.ms);
@@ -124,20 +139,86 @@ class ObstacleContact final : public ContactEffect {
   }
 
   double max_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) override {
-    if (!penalty_.barrier()) return 1.0;
-    return contact::min_over_chunks(x.cols(), kChunk, 1.0, [&](std::size_t, long begin, long end, double& t) {
+    held_.clear();
+    const bool barrier = penalty_.barrier(), floored = floor_ > 0;
+    if (!barrier && !floored) return 1.0;
+    const double slack = kFloorRounding * std::max(x.cwiseAbs().maxCoeff(), 1.0);
+    const std::size_t chunks = contact::chunk_count(x.cols(), kChunk);
+    if (held_chunks_.size() < chunks) held_chunks_.resize(chunks);
+    const double t_all = contact::min_over_chunks(x.cols(), kChunk, 1.0, [&](std::size_t c, long begin, long end,
+                                                                              double& t) {
+      held_chunks_[c].clear();
       for (long i = begin; i < end; ++i) {
         if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;  // inside a volume
         const double step = dx.col(i).norm();
         if (!(step > 0)) continue;
         const Eigen::Vector3d p = x.col(i);
         for (std::size_t k = 0; k < obstacles_.size(); ++k) {
-          if ((p - poses_[k].translation()).norm() - radius_[k] > step) continue;  // d > |Δx|: t = 1 is safe
+          const double bound = (p - poses_[k].translation()).norm() - radius_[k];
+          const bool barrier_near = barrier && !(bound > step);  // d > |Δx|: the barrier allows t = 1
+          const bool floor_near = floored && !(bound - t * step >= floor_ + slack);  // cannot lower t
+          if (!barrier_near && !floor_near) continue;
           const double d = surface_distance(obstacles_[k], poses_[k], p).distance;
-          if (d > 0) t = std::min(t, 0.9 * d / step);  // d ≤ 0: already outside the domain, nothing to keep
+          if (barrier_near && d > 0) t = std::min(t, 0.9 * d / step);  // d ≤ 0: outside the domain already
+          if (!floor_near || !(d >= floor_)) continue;  // a vertex below its floor keeps no floor
+          const double tk = advance(p, dx.col(i), k, d, step, t, std::min(floor_ + slack, d - slack));
+          if (tk < t) {
+            t = tk;
+            held_chunks_[c].push_back(static_cast<std::size_t>(i) * obstacles_.size() + k);
+          }
         }
       }
     });
+    contact::join_chunks(held_chunks_, chunks, held_);
+    return t_all;
+  }
+
+  bool stiffen_held(const Eigen::Matrix3Xd& x) override {
+    bool any = false;
+    for (const std::size_t j : held_) {
+      const Eigen::Index i = static_cast<Eigen::Index>(j / obstacles_.size());
+      const std::size_t k = j % obstacles_.size();
+      if (!(surface_distance(obstacles_[k], poses_[k], x.col(i)).distance < 2 * floor_)) continue;
+      if (stiffening_.empty()) stiffening_.assign(static_cast<std::size_t>(x.cols()) * obstacles_.size(), 1.0);
+      if (stiffening_[j] >= kLargestStiffening) continue;
+      stiffening_[j] = std::min(stiffening_[j] * 4, kLargestStiffening);
+      ++holds_;
+      any = true;
+    }
+    held_.clear();
+    return any;
+  }
+
+  std::string save_state() const override {
+    std::string out;
+    for (std::size_t j = 0; j < stiffening_.size(); ++j) {
+      if (stiffening_[j] == 1.0) continue;
+      const std::uint64_t index = j;
+      out.append(reinterpret_cast<const char*>(&index), sizeof index);
+      out.append(reinterpret_cast<const char*>(&stiffening_[j]), sizeof(double));
+    }
+    return out;
+  }
+
+  void load_state(const std::string& state) override {
+    constexpr std::size_t record = sizeof(std::uint64_t) + sizeof(double);
+    if (state.size() % record != 0)
+      throw std::invalid_argument(std::string(name()) + ": the saved state's size is not a whole number of records");
+    std::vector<double> loaded;
+    for (std::size_t at = 0; at < state.size(); at += record) {
+      std::uint64_t index = 0;
+      double factor = 0;
+      std::memcpy(&index, state.data() + at, sizeof index);
+      std::memcpy(&factor, state.data() + at + sizeof index, sizeof factor);
+      const std::size_t size = static_cast<std::size_t>(surface_count_) * obstacles_.size();
+      if (!(index < size) || !(factor >= 1 && std::isfinite(factor)))
+        throw std::invalid_argument(std::string(name()) +
+                                    ": a saved stiffening factor does not fit this scene (vertex and obstacle index, "
+                                    "a finite factor >= 1)");
+      if (loaded.empty()) loaded.assign(size, 1.0);
+      loaded[index] = factor;
+    }
+    stiffening_ = std::move(loaded);
   }
 
   const std::vector<FrozenFriction>& frozen_friction() const override { return published_; }
@@ -147,6 +228,9 @@ class ObstacleContact final : public ContactEffect {
     terms_.for_each([&](const contact::PairTerm<1>&) { ++contacts; });
     counters[Counter::obstacle_contacts] = static_cast<double>(contacts);
     counters[Counter::obstacle_min_distance] = min_distance_;
+    counters[Counter::floor_holds] = static_cast<double>(holds_);
+    counters[Counter::stiffened_pairs] =
+        static_cast<double>(std::count_if(stiffening_.begin(), stiffening_.end(), [](double m) { return m != 1.0; }));
     if (friction_) {
       counters[Counter::obstacle_friction_contacts] = static_cast<double>(frozen_.size());
       counters[Counter::obstacle_friction_sticking] = static_cast<double>(friction_stats_.sticking);
@@ -158,10 +242,49 @@ class ObstacleContact final : public ContactEffect {
   /// Vertices per chunk of the parallel passes.
   static constexpr long kChunk = 1024;
 
-  /// The penalty of vertex i: the effect's, with its stiffness times the vertex's lumped
-  /// rest area when area weighted.
-  template <class Penalty> Penalty weighted(const Penalty& penalty, Eigen::Index i) const {
-    return areas_.size() ? scaled(penalty, areas_[i]) : penalty;
+  /// The floor's rounding allowance, relative to max(|x|, 1) (as self contact's).
+  static constexpr double kFloorRounding = 1e-12;
+  /// The largest stiffening factor (4¹⁵, as self contact's).
+  static constexpr double kLargestStiffening = 1073741824.0;
+
+  /// The penalty of vertex i against obstacle k: the effect's, with its stiffness times the
+  /// vertex's lumped rest area when area weighted and times the pair's stiffening factor.
+  template <class Penalty> Penalty weighted(const Penalty& penalty, Eigen::Index i, std::size_t k) const {
+    const double m = stiffening_.empty() ? 1.0 : stiffening_[static_cast<std::size_t>(i) * obstacles_.size() + k];
+    if (!areas_.size()) return m == 1.0 ? penalty : scaled(penalty, m);
+    return scaled(penalty, areas_[i] * m);
+  }
+
+  /// The largest t ≤ `cap` found for which vertex i, at p + s dp for s ∈ [0, t], stays at
+  /// least g from obstacle k's surface (d₀ its distance at s = 0, `step` = |dp|): the
+  /// Lipschitz bound advanced as in the file comment, at most 32 rounds.
+  double advance(const Eigen::Vector3d& p, const Eigen::Vector3d& dp, std::size_t k, double d0, double step,
+                 double cap, double g) const {
+    double t = (d0 - g) / step;
+    for (int round = 0; round < 32 && t < cap; ++round) {
+      const double d = surface_distance(obstacles_[k], poses_[k], Eigen::Vector3d(p + t * dp)).distance;
+      const double more = 0.9 * (d - g) / step;
+      if (!(more > 1e-3 * t)) break;
+      t += more;
+    }
+    return std::max(std::min(t, cap), 0.0);
+  }
+
+  /// Forgets the stiffening of pairs beyond d at the step's start `x` (the obstacles at the
+  /// step's end pose); zeroes the frame's hold count.
+  void forget_stiffening(const Eigen::Matrix3Xd& x) {
+    holds_ = 0;
+    bool any = false;
+    for (std::size_t j = 0; j < stiffening_.size(); ++j) {
+      if (stiffening_[j] == 1.0) continue;
+      const auto i = static_cast<Eigen::Index>(j / obstacles_.size());
+      const std::size_t k = j % obstacles_.size();
+      if (surface_distance(obstacles_[k], poses_[k], x.col(i)).distance >= penalty_.distance)
+        stiffening_[j] = 1.0;
+      else
+        any = true;
+    }
+    if (!any) stiffening_.clear();
   }
 
   /// The active (vertex, obstacle) pairs at `x` with their terms (terms_, in vertex then
@@ -189,7 +312,7 @@ class ObstacleContact final : public ContactEffect {
           chunk_min_[c] = std::min(chunk_min_[c], s.distance);
           if (!(s.distance < reach)) continue;
           if (penalty_.barrier() && !(s.distance > 0)) chunk_blocked_[c] = 1;
-          const PenaltyDerivatives<double> psi = weighted(penalty, i).evaluate(s.distance);
+          const PenaltyDerivatives<double> psi = weighted(penalty, i, k).evaluate(s.distance);
           contact::PairTerm<1> t;
           t.k = i;
           t.vertices = {static_cast<int>(i)};
@@ -225,7 +348,7 @@ class ObstacleContact final : public ContactEffect {
             if ((p - at[k].translation()).norm() - radius_[k] >= reach) continue;
             const SurfaceDistance s = surface_distance(obstacles_[k], at[k], p);
             if (!(s.distance < reach) || (penalty_.barrier() && !(s.distance > 0))) continue;
-            const double lambda = -weighted(penalty, i).evaluate(s.distance).first;
+            const double lambda = -weighted(penalty, i, k).evaluate(s.distance).first;
             if (!(lambda > 0) || !std::isfinite(lambda)) continue;
             FrictionContact<1> fc;
             fc.v = {static_cast<int>(i)};
@@ -246,6 +369,7 @@ class ObstacleContact final : public ContactEffect {
   }
 
   ContactPenalty penalty_;
+  double floor_;  ///< the minimum separation f·d (0: none)
   std::optional<FrictionSettings> friction_;
   std::vector<Obstacle> obstacles_;
   Eigen::VectorXd areas_;      ///< per vertex, its lumped rest area (area weighting), else empty
@@ -264,6 +388,11 @@ class ObstacleContact final : public ContactEffect {
   std::vector<double> chunk_min_;    ///< per chunk: its smallest distance (bound) of the last evaluation
   std::vector<char> chunk_blocked_;  ///< per chunk: a barrier's domain was left
   double min_distance_ = std::numeric_limits<double>::max();
+  std::vector<double> stiffening_;  ///< per (vertex i, obstacle k) at i·K + k: its factor; empty when all are 1
+  std::vector<std::size_t> held_;   ///< the pairs (i·K + k) whose limit the last max_step's floor set
+  std::vector<std::vector<std::size_t>> held_chunks_;
+  long holds_ = 0;          ///< holds in the frame so far
+  long surface_count_ = 0;  ///< the model's vertex count (0 without a model: no factor loads)
 };
 
 /// Throws ArgumentError (field `obstacles[k].…`) unless `o` is a shape the distances handle.
@@ -315,6 +444,7 @@ std::unique_ptr<ContactEffect> make_obstacle_contact(const Model& model, const s
                                                      const ObstacleContactSettings& settings) {
   check_penalty(settings.penalty, "penalty.");
   check_friction(settings.friction);
+  check_min_separation(settings.min_separation);
   for (std::size_t k = 0; k < obstacles.size(); ++k)
     check_obstacle(obstacles[k], "obstacles[" + std::to_string(k) + "]");
   Eigen::VectorXd areas;
@@ -326,7 +456,8 @@ std::unique_ptr<ContactEffect> make_obstacle_contact(const Model& model, const s
                                                  " is no corner of a triangle of positive area (a strand vertex?): it "
                                                  "has no area to weigh its contact by");
   }
-  return std::make_unique<ObstacleContact>(settings, obstacles, std::move(areas), model.surface_vertex);
+  return std::make_unique<ObstacleContact>(settings, obstacles, std::move(areas), model.surface_vertex,
+                                           model.vertex_count());
 }
 
 }  // namespace pce::sim

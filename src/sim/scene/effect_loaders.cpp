@@ -51,7 +51,8 @@ ContactSettings parse_contact(const Params& p, const BuildContext& ctx) {
     p.fail("exclude_rest_neighbours",
            "this option was removed: pairs of one mesh closer than 2d at rest are left out of the energy and "
            "kept in the step bound, so a sheet cannot fold through itself (delete the key)");
-  p.only({"type", "penalty", "length", "hessian", "closest_features", "ccd", "area_weighted", "friction"});
+  p.only({"type", "penalty", "length", "hessian", "closest_features", "ccd", "area_weighted", "min_separation",
+          "friction"});
   ContactSettings s;
   s.penalty = parse_penalty(p.object("penalty"));
   s.signed_length = p.choice<LengthKind>("length", LengthKind::unsigned_length) == LengthKind::signed_length;
@@ -60,6 +61,7 @@ ContactSettings parse_contact(const Params& p, const BuildContext& ctx) {
   s.hessian = p.choice_among("hessian", kContactHessians, Projection::analytic);
   s.broad_phase = ctx.broad_phase;
   s.area_weighted = p.boolean("area_weighted", false);
+  s.min_separation = p.number("min_separation", kDefaultMinSeparation, 0.0, kMaxMinSeparation);
   if (p.has("friction")) s.friction = parse_friction(p.object("friction"));
   return s;
 }
@@ -186,10 +188,11 @@ std::unique_ptr<Effect> load_self_edge_edge(const Params& params, const BuildCon
 }
 
 std::unique_ptr<Effect> load_obstacle_contact(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "penalty", "obstacles", "area_weighted", "friction"});
+  params.only({"type", "penalty", "obstacles", "area_weighted", "min_separation", "friction"});
   ObstacleContactSettings spec;
   spec.penalty = parse_penalty(params.object("penalty"));
   spec.area_weighted = params.boolean("area_weighted", false);
+  spec.min_separation = params.number("min_separation", kDefaultMinSeparation, 0.0, kMaxMinSeparation);
   if (params.has("friction")) spec.friction = parse_friction(params.object("friction"));
   static const std::vector<Obstacle> none;
   const std::vector<Obstacle>& all = ctx.obstacles ? *ctx.obstacles : none;

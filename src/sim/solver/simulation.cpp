@@ -374,10 +374,15 @@ bool Simulation::line_search(StepState& s, int it, bool small_step, bool& conver
   return accepted;
 }
 
-/// Contact effects whose candidates went stale at the accepted y query again; the pattern
+/// Contact effects stiffen the pairs they held at their minimum separation (the energy at
+/// y changes); those whose candidates went stale at the accepted y query again; the pattern
 /// follows.
 void Simulation::refresh(StepState& s) {
   bool changed = false;
+  for (const auto& [k, c] : s.contacts) {
+    const ScopedTimer timer(s.effect_ms[k]);
+    if (c->stiffen_held(s.y)) s.evaluated_at_y = false;
+  }
   for (const auto& [k, c] : s.contacts)
     if (!c->still_valid(s.y)) {
       {

@@ -15,7 +15,8 @@
 ///  * closest-feature mode: the distance between the primitives (measured by the caller).
 /// With `area_weighted`, a pair's penalty is the effect's with stiffness w k, w its rest
 /// area (vertex-face: the face's area plus the vertex's lumped area; edge-edge: the two
-/// edges' lumped areas).
+/// edges' lumped areas); a pair held at its minimum separation has it multiplied by its
+/// stiffening factor (separation_floor.hpp).
 #pragma once
 
 #include "effects/contact_penalty.hpp"
@@ -122,13 +123,30 @@ template <bool VF> class Classifier {
   }
 
   /// The penalty of candidate k: the effect's, with its stiffness times the pair's rest
-  /// area when area weighted (ψ is linear in it).
+  /// area when area weighted and times its stiffening (`stiffening`; ψ is linear in both).
   template <class Penalty> Penalty weighted(const Penalty& penalty, std::size_t k) const {
-    if (!settings_->area_weighted) return penalty;
+    const double m = stiffening_.empty() ? 1.0 : stiffening_[k];
+    if (!settings_->area_weighted) return m == 1.0 ? penalty : scaled(penalty, m);
     const auto& c = candidates_->pairs()[k];
     const RestAreas& w = *areas_;
-    return scaled(penalty, VF ? w.vertex[c[0]] + w.triangle[c[1]] : w.edge[c[0]] + w.edge[c[1]]);
+    return scaled(penalty, (VF ? w.vertex[c[0]] + w.triangle[c[1]] : w.edge[c[0]] + w.edge[c[1]]) * m);
   }
+
+  /// Candidate k's minimum separation (docs/simulation.md §4.6): `min_separation` times d,
+  /// or times its reach for a fold pair (0: no floor).
+  double floor_of(std::size_t k) const {
+    const double f = settings_->min_separation;
+    if (!(f > 0)) return 0;
+    return f * (candidates_->fold_pair(k) ? candidates_->fold_reach(k) : settings_->penalty.distance);
+  }
+  /// The largest floor of any candidate: min_separation times d.
+  double largest_floor() const { return settings_->min_separation * settings_->penalty.distance; }
+
+  /// Per candidate: the factor on its penalty's stiffness (≥ 1; `SeparationFloor` raises it
+  /// for a pair held at its floor), or empty when every factor is 1.
+  std::vector<double>& stiffening() { return stiffening_; }
+  /// Per candidate: the factor on its penalty's stiffness, or empty when every factor is 1.
+  const std::vector<double>& stiffening() const { return stiffening_; }
 
   /// The penalty with its activation distance replaced by `reach` (fold pairs).
   static QuadraticPenalty with_reach(QuadraticPenalty p, double reach) {
@@ -201,6 +219,7 @@ template <bool VF> class Classifier {
   const CandidateSet<VF>* candidates_;
   const RestAreas* areas_;
   std::vector<signed char> sides_;
+  std::vector<double> stiffening_;
 };
 
 }  // namespace pce::sim::contact

@@ -160,14 +160,22 @@ template <bool VF> class CandidateSet {
     query_lb_[k] = std::max(query_lb_[k], distance - rounding_ - pair_drift(v));
   }
 
+  /// The step bound's floor for these filters: the largest minimum separation of any
+  /// candidate with its rounding allowance (0: none).
+  void set_floor(double floor) { floor_ = floor; }
+  /// How much closer a pair at a distance of at least `lb` may come in one step's first
+  /// round of the step bound: 0.9 lb (it keeps a tenth), or, with a floor, min(0.9 lb,
+  /// lb − floor) (the step bound's own allowance is at least this for every distance ≥ lb).
+  double clearance(double lb) const { return floor_ > 0 ? std::min(0.9 * lb, lb - floor_) : 0.9 * lb; }
+
   /// Step filter, meshes only: candidate k cannot limit a step below `t_valid` (from the
   /// last step_limit): with lb its bound at the query, its distance at x is at least
   /// lb − rel_AB, and the step moves its primitives relative to their mean p̄ by at most
-  /// ma + mb ≤ 2 W_AB (step_reach), so its own limit 0.9 · distance/(ma + mb) ≥ t_valid.
+  /// ma + mb ≤ 2 W_AB (step_reach), so its own limit clearance(distance)/(ma + mb) ≥ t_valid.
   bool cannot_limit(std::size_t k, double t_valid) const {
     if (query_lb_.size() != pairs_.size()) return false;
     const auto mp = static_cast<std::size_t>(mesh_pair_[k]);
-    return 0.9 * (query_lb_[k] - drift_rel_[mp]) >= t_valid * 2 * step_reach_[mp] * (1 + 1e-9);
+    return clearance(query_lb_[k] - drift_rel_[mp]) >= t_valid * 2 * step_reach_[mp] * (1 + 1e-9);
   }
 
   /// Segment filter, meshes only: candidate k stays farther apart than `limit` on the whole
@@ -198,7 +206,7 @@ template <bool VF> class CandidateSet {
   /// Step filter, the pair's own drift: candidate k with vertices v, whose primitives the
   /// step moves by ma + mb relative to their mean, cannot lower `t` (no vertex position read).
   bool cannot_lower(std::size_t k, const std::array<int, 4>& v, double motion, double t) const {
-    return query_lb_.size() == pairs_.size() && 0.9 * (query_lb_[k] - pair_drift(v)) >= t * motion * (1 + 1e-9);
+    return query_lb_.size() == pairs_.size() && clearance(query_lb_[k] - pair_drift(v)) >= t * motion * (1 + 1e-9);
   }
 
   /// Replaces the candidates with `pairs` (sorted; a checkpoint's), the fold pairs marked;
@@ -328,6 +336,7 @@ template <bool VF> class CandidateSet {
   /// distances the passes measure: a cache of a bound, hence mutable).
   mutable std::vector<double> query_lb_;
   double rounding_ = 0;                             ///< 64 ε max|x| of the last measure_drift (or query)
+  double floor_ = 0;                                ///< the step bound's largest floor with its allowance (set_floor)
   std::vector<double> former_lb_;                   ///< during a query: the former candidates' bounds
   Eigen::Matrix3Xd moved_;                          ///< during a query: new query point − former query point
   std::vector<int> mesh_pair_;                      ///< per candidate: a·M + b of its meshes (a ≤ b)

@@ -2,6 +2,7 @@
 // The saved state of self contact (saved_state.hpp).
 #include "saved_state.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
@@ -23,6 +24,10 @@ std::string encode(const SavedContact& s) {
     out.append(head, sizeof head);
     out.append(reinterpret_cast<const char*>(s.at.data()), sizeof(double) * static_cast<std::size_t>(s.at.size()));
     out.append(reinterpret_cast<const char*>(s.to.data()), sizeof(double) * static_cast<std::size_t>(s.to.size()));
+  }
+  if (!s.stiffening.empty()) {
+    out.push_back(2);
+    out.append(reinterpret_cast<const char*>(s.stiffening.data()), sizeof(double) * s.stiffening.size());
   }
   return out;
 }
@@ -56,8 +61,12 @@ SavedContact decode(const std::string& state, const char* effect, long vertices,
   if (count > (state.size() - sizeof count) / record)
     throw std::invalid_argument(name + ": the state's size does not match its pair count");
   const std::size_t pairs_end = sizeof count + count * record;
-  const bool with_query = n > 0 && state.size() == pairs_end + query_part;
-  if (state.size() != pairs_end && !with_query)
+  // The parts after the pairs: the query's (even size) and the factors' (odd size).
+  const std::size_t factors_part = 1 + count * sizeof(double);
+  const std::size_t rest = state.size() - pairs_end;
+  const bool with_query = n > 0 && (rest == query_part || rest == query_part + factors_part);
+  const bool with_factors = rest == factors_part || (with_query && rest == query_part + factors_part);
+  if (rest != 0 && !with_query && !with_factors)
     throw std::invalid_argument(name + ": the state's size does not match its pair count");
   SavedContact s;
   s.pairs.resize(count);
@@ -77,6 +86,15 @@ SavedContact decode(const std::string& state, const char* effect, long vertices,
     s.declared[k] = flags[1];
   }
   if (with_query) decode_query(state.data() + pairs_end, name, n, s);
+  if (with_factors) {
+    const char* f = state.data() + pairs_end + (with_query ? query_part : 0);
+    if (f[0] != 2) throw std::invalid_argument(name + ": the saved stiffening factors' header is not 2");
+    s.stiffening.resize(count);
+    std::memcpy(s.stiffening.data(), f + 1, sizeof(double) * count);
+    for (const double m : s.stiffening)
+      if (!(m >= 1 && std::isfinite(m)))
+        throw std::invalid_argument(name + ": a saved stiffening factor is not a finite number >= 1");
+  }
   return s;
 }
 

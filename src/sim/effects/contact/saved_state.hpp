@@ -8,8 +8,9 @@
 /// Format, native byte order: the pair count as uint64; per pair two int32 indices, the side
 /// and the declaration as int8; then, when a query was made, the byte 1, the byte of the
 /// last step's validity limit (0 or 1), and the query's sweep as 2 × 3n doubles (x0 then x1,
-/// column-major). A state without the query part (older checkpoints) loads too; the next
-/// step then queries.
+/// column-major); then, when a pair's penalty is stiffened (separation_floor.hpp), the byte
+/// 2 and per pair its factor as a double. A state without the query part (older
+/// checkpoints) loads too; the next step then queries. One without the factors has none.
 #pragma once
 
 #include <Eigen/Core>
@@ -28,6 +29,7 @@ struct SavedContact {
   bool with_query = false;                ///< the query's sweep follows
   bool validity_bound = false;            ///< the last step's validity limit bound
   Eigen::Matrix3Xd at, to;                ///< the query's sweep x0 → x1 (with_query)
+  std::vector<double> stiffening;         ///< per pair: its stiffening factor; empty when all are 1
 };
 
 /// The bytes of `s` (its `at` and `to` are written when with_query).

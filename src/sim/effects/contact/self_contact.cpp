@@ -12,12 +12,15 @@
 //    serially in candidate order;
 //  * the step bound (step_bound.*): additive CCD over the candidates and the set's
 //    validity, with a barrier or `ccd`;
+//  * the separation floor (separation_floor.*): pairs the step bound held at their
+//    minimum separation have their penalties stiffened;
 //  * friction (friction_freezing.*): the pairs active at a step's start, frozen;
 //  * saved state (saved_state.*): what a checkpoint keeps.
 // No pair that shares a vertex, and no vertex inside a volume, is ever a candidate.
 #include "active_pairs.hpp"
 #include "friction_freezing.hpp"
 #include "saved_state.hpp"
+#include "separation_floor.hpp"
 #include "step_bound.hpp"
 #include "util/stopwatch.hpp"
 
@@ -44,6 +47,7 @@ template <bool VF> class SelfContact final : public ContactEffect {
         potential_(settings_, candidates_, classifier_),
         active_(settings_, candidates_, classifier_, potential_),
         step_bound_(candidates_, classifier_),
+        floor_(candidates_, classifier_),
         friction_(settings_, candidates_, classifier_) {}
 
   void begin_step(const StepContext& ctx) override {
@@ -52,10 +56,15 @@ template <bool VF> class SelfContact final : public ContactEffect {
     stats_ = {};
     // (a kept set keeps what its passes recorded: each record names the state it was made at)
     if (candidates_.begin_step(*ctx.x_start, *ctx.x_start + ctx.dt * *ctx.v_start, previous_)) carry_over();
+    floor_.begin_step(*ctx.x_start);
     if (settings_.friction) friction_.begin_step(ctx);
   }
 
   bool update_lagged(const Eigen::Matrix3Xd& x) override { return settings_.friction && friction_.update_lagged(x); }
+
+  bool stiffen_held(const Eigen::Matrix3Xd& x) override {
+    return bounded() && !step_bound_.held().empty() && floor_.stiffen(x, step_bound_.held());
+  }
 
   bool still_valid(const Eigen::Matrix3Xd& x) override { return candidates_.still_valid(x); }
 
@@ -108,6 +117,8 @@ template <bool VF> class SelfContact final : public ContactEffect {
         static_cast<double>(stats_.fold_active);
     c[VF ? Counter::vertex_face_contacts : Counter::edge_edge_contacts] = static_cast<double>(stats_.active);
     c[VF ? Counter::vertex_face_min_distance : Counter::edge_edge_min_distance] = stats_.min_length;
+    c[Counter::floor_holds] = static_cast<double>(floor_.holds());
+    c[Counter::stiffened_pairs] = static_cast<double>(floor_.stiffened());
     c[Counter::broad_phase_ms] = q.broad_phase_ms + stats_.settle_ms;
     c[Counter::broad_phase_tree_ms] = q.tree_ms;
     c[Counter::broad_phase_queries] = q.queries;
@@ -121,6 +132,7 @@ template <bool VF> class SelfContact final : public ContactEffect {
     s.pairs = candidates_.pairs();
     s.sides = classifier_.sides();
     s.declared = active_.declared();
+    s.stiffening = classifier_.stiffening();
     const Eigen::Matrix3Xd &at = candidates_.query_point(), &to = candidates_.query_to();
     s.with_query = at.cols() == model_->vertex_count() && to.cols() == at.cols() && at.cols() > 0;
     if (s.with_query) {
@@ -140,6 +152,7 @@ template <bool VF> class SelfContact final : public ContactEffect {
     else
       candidates_.restore(std::move(s.pairs));
     classifier_.sides() = std::move(s.sides);
+    classifier_.stiffening() = std::move(s.stiffening);
     active_.restore(std::move(s.declared));
     step_bound_.invalidate();
   }
@@ -154,6 +167,7 @@ template <bool VF> class SelfContact final : public ContactEffect {
     const ScopedTimer timer(stats_.settle_ms);
     active_.carry_over(previous_);
     step_bound_.invalidate();
+    floor_.carry_over(previous_);
     std::vector<signed char>& sides = classifier_.sides();
     std::vector<signed char> carried(previous_.size(), 0);
     for (std::size_t k = 0; k < previous_.size(); ++k)
@@ -170,6 +184,7 @@ template <bool VF> class SelfContact final : public ContactEffect {
   PairPotential<VF> potential_;
   ActivePairs<VF> active_;
   StepBound<VF> step_bound_;
+  SeparationFloor<VF> floor_;
   FrictionFreezing<VF> friction_;
   const Eigen::Matrix3Xd* x_start_ = nullptr;
   double inertial_motion_ = 0;  ///< max |h vᵢⁿ| of the step (cover_step's reach)
@@ -181,6 +196,7 @@ template <bool VF> class SelfContact final : public ContactEffect {
 void check_contact(const ContactSettings& s) {
   check_penalty(s.penalty, "penalty.");
   check_friction(s.friction);
+  check_min_separation(s.min_separation);
   if (s.hessian == Projection::none)
     throw ArgumentError("hessian",
                         "expected a PSD strategy (analytic, exact, numerical, gauss_newton or abs), got none");

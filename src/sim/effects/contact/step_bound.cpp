@@ -18,17 +18,25 @@ template <bool VF> double StepBound<VF>::max_step(const Eigen::Matrix3Xd& x, con
   // line-search trial): a pair whose distance at x, less t_valid (ma + mb), is at least its
   // reach is inactive on the whole segment.
   const double t_valid = candidates_->step_limit(x, dx);
-  segment_slack_ = 8 * kSegmentTolerance * std::max(x.cwiseAbs().maxCoeff(), 1.0);
+  const double scale = std::max(x.cwiseAbs().maxCoeff(), 1.0);
+  segment_slack_ = 8 * kSegmentTolerance * scale;
+  floor_slack_ = kFloorRounding * scale;
+  const double largest_floor = classifier_->largest_floor();
+  candidates_->set_floor(largest_floor > 0 ? largest_floor + floor_slack_ : 0.0);
   const long n = static_cast<long>(candidates_->size());
   constexpr long chunk = 2048;
   const std::size_t chunks = chunk_count(n, chunk);
   if (segments_.size() < chunks) segments_.resize(chunks);
+  if (held_chunks_.size() < chunks) held_chunks_.resize(chunks);
   const double t = min_over_chunks(n, chunk, t_valid, [&](std::size_t c, long begin, long end, double& running) {
     std::vector<std::size_t>& my_segment = segments_[c];
     my_segment.clear();
-    for (long k = begin; k < end; ++k) bound_pair(x, dx, static_cast<std::size_t>(k), t_valid, running, my_segment);
+    held_chunks_[c].clear();
+    for (long k = begin; k < end; ++k)
+      bound_pair(x, dx, static_cast<std::size_t>(k), t_valid, running, my_segment, held_chunks_[c]);
   });
   join_chunks(segments_, chunks, segment_);
+  join_chunks(held_chunks_, chunks, held_);
   segment_x_ = x;
   segment_dx_ = dx;
   segment_t_ = t_valid;
@@ -37,8 +45,9 @@ template <bool VF> double StepBound<VF>::max_step(const Eigen::Matrix3Xd& x, con
   return std::max(t, 0.0);
 }
 
-template <bool VF> void StepBound<VF>::bound_pair(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, std::size_t k,
-                                                  double t_valid, double& t, std::vector<std::size_t>& segment) const {
+template <bool VF>
+void StepBound<VF>::bound_pair(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, std::size_t k, double t_valid,
+                               double& t, std::vector<std::size_t>& segment, std::vector<std::size_t>& held) const {
   using Geometry = PairGeometry<VF>;
   using Kind = std::conditional_t<VF, VertexFace, EdgeEdge>;
   const double reach = classifier_->reach_of(k);
@@ -54,7 +63,8 @@ template <bool VF> void StepBound<VF>::bound_pair(const Eigen::Matrix3Xd& x, con
   {
     const double motion = candidates_->step_bound(k), bound = candidates_->primitive_lower_bound(k);
     const bool far_too = far || bound - reach * (1 + 1e-9) >= (t_valid * motion + segment_slack_) * (1 + 1e-9);
-    const bool no_limit = cannot_limit || !(motion > 0) || 0.9 * bound >= std::min(t, t_valid) * motion * (1 + 1e-9);
+    const bool no_limit =
+        cannot_limit || !(motion > 0) || candidates_->clearance(bound) >= std::min(t, t_valid) * motion * (1 + 1e-9);
     if (far_too && no_limit) return;
   }
   const auto v = candidates_->vertices(k);
@@ -80,19 +90,30 @@ template <bool VF> void StepBound<VF>::bound_pair(const Eigen::Matrix3Xd& x, con
   const double bound = Geometry::distance_lower_bound(xp);
   far = far || beyond_along(bound);
   if (!far) segment.push_back(k);
-  if (!may_limit || 0.9 * bound >= std::min(t, t_valid) * (ma + mb)) return;
+  if (!may_limit || candidates_->clearance(bound) >= std::min(t, t_valid) * (ma + mb)) return;
   ClosestFeatureEnergy<double> ce;
   const QuadraticPenalty probe{1.0, 0.0};
   if (closest_feature_energy<Kind>(xp, UnsignedLength{}, probe, ce) != Status::ok) return;
   candidates_->tighten(k, v, ce.length);
-  t = std::min(t, advance(xp, Geometry::gather(dx, v), ce.length, ma + mb, std::min(t, t_valid)));
+  const double d0 = ce.length, floor = classifier_->floor_of(k), cap = std::min(t, t_valid);
+  // The gap the pair keeps: a tenth of its distance, or, when that is less, its floor with
+  // the rounding allowance (a pair within the allowance of its floor may still come that
+  // much closer, so that it is never frozen where it stands). A pair that starts below its
+  // floor keeps a tenth.
+  const bool floored = floor > 0 && d0 >= floor && 0.1 * d0 < floor + floor_slack_;
+  const double gap =
+      floored ? std::max(0.1 * d0, std::min(floor + floor_slack_, d0 - floor_slack_)) : 0.1 * d0;
+  const double tk = advance(xp, Geometry::gather(dx, v), d0, ma + mb, cap, floored ? gap : -1.0);
+  if (tk < cap && floor > 0 && (floored || d0 < floor)) held.push_back(k);
+  t = std::min(t, tk);
 }
 
 template <bool VF>
-double StepBound<VF>::advance(const Vec12<double>& xp, const Vec12<double>& dxp, double d0, double lp, double cap) {
+double StepBound<VF>::advance(const Vec12<double>& xp, const Vec12<double>& dxp, double d0, double lp, double cap,
+                              double gap) {
   using Kind = std::conditional_t<VF, VertexFace, EdgeEdge>;
-  const double g = 0.1 * d0;
-  double t = 0.9 * d0 / lp;
+  const double g = gap < 0 ? 0.1 * d0 : gap;
+  double t = gap < 0 ? 0.9 * d0 / lp : (d0 - g) / lp;
   const QuadraticPenalty probe{1.0, 0.0};
   for (int round = 0; round < 32 && t < cap; ++round) {
     ClosestFeatureEnergy<double> ce;

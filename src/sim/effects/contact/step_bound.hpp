@@ -42,25 +42,38 @@ template <bool VF> class StepBound {
   /// coordinate, what the solver's x₀ + α dx rounds to); null otherwise.
   const std::vector<std::size_t>* segment_at(const Eigen::Matrix3Xd& x) const;
   /// Forgets the last segment (the candidates changed, or a new step begins).
-  void invalidate() { segment_valid_ = false; }
+  void invalidate() {
+    segment_valid_ = false;
+    held_.clear();
+  }
+  /// The candidates whose limit in the last max_step was set by their floor (or that started
+  /// it below their floor) and was below the running minimum: those the step may have brought
+  /// to their floor (ascending).
+  const std::vector<std::size_t>& held() const { return held_; }
 
  private:
   /// Candidate k's part of max_step: whether it can be active on the segment (appended to
   /// `segment`), and the limit it puts on t (lowering `t`, the running minimum).
+  /// A pair whose limit its floor set is appended to `held`.
   void bound_pair(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, std::size_t k, double t_valid, double& t,
-                  std::vector<std::size_t>& segment) const;
+                  std::vector<std::size_t>& segment, std::vector<std::size_t>& held) const;
   /// Additive CCD, iterated (see the file comment): the largest t found for which the pair
-  /// at xp + s dxp, s ∈ [0, t], stays at least g = 0.1 d₀ apart (d₀ its distance at s = 0,
-  /// `lp` = ma + mb the bound on how fast the distance changes along the step). From a
-  /// distance dᵢ at tᵢ the distance stays ≥ g up to tᵢ + (dᵢ − g)/lp; each round advances
-  /// 0.9 of that and measures again, until t reaches `cap` (then the pair cannot lower the
-  /// minimum), the advance stalls below 1e-3 t, or 32 rounds. The first round is the
-  /// one-shot bound 0.9 d₀/lp.
-  static double advance(const Vec12<double>& xp, const Vec12<double>& dxp, double d0, double lp, double cap);
+  /// at xp + s dxp, s ∈ [0, t], stays at least g apart: g = 0.1 d₀ when `gap` < 0, else
+  /// `gap` (d₀ its distance at s = 0, `lp` = ma + mb the bound on how fast the distance
+  /// changes along the step). From a distance dᵢ at tᵢ the distance stays ≥ g up to
+  /// tᵢ + (dᵢ − g)/lp; each round advances 0.9 of that and measures again, until t reaches
+  /// `cap` (then the pair cannot lower the minimum), the advance stalls below 1e-3 t, or 32
+  /// rounds. The first round is the one-shot bound (d₀ − g)/lp (0.9 d₀/lp for the tenth).
+  static double advance(const Vec12<double>& xp, const Vec12<double>& dxp, double d0, double lp, double cap,
+                        double gap);
 
   /// segment_at's tolerance per coordinate, relative to max(|x₀|, 1): far above the rounding
   /// of x₀ + α dx (a few ε), far below any distance that matters.
   static constexpr double kSegmentTolerance = 1e-12;
+  /// The floor's rounding allowance, relative to max(|x|, 1): a step keeps a pair's computed
+  /// distance at least its floor plus this (thousands of times a closest-feature distance's
+  /// rounding error), so its exact distance stays at or above the floor.
+  static constexpr double kFloorRounding = 1e-12;
 
   CandidateSet<VF>* candidates_;
   const Classifier<VF>* classifier_;
@@ -71,6 +84,9 @@ template <bool VF> class StepBound {
   Eigen::Matrix3Xd segment_x_, segment_dx_;
   double segment_t_ = 0;
   double segment_slack_ = 0;    ///< the list's allowance for a state up to segment_at's tolerance off the segment
+  double floor_slack_ = 0;      ///< the floor's rounding allowance at the last max_step's x
+  std::vector<std::size_t> held_;  ///< see held()
+  std::vector<std::vector<std::size_t>> held_chunks_;
   bool segment_valid_ = false;  ///< segment_ belongs to the current candidates
 };
 

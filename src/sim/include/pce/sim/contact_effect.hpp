@@ -6,8 +6,8 @@
 /// carry state from one step to the next. The solver discovers these effects among the
 /// scene's (`dynamic_cast`, once per time step) and calls the functions below on them alone;
 /// they are called in the order update_pattern (before each Newton iteration's assembly),
-/// cover_step, max_step, still_valid (and refresh when that says no) per Newton iteration,
-/// update_lagged after each solve.
+/// cover_step, max_step, stiffen_held, still_valid (and refresh when that says no) per Newton
+/// iteration, update_lagged after each solve.
 #pragma once
 
 #include <pce/friction/lagged_friction.hpp>
@@ -48,6 +48,11 @@ class ContactEffect : public Effect {
   /// Largest fraction t ∈ (0, 1] of the step `dx` from `x` that this effect allows (a
   /// barrier keeps every active length above 0); 1 without a domain limit.
   virtual double max_step(const Eigen::Matrix3Xd& /*x*/, const Eigen::Matrix3Xd& /*dx*/) { return 1.0; }
+  /// Called after each accepted Newton update to `x`, before `still_valid`: an effect whose
+  /// last max_step held pairs at their minimum separation stiffens the penalties of those
+  /// that came within twice of it (docs/simulation.md §4.6) and returns true; the energy at
+  /// `x` is then evaluated afresh. False: nothing changed.
+  virtual bool stiffen_held(const Eigen::Matrix3Xd& /*x*/) { return false; }
   /// Called after each accepted Newton update; returns false when the effect needs a new
   /// `begin_step`-time query (its candidates went stale).
   virtual bool still_valid(const Eigen::Matrix3Xd& /*x*/) { return true; }

@@ -136,6 +136,13 @@ struct FrictionSettings {
 /// dry rough surfaces reaches ~2).
 inline constexpr double kMaxFrictionCoefficient = 100;
 
+/// The default minimum separation of contact effects, as a fraction of the activation
+/// distance d (`ContactSettings::min_separation`, `ObstacleContactSettings::min_separation`).
+inline constexpr double kDefaultMinSeparation = 0.01;
+
+/// The largest minimum separation a contact effect accepts, as a fraction of d.
+inline constexpr double kMaxMinSeparation = 0.5;
+
 /// A self-contact effect's settings (scene `self_vertex_face` / `self_edge_edge` objects).
 struct ContactSettings {
   /// The penalty ψ of the pair's length.
@@ -148,6 +155,11 @@ struct ContactSettings {
   Projection hessian = Projection::analytic;
   /// Limit every Newton step so no pair can cross (always on for the barrier).
   bool ccd = true;
+  /// The minimum separation, as a fraction of d (of a fold pair's reach): no Newton step
+  /// brings a candidate pair that starts it at least this far apart closer, and a pair the
+  /// step bound holds there has its penalty stiffened (docs/simulation.md §4.6). In [0, 0.5];
+  /// 0 turns the floor off. Applies with the step bound (`ccd` or the barrier).
+  double min_separation = kDefaultMinSeparation;
   /// The broad phase that finds the candidate pairs (scene `solver.broad_phase`).
   BroadPhaseKind broad_phase = BroadPhaseKind::fcl;
   /// Weigh each pair's energy by rest areas (vertex-face: the face's area plus the vertex's
@@ -193,6 +205,10 @@ struct ObstacleContactSettings {
   /// Weigh each vertex's energy by its lumped rest area (stiffness per unit area: J/m⁴
   /// quadratic, J/m⁵ cubic, J/m⁴ log barrier). Needs every vertex to be a triangle corner.
   bool area_weighted = false;
+  /// The minimum separation from an obstacle's surface, as a fraction of d: no Newton step
+  /// brings a vertex that starts it at least this far out closer, and a vertex held there
+  /// has its penalty stiffened (docs/simulation.md §4.6). In [0, 0.5]; 0 turns it off.
+  double min_separation = kDefaultMinSeparation;
   /// Friction against the obstacles' surfaces, which move with the obstacles (a moving
   /// obstacle drags what rests on it); none when absent.
   std::optional<FrictionSettings> friction = std::nullopt;

@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: MIT
+/// @file
+/// The minimum separation of a self-contact effect (internal; docs/simulation.md §4.6): what
+/// happens to a pair the step bound held at its floor.
+///
+/// Each candidate has a floor, `min_separation` times d (times a fold pair's reach):
+/// StepBound keeps every pair that starts a Newton step at or above its floor there, and
+/// lists the pairs whose limit the floor set (`StepBound::held`). A penalty too soft for its
+/// load would leave such a pair at the floor, and Newton, whose direction keeps pressing it
+/// in, cutting every step short until its iteration cap. So after each accepted Newton
+/// update, a listed pair closer than twice its floor is *held*: its penalty's stiffness is
+/// multiplied by kGrowth (so is its force at every distance, and the pair's largest force
+/// grows fourfold per hold until it carries the load). The factor stays while the pair is
+/// active and is forgotten when a step starts with the pair beyond its reach, or the pair
+/// leaves the candidate set; checkpoints keep it.
+#pragma once
+
+#include "activity.hpp"
+
+#include <vector>
+
+namespace pce::sim::contact {
+
+/// The minimum separation's stiffening of one self-contact effect (see the file comment).
+template <bool VF> class SeparationFloor {
+ public:
+  /// The factor a hold multiplies a pair's stiffness by.
+  static constexpr double kGrowth = 4;
+  /// The largest factor: a pair held so often has a penalty 4¹⁵ times the effect's.
+  static constexpr double kLargest = 1073741824.0;  // 4¹⁵
+
+  /// The effect's candidates and classifier (whose stiffening factors this sets).
+  SeparationFloor(const CandidateSet<VF>& candidates, Classifier<VF>& classifier)
+      : candidates_(&candidates), classifier_(&classifier) {}
+
+  /// Forgets the factors of pairs beyond their reach at the step's start `x`; zeroes the
+  /// frame's hold count.
+  void begin_step(const Eigen::Matrix3Xd& x);
+  /// After an accepted Newton update to `x`: stiffens each of `held` (the step bound's list)
+  /// closer than twice its floor; true when one was.
+  bool stiffen(const Eigen::Matrix3Xd& x, const std::vector<std::size_t>& held);
+  /// After a query: the factors follow their pairs (`previous`: per new candidate its former
+  /// index, or −1).
+  void carry_over(const std::vector<long>& previous);
+
+  /// Holds in the frame so far (a pair held at two iterations counts twice).
+  long holds() const { return holds_; }
+  /// Candidates whose factor is above 1.
+  long stiffened() const;
+
+ private:
+  /// Candidate k's distance at x (closest features), or +∞ when it cannot be measured.
+  double distance(const Eigen::Matrix3Xd& x, std::size_t k) const;
+
+  const CandidateSet<VF>* candidates_;
+  Classifier<VF>* classifier_;
+  long holds_ = 0;
+};
+
+}  // namespace pce::sim::contact
