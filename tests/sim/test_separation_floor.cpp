@@ -11,7 +11,6 @@
 #include <pce/sim/contact_effect.hpp>
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/intersections.hpp>
-#include <pce/sim/obstacle.hpp>
 #include <pce/sim/scene.hpp>
 
 #include <gtest/gtest.h>
@@ -19,6 +18,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -140,7 +140,8 @@ Pressed press(Scene& s, bool vf, double floor, int steps, int seed) {
     for (int i = 1; i <= 24; ++i) {
       const Eigen::Matrix3Xd at = x + (t * i / 24.0) * dx;
       for (std::size_t k = 0; k < pairs.size(); ++k)
-        if (d0[k] < 2 * kDistance && d0[k] >= floor) out.closest = std::min(out.closest, distance(at, pairs[k], vf) / unit);
+        if (d0[k] < 2 * kDistance && d0[k] >= floor)
+          out.closest = std::min(out.closest, distance(at, pairs[k], vf) / unit);
     }
     x += t * dx;
     out.holds += e.stiffen_held(x) ? 1 : 0;
@@ -153,7 +154,8 @@ TEST(SeparationFloor, NoStepBringsAPairBelowItsFloorHoweverOftenItIsPressed) {
   // Two sheets 1.5 mm apart (d = 2 cm, floor 0.01 d = 0.2 mm), pressed together 30 times by
   // motions that would carry one through the other: every pair that starts a step at or
   // above its floor stays there at every sampled point of the step (to a relative 1e-9), and
-  // the pairs do reach the floor (within 5 %), where the steps hold them.
+  // the pairs do reach the floor's band (the step bound stops a pressed pair at twice the
+  // floor), where the steps hold them.
   for (const char* type : {"self_vertex_face", "self_edge_edge"})
     for (const bool closest : {false, true})
       for (int seed = 0; seed < 3; ++seed) {
@@ -161,7 +163,7 @@ TEST(SeparationFloor, NoStepBringsAPairBelowItsFloorHoweverOftenItIsPressed) {
         auto s = two_sheets(contact(type, closest, 0.01), 0.0015);
         const Pressed p = press(*s, std::string(type) == "self_vertex_face", 0.01 * kDistance, 30, seed);
         EXPECT_GE(p.closest, 1 - 1e-9);
-        EXPECT_LT(p.closest, 1.05);
+        EXPECT_LT(p.closest, 2.05);
         EXPECT_GT(p.holds, 0);
       }
 }
@@ -266,51 +268,47 @@ TEST(SeparationFloor, CheckpointsKeepTheStiffening) {
   }
 }
 
-/// A 5 × 5 sheet `gap` above a box obstacle, with obstacle contact only.
+/// A 5 × 5 sheet (5 cm edges) `gap` above a box, falling onto it under gravity, with an
+/// obstacle penalty far too soft for its weight (largest force 2 k d = 2e-4 N a vertex,
+/// against ~1e-3 N).
 std::unique_ptr<Scene> sheet_on_box(double gap, double min_separation) {
   json j = json::parse(R"({
-    "dt": 0.01, "frames": 1,
+    "dt": 0.01, "frames": 30,
     "obstacles": [{"name": "crate", "shape": "box", "half_extents": [0.3, 0.3, 0.05], "position": [0, 0, -0.05]}],
-    "meshes": [{"name": "sheet", "generator": {"type": "grid", "width": 0.2, "height": 0.2, "nx": 5, "ny": 5}}],
-    "effects": [{"type": "obstacle_contact", "penalty": {"type": "quadratic", "stiffness": 50.0, "distance": 0.02}}]
+    "meshes": [{"name": "sheet", "generator": {"type": "grid", "width": 0.2, "height": 0.2, "nx": 5, "ny": 5},
+                "density": 0.1}],
+    "effects": [{"type": "gravity"}, {"type": "stretching", "model": "arap", "stiffness": 20.0},
+                {"type": "obstacle_contact", "penalty": {"type": "quadratic", "stiffness": 0.005, "distance": 0.02}}]
   })");
   j["meshes"][0]["transform"]["translation"] = {0.0, 0.0, gap};
-  j["effects"][0]["min_separation"] = min_separation;
+  j["effects"][2]["min_separation"] = min_separation;
   return load_scene_text(j.dump(), "box.json", PCE_TEST_TMP);
 }
 
-TEST(SeparationFloor, ObstacleContactKeepsEveryVertexAtItsFloor) {
-  // A sheet 1.5 mm above a box, pressed 30 times by motions that would carry it 12 mm into
-  // the box: no vertex comes below 0.01 d of the box's surface at any sampled point of any
-  // step; the vertices reach the floor and are held. Without the floor, the first step
-  // already carries them into the box.
+TEST(SeparationFloor, EveryStepEndsWithTheSheetAboveTheBoxsFloor) {
+  // The sheet lands on the box (frame ~3): every frame ends with every vertex at least
+  // 0.01 d off the box, the vertices are held and their penalties stiffened. Without the
+  // floor the same sheet sinks through the box's top.
   for (const double f : {0.01, 0.0}) {
     SCOPED_TRACE("min_separation " + std::to_string(f));
-    auto s = sheet_on_box(0.0015, f);
-    ContactEffect& e = contact_of(s->simulation.effects[0]);
-    const Obstacle o = s->simulation.obstacles.at(0);
-    Eigen::Matrix3Xd x = s->simulation.x;
-    begin(*s, x);
-    double closest = std::numeric_limits<double>::infinity();
-    int holds = 0;
-    for (int it = 0; it < 30; ++it) {
-      std::srand(static_cast<unsigned>(it) + 3u);
-      Eigen::Matrix3Xd dx = Eigen::Matrix3Xd::Random(3, x.cols()) * 0.002;
-      dx.row(2).array() -= 0.012;
-      const double t = e.max_step(x, dx);
-      for (int i = 1; i <= 24; ++i)
-        for (Eigen::Index v = 0; v < x.cols(); ++v)
-          closest = std::min(closest, surface_distance(o, o.pose(0.01), Eigen::Vector3d(x.col(v) + (t * i / 24.0) * dx.col(v))).distance);
-      x += t * dx;
-      holds += e.stiffen_held(x) ? 1 : 0;
+    auto s = sheet_on_box(0.01, f);
+    Simulation& sim = s->simulation;
+    double closest = std::numeric_limits<double>::infinity(), holds = 0;
+    for (int frame = 1; frame <= sim.frames; ++frame) {
+      const FrameStats st = sim.step();
+      closest = std::min(closest, st.counters.at("obstacle_min_distance"));
+      holds += st.counters.at("floor_holds");
+      if (f > 0) {
+        EXPECT_GE(st.counters.at("obstacle_min_distance"), f * kDistance) << "frame " << frame;
+        EXPECT_FALSE(st.line_search_failures > 0 && st.newton_iterations == 1) << "frame " << frame << ": did not move";
+      }
     }
     if (f > 0) {
-      EXPECT_GE(closest, f * kDistance * (1 - 1e-9));
-      EXPECT_LT(closest, 1.05 * f * kDistance);
-      EXPECT_GT(holds, 0);
+      EXPECT_GT(holds, 0.0);
+      EXPECT_LT(closest, 3 * f * kDistance);  // it was pressed to the floor
     } else {
       EXPECT_LT(closest, 0.0);
-      EXPECT_EQ(holds, 0);
+      EXPECT_EQ(holds, 0.0);
     }
   }
 }
@@ -327,7 +325,7 @@ TEST(SeparationFloor, SceneKeyOutOfRangeNamesItsPath) {
       sheet_on_box(0.01, bad);
       ADD_FAILURE() << "accepted " << bad;
     } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("effects[0].min_separation"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("effects[2].min_separation"), std::string::npos) << e.what();
     }
   }
 }

@@ -18,15 +18,15 @@
 /// `max_step` keeps every distance positive: since d is 1-Lipschitz in the vertex
 /// position, t ≤ 0.9 d / |Δxᵢ| leaves d ≥ 0.1 d > 0 all along the segment.
 ///
-/// Minimum separation (`min_separation` f, docs/simulation.md §4.6): `max_step` also keeps
-/// every vertex that starts a Newton step at least f·d from an obstacle's surface (at the
-/// end pose) at least that far (plus a rounding allowance), by the same Lipschitz bound
-/// advanced as self contact's step bound is: from a distance dⱼ at tⱼ the vertex stays above
-/// the floor g up to tⱼ + (dⱼ − g)/|Δxᵢ|; each round advances 0.9 of that and measures again.
-/// A (vertex, obstacle) pair whose limit that set, and which the accepted update leaves
-/// closer than twice the floor, is held: its penalty's stiffness is multiplied by 4
-/// (`stiffen_held`), until it is beyond d at a step's start.
-///
+/// Minimum separation (`min_separation` f, docs/simulation.md §4.6): a solve that ends with
+/// a vertex closer than f·d to an obstacle's surface (at the end pose), which was not that
+/// close at the step's start or has come closer, multiplies that pair's penalty stiffness by
+/// 4 and the step is solved again from there (`update_lagged`, as friction's lagged
+/// iterations), up to 8 times a step; the factor stays until the pair is beyond d at a
+/// step's start. Newton's iterates within a solve may come closer (an obstacle is rigid and
+/// its distance signed: a penalty pushes a vertex that passed its surface back out), so a
+/// step whose solves end above the floor is computed as without one.
+
 /// Area weighting (`area_weighted`): vertex i's energy is Aᵢ ψ(d), Aᵢ its lumped rest area
 /// (the penalty evaluated with stiffness Aᵢ k, which ψ is linear in).
 ///
@@ -107,6 +107,8 @@ class ObstacleContact final : public ContactEffect {
       if (friction_) start_poses_[k] = obstacles_[k].pose(ctx.time - ctx.dt);
     }
     forget_stiffening(*ctx.x_start);
+    x_step_start_ = ctx.x_start;
+    floor_solves_ = 0;
     if (!friction_) return;
     friction_stats_ = {};
     const ScopedTimer timer(friction_stats_.ms);
@@ -117,7 +119,8 @@ class ObstacleContact final : public ContactEffect {
   }
 
   bool update_lagged(const Eigen::Matrix3Xd& x) override {
-    if (!friction_ || rounds_ >= friction_->lagged_iterations) return false;
+    const bool stiffened = stiffen_below(x);
+    if (!friction_ || rounds_ >= friction_->lagged_iterations) return stiffened;
     const ScopedTimer timer(friction_stats_.ms);
     ++rounds_;
     freeze(x, false);
@@ -139,53 +142,55 @@ class ObstacleContact final : public ContactEffect {
   }
 
   double max_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) override {
-    held_.clear();
-    const bool barrier = penalty_.barrier(), floored = floor_ > 0;
-    if (!barrier && !floored) return 1.0;
-    const double slack = kFloorRounding * std::max(x.cwiseAbs().maxCoeff(), 1.0);
-    const std::size_t chunks = contact::chunk_count(x.cols(), kChunk);
-    if (held_chunks_.size() < chunks) held_chunks_.resize(chunks);
-    const double t_all = contact::min_over_chunks(x.cols(), kChunk, 1.0, [&](std::size_t c, long begin, long end,
-                                                                              double& t) {
-      held_chunks_[c].clear();
+    pressed_.clear();  // a line search begins
+    if (!penalty_.barrier()) return 1.0;
+    return contact::min_over_chunks(x.cols(), kChunk, 1.0, [&](std::size_t, long begin, long end, double& t) {
       for (long i = begin; i < end; ++i) {
         if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;  // inside a volume
         const double step = dx.col(i).norm();
         if (!(step > 0)) continue;
         const Eigen::Vector3d p = x.col(i);
         for (std::size_t k = 0; k < obstacles_.size(); ++k) {
-          const double bound = (p - poses_[k].translation()).norm() - radius_[k];
-          const bool barrier_near = barrier && !(bound > step);  // d > |Δx|: the barrier allows t = 1
-          const bool floor_near = floored && !(bound - t * step >= floor_ + slack);  // cannot lower t
-          if (!barrier_near && !floor_near) continue;
+          if ((p - poses_[k].translation()).norm() - radius_[k] > step) continue;  // d > |Δx|: t = 1 is safe
           const double d = surface_distance(obstacles_[k], poses_[k], p).distance;
-          if (barrier_near && d > 0) t = std::min(t, 0.9 * d / step);  // d ≤ 0: outside the domain already
-          if (!floor_near || !(d >= floor_)) continue;  // a vertex below its floor keeps no floor
-          const double tk = advance(p, dx.col(i), k, d, step, t, std::min(floor_ + slack, d - slack));
-          if (tk < t) {
-            t = tk;
-            held_chunks_[c].push_back(static_cast<std::size_t>(i) * obstacles_.size() + k);
-          }
+          if (d > 0) t = std::min(t, 0.9 * d / step);  // d ≤ 0: already outside the domain, nothing to keep
         }
       }
     });
-    contact::join_chunks(held_chunks_, chunks, held_);
-    return t_all;
+  }
+
+  /// Before each Newton iteration's assembly at the iterate x: the held pairs (stiffening
+  /// above 1) closer than the floor there, which the floor then keeps no closer than they
+  /// are. The pattern is unchanged (diagonal blocks only).
+  bool update_pattern(const Eigen::Matrix3Xd& x) override {
+    below_.clear();
+    slack_ = kFloorRounding * std::max(x.cwiseAbs().maxCoeff(), 1.0);
+    for (std::size_t j = 0; j < stiffening_.size(); ++j) {
+      if (stiffening_[j] == 1.0) continue;
+      const auto i = static_cast<Eigen::Index>(j / obstacles_.size());
+      const std::size_t k = j % obstacles_.size();
+      const double d = surface_distance(obstacles_[k], poses_[k], x.col(i)).distance;
+      if (d < floor_) below_.push_back({j, d});
+    }
+    return false;
   }
 
   bool stiffen_held(const Eigen::Matrix3Xd& x) override {
+    // the held pairs whose floor refused a trial of the last line search, if x has them
+    // within three floors (pressed in, not the full step's overshoot)
     bool any = false;
-    for (const std::size_t j : held_) {
-      const Eigen::Index i = static_cast<Eigen::Index>(j / obstacles_.size());
+    std::sort(pressed_.begin(), pressed_.end());
+    pressed_.erase(std::unique(pressed_.begin(), pressed_.end()), pressed_.end());
+    for (const std::size_t j : pressed_) {
+      const auto i = static_cast<Eigen::Index>(j / obstacles_.size());
       const std::size_t k = j % obstacles_.size();
-      if (!(surface_distance(obstacles_[k], poses_[k], x.col(i)).distance < 2 * floor_)) continue;
-      if (stiffening_.empty()) stiffening_.assign(static_cast<std::size_t>(x.cols()) * obstacles_.size(), 1.0);
+      if (!(surface_distance(obstacles_[k], poses_[k], x.col(i)).distance < 3 * floor_)) continue;
       if (stiffening_[j] >= kLargestStiffening) continue;
       stiffening_[j] = std::min(stiffening_[j] * 4, kLargestStiffening);
       ++holds_;
       any = true;
     }
-    held_.clear();
+    pressed_.clear();
     return any;
   }
 
@@ -244,6 +249,9 @@ class ObstacleContact final : public ContactEffect {
 
   /// The floor's rounding allowance, relative to max(|x|, 1) (as self contact's).
   static constexpr double kFloorRounding = 1e-12;
+  /// The most solves of one step that stiffening for the floor asks for (4⁸: a penalty up
+  /// to 65 536 times stiffer within one step).
+  static constexpr int kFloorSolves = 8;
   /// The largest stiffening factor (4¹⁵, as self contact's).
   static constexpr double kLargestStiffening = 1073741824.0;
 
@@ -255,19 +263,41 @@ class ObstacleContact final : public ContactEffect {
     return scaled(penalty, areas_[i] * m);
   }
 
-  /// The largest t ≤ `cap` found for which vertex i, at p + s dp for s ∈ [0, t], stays at
-  /// least g from obstacle k's surface (d₀ its distance at s = 0, `step` = |dp|): the
-  /// Lipschitz bound advanced as in the file comment, at most 32 rounds.
-  double advance(const Eigen::Vector3d& p, const Eigen::Vector3d& dp, std::size_t k, double d0, double step,
-                 double cap, double g) const {
-    double t = (d0 - g) / step;
-    for (int round = 0; round < 32 && t < cap; ++round) {
-      const double d = surface_distance(obstacles_[k], poses_[k], Eigen::Vector3d(p + t * dp)).distance;
-      const double more = 0.9 * (d - g) / step;
-      if (!(more > 1e-3 * t)) break;
-      t += more;
+  /// Whether pair j (i·K + k) may be at `distance` (below the floor): only when it was never
+  /// held (its factor is 1), or was below the floor at the iterate (`below_`) and is no
+  /// closer now, less the rounding allowance.
+  bool allowed(std::size_t j, double distance) const {
+    if (stiffening_.empty() || stiffening_[j] == 1.0) return true;
+    const auto it = std::lower_bound(below_.begin(), below_.end(), j,
+                                     [](const Below& b, std::size_t pair) { return b.pair < pair; });
+    return it != below_.end() && it->pair == j && distance >= it->distance - slack_;
+  }
+
+  /// At the end of a solve at x: stiffens (×4) the penalty of every pair x has closer than
+  /// the floor that was at least as far at the step's start, or that came closer; true when
+  /// one was (the step is then solved again from x), at most kFloorSolves times a step.
+  bool stiffen_below(const Eigen::Matrix3Xd& x) {
+    if (!(floor_ > 0) || floor_solves_ >= kFloorSolves) return false;
+    bool any = false;
+    for (Eigen::Index i = 0; i < x.cols(); ++i) {
+      if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;
+      const Eigen::Vector3d p = x.col(i);
+      for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+        if ((p - poses_[k].translation()).norm() - radius_[k] >= floor_) continue;  // d ≥ floor
+        const double d = surface_distance(obstacles_[k], poses_[k], p).distance;
+        if (!(d < floor_)) continue;
+        const double before = surface_distance(obstacles_[k], poses_[k], x_step_start_->col(i)).distance;
+        if (before < floor_ && d >= before) continue;  // below the floor from the start, and no closer
+        const std::size_t j = static_cast<std::size_t>(i) * obstacles_.size() + k;
+        if (stiffening_.empty()) stiffening_.assign(static_cast<std::size_t>(x.cols()) * obstacles_.size(), 1.0);
+        if (stiffening_[j] >= kLargestStiffening) continue;
+        stiffening_[j] = std::min(stiffening_[j] * 4, kLargestStiffening);
+        ++holds_;
+        any = true;
+      }
     }
-    return std::max(std::min(t, cap), 0.0);
+    if (any) ++floor_solves_;
+    return any;
   }
 
   /// Forgets the stiffening of pairs beyond d at the step's start `x` (the obstacles at the
@@ -296,9 +326,11 @@ class ObstacleContact final : public ContactEffect {
     terms_.prepare(chunks);
     chunk_min_.assign(chunks, std::numeric_limits<double>::max());
     chunk_blocked_.assign(chunks, 0);
+    if (pressed_chunks_.size() < chunks) pressed_chunks_.resize(chunks);
     const double reach = penalty_.distance;
     contact::for_each_chunk(n, kChunk, [&](std::size_t c, long begin, long end) {
       terms_.clear(c);
+      pressed_chunks_[c].clear();
       for (long i = begin; i < end; ++i) {
         if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;  // inside a volume
         const Eigen::Vector3d p = x.col(i);
@@ -312,9 +344,13 @@ class ObstacleContact final : public ContactEffect {
           chunk_min_[c] = std::min(chunk_min_[c], s.distance);
           if (!(s.distance < reach)) continue;
           if (penalty_.barrier() && !(s.distance > 0)) chunk_blocked_[c] = 1;
+          if (s.distance < floor_ && !allowed(static_cast<std::size_t>(i) * obstacles_.size() + k, s.distance)) {
+            chunk_blocked_[c] = 1;  // a held pair below its floor: outside the domain, as a barrier's
+            pressed_chunks_[c].push_back(static_cast<std::size_t>(i) * obstacles_.size() + k);
+          }
           const PenaltyDerivatives<double> psi = weighted(penalty, i, k).evaluate(s.distance);
           contact::PairTerm<1> t;
-          t.k = i;
+          t.k = static_cast<long>(static_cast<std::size_t>(i) * obstacles_.size() + k);  // the pair's index i·K + k
           t.vertices = {static_cast<int>(i)};
           t.energy = psi.value;
           t.length = s.distance;
@@ -325,6 +361,8 @@ class ObstacleContact final : public ContactEffect {
       }
     });
     min_distance_ = *std::min_element(chunk_min_.begin(), chunk_min_.end());
+    for (std::size_t c = 0; c < chunks; ++c)
+      pressed_.insert(pressed_.end(), pressed_chunks_[c].begin(), pressed_chunks_[c].end());
     return std::count(chunk_blocked_.begin(), chunk_blocked_.end(), char(1)) > 0;
   }
 
@@ -389,9 +427,18 @@ class ObstacleContact final : public ContactEffect {
   std::vector<char> chunk_blocked_;  ///< per chunk: a barrier's domain was left
   double min_distance_ = std::numeric_limits<double>::max();
   std::vector<double> stiffening_;  ///< per (vertex i, obstacle k) at i·K + k: its factor; empty when all are 1
-  std::vector<std::size_t> held_;   ///< the pairs (i·K + k) whose limit the last max_step's floor set
-  std::vector<std::vector<std::size_t>> held_chunks_;
-  long holds_ = 0;          ///< holds in the frame so far
+  /// A held pair (i·K + k) closer than the floor at the iterate, and its distance there.
+  struct Below {
+    std::size_t pair = 0;
+    double distance = 0;
+  };
+  std::vector<Below> below_;                              ///< at the last update_pattern, ascending by pair
+  double slack_ = 0;                                      ///< the floor's rounding allowance at that iterate
+  std::vector<std::size_t> pressed_;                      ///< held pairs whose floor refused a trial since max_step
+  std::vector<std::vector<std::size_t>> pressed_chunks_;  ///< per chunk of the evaluation
+  const Eigen::Matrix3Xd* x_step_start_ = nullptr;        ///< xⁿ of the step
+  int floor_solves_ = 0;                                  ///< solves of this step that stiffen_below asked for
+  long holds_ = 0;                                        ///< holds in the frame so far
   long surface_count_ = 0;  ///< the model's vertex count (0 without a model: no factor loads)
 };
 

@@ -237,10 +237,19 @@ void Simulation::newton(StepState& s) {
       // friction test would pass: at a zero step the model's force is the force, ≤ μλ.)
       if (small_step) {
         st.stop = StopReason::rounding;
-      } else {
-        ++st.line_search_failures;
-        st.stop = StopReason::line_search;
+        return;
       }
+      // A step the minimum separation cut to nothing (a pair held at its floor, pressed
+      // further in): the held pairs' penalties grow, and Newton goes on from y with them.
+      if (stiffen_held(s)) {
+        if (it + 1 == cap) {
+          st.stop = solver.single_solve ? StopReason::single_solve : StopReason::iteration_cap;
+          st.hit_iteration_cap = !solver.single_solve;
+        }
+        continue;
+      }
+      ++st.line_search_failures;
+      st.stop = StopReason::line_search;
       return;
     }
     refresh(s);
@@ -374,15 +383,23 @@ bool Simulation::line_search(StepState& s, int it, bool small_step, bool& conver
   return accepted;
 }
 
-/// Contact effects stiffen the pairs they held at their minimum separation (the energy at
-/// y changes); those whose candidates went stale at the accepted y query again; the pattern
-/// follows.
-void Simulation::refresh(StepState& s) {
-  bool changed = false;
+/// Contact effects stiffen the pairs their last max_step held at their minimum separation
+/// (docs/simulation.md §4.6); true when one did (the energy at y changed).
+bool Simulation::stiffen_held(StepState& s) {
+  bool stiffened = false;
   for (const auto& [k, c] : s.contacts) {
     const ScopedTimer timer(s.effect_ms[k]);
-    if (c->stiffen_held(s.y)) s.evaluated_at_y = false;
+    stiffened = c->stiffen_held(s.y) || stiffened;
   }
+  if (stiffened) s.evaluated_at_y = false;
+  return stiffened;
+}
+
+/// After an accepted update: the held pairs stiffened; contact effects whose candidates went
+/// stale at y query again; the pattern follows.
+void Simulation::refresh(StepState& s) {
+  bool changed = false;
+  stiffen_held(s);
   for (const auto& [k, c] : s.contacts)
     if (!c->still_valid(s.y)) {
       {

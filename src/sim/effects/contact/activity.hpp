@@ -34,6 +34,10 @@
 
 namespace pce::sim::contact {
 
+/// A pair closer than this many times its minimum separation after a Newton iteration is
+/// held there (separation_floor.hpp); the step bound stops a pressed pair at two.
+inline constexpr double kHeldWithin = 3;
+
 /// What `Classifier::classify` decides for one candidate at one state.
 struct Activity {
   /// none: inactive; plane: active in plane mode (its frame and σ below); closest: to be

@@ -160,13 +160,14 @@ template <bool VF> class CandidateSet {
     query_lb_[k] = std::max(query_lb_[k], distance - rounding_ - pair_drift(v));
   }
 
-  /// The step bound's floor for these filters: the largest minimum separation of any
-  /// candidate with its rounding allowance (0: none).
+  /// The step bound's floor for these filters: the largest distance at which it stops a
+  /// pressed pair (twice the largest minimum separation, with the rounding allowance; 0:
+  /// none).
   void set_floor(double floor) { floor_ = floor; }
-  /// How much closer a pair at a distance of at least `lb` may come in one step's first
-  /// round of the step bound: 0.9 lb (it keeps a tenth), or, with a floor, min(0.9 lb,
-  /// lb − floor) (the step bound's own allowance is at least this for every distance ≥ lb).
-  double clearance(double lb) const { return floor_ > 0 ? std::min(0.9 * lb, lb - floor_) : 0.9 * lb; }
+  /// How much closer a pair at a distance of at least `lb` may come in the first round of
+  /// the step bound: 0.9 lb (it keeps a tenth), or, with a floor F (set_floor), 0.9 (lb − F)
+  /// (the floor's own first round allows at least this for every distance ≥ lb).
+  double clearance(double lb) const { return floor_ > 0 ? 0.9 * (lb - floor_) : 0.9 * lb; }
 
   /// Step filter, meshes only: candidate k cannot limit a step below `t_valid` (from the
   /// last step_limit): with lb its bound at the query, its distance at x is at least

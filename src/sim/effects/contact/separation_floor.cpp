@@ -33,11 +33,13 @@ template <bool VF> void SeparationFloor<VF>::begin_step(const Eigen::Matrix3Xd& 
   if (!any) m.clear();
 }
 
-template <bool VF> bool SeparationFloor<VF>::stiffen(const Eigen::Matrix3Xd& x, const std::vector<std::size_t>& held) {
+template <bool VF> bool SeparationFloor<VF>::stiffen(const Eigen::Matrix3Xd& x, const std::vector<FloorLimit>& held) {
   std::vector<double>& m = classifier_->stiffening();
   bool any = false;
-  for (const std::size_t k : held) {
-    if (!(distance(x, k) < 2 * classifier_->floor_of(k))) continue;
+  for (const FloorLimit& h : held) {
+    const std::size_t k = h.k;
+    const double now = distance(x, k), floor = classifier_->floor_of(k);
+    if (!(now < kHeldWithin * floor && now - h.gap <= std::max(0.5 * (h.start - h.gap), 0.25 * floor))) continue;
     if (m.empty()) m.assign(candidates_->size(), 1.0);
     if (m[k] >= kLargest) continue;
     m[k] = std::min(m[k] * kGrowth, kLargest);

@@ -7,15 +7,17 @@
 /// StepBound keeps every pair that starts a Newton step at or above its floor there, and
 /// lists the pairs whose limit the floor set (`StepBound::held`). A penalty too soft for its
 /// load would leave such a pair at the floor, and Newton, whose direction keeps pressing it
-/// in, cutting every step short until its iteration cap. So after each accepted Newton
-/// update, a listed pair closer than twice its floor is *held*: its penalty's stiffness is
-/// multiplied by kGrowth (so is its force at every distance, and the pair's largest force
-/// grows fourfold per hold until it carries the load). The factor stays while the pair is
+/// in, cutting every step short until its iteration cap. So after each Newton iteration, a
+/// listed pair that the iteration pressed in (it ended within kHeldWithin floors, and near
+/// the gap the step bound kept, or halfway there) is *held*: its penalty's stiffness is
+/// multiplied by kGrowth (so is its force at every distance, and its largest force grows
+/// fourfold per hold until it carries the load). The factor stays while the pair is
 /// active and is forgotten when a step starts with the pair beyond its reach, or the pair
 /// leaves the candidate set; checkpoints keep it.
 #pragma once
 
 #include "activity.hpp"
+#include "step_bound.hpp"
 
 #include <vector>
 
@@ -36,9 +38,11 @@ template <bool VF> class SeparationFloor {
   /// Forgets the factors of pairs beyond their reach at the step's start `x`; zeroes the
   /// frame's hold count.
   void begin_step(const Eigen::Matrix3Xd& x);
-  /// After an accepted Newton update to `x`: stiffens each of `held` (the step bound's list)
-  /// closer than twice its floor; true when one was.
-  bool stiffen(const Eigen::Matrix3Xd& x, const std::vector<std::size_t>& held);
+  /// After a Newton iteration that left the state at `x`: stiffens each of `held` (the step
+  /// bound's list) that x has closer than kHeldWithin floors and within a quarter floor of
+  /// the gap the step bound kept, or at least halfway there from its start (pressed in, not
+  /// merely limited); true when one was.
+  bool stiffen(const Eigen::Matrix3Xd& x, const std::vector<FloorLimit>& held);
   /// After a query: the factors follow their pairs (`previous`: per new candidate its former
   /// index, or −1).
   void carry_over(const std::vector<long>& previous);

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace pce::sim::contact {
 
@@ -22,7 +23,7 @@ template <bool VF> double StepBound<VF>::max_step(const Eigen::Matrix3Xd& x, con
   segment_slack_ = 8 * kSegmentTolerance * scale;
   floor_slack_ = kFloorRounding * scale;
   const double largest_floor = classifier_->largest_floor();
-  candidates_->set_floor(largest_floor > 0 ? largest_floor + floor_slack_ : 0.0);
+  candidates_->set_floor(largest_floor > 0 ? 2 * largest_floor + 2 * floor_slack_ : 0.0);
   const long n = static_cast<long>(candidates_->size());
   constexpr long chunk = 2048;
   const std::size_t chunks = chunk_count(n, chunk);
@@ -45,9 +46,9 @@ template <bool VF> double StepBound<VF>::max_step(const Eigen::Matrix3Xd& x, con
   return std::max(t, 0.0);
 }
 
-template <bool VF>
-void StepBound<VF>::bound_pair(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, std::size_t k, double t_valid,
-                               double& t, std::vector<std::size_t>& segment, std::vector<std::size_t>& held) const {
+template <bool VF> void StepBound<VF>::bound_pair(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, std::size_t k,
+                                                  double t_valid, double& t, std::vector<std::size_t>& segment,
+                                                  std::vector<FloorLimit>& held) const {
   using Geometry = PairGeometry<VF>;
   using Kind = std::conditional_t<VF, VertexFace, EdgeEdge>;
   const double reach = classifier_->reach_of(k);
@@ -96,24 +97,79 @@ void StepBound<VF>::bound_pair(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd
   if (closest_feature_energy<Kind>(xp, UnsignedLength{}, probe, ce) != Status::ok) return;
   candidates_->tighten(k, v, ce.length);
   const double d0 = ce.length, floor = classifier_->floor_of(k), cap = std::min(t, t_valid);
-  // The gap the pair keeps: a tenth of its distance, or, when that is less, its floor with
-  // the rounding allowance (a pair within the allowance of its floor may still come that
-  // much closer, so that it is never frozen where it stands). A pair that starts below its
-  // floor keeps a tenth.
-  const bool floored = floor > 0 && d0 >= floor && 0.1 * d0 < floor + floor_slack_;
-  const double gap =
-      floored ? std::max(0.1 * d0, std::min(floor + floor_slack_, d0 - floor_slack_)) : 0.1 * d0;
-  const double tk = advance(xp, Geometry::gather(dx, v), d0, ma + mb, cap, floored ? gap : -1.0);
-  if (tk < cap && floor > 0 && (floored || d0 < floor)) held.push_back(k);
-  t = std::min(t, tk);
+  // A pair whose tenth would be below twice its floor (with twice the rounding allowance
+  // δ) keeps that instead, one closer than that its floor + δ, each bounded along its
+  // separating direction less δ: no pair that starts the step at or above its floor comes
+  // below it, and a pair pressed in stops at twice its floor first.
+  const double above = 2 * floor + 2 * floor_slack_;
+  if (floor > 0 && 0.1 * d0 < above) {
+    const double g = d0 > above ? above : floor + floor_slack_;
+    const double tk = directional_advance(xp, Geometry::gather(dx, v), g, floor_slack_, cap);
+    if (tk < cap) held.push_back({k, g, d0});
+    t = std::min(t, tk);
+    return;
+  }
+  t = std::min(t, advance(xp, Geometry::gather(dx, v), d0, ma + mb, cap));
 }
 
 template <bool VF>
-double StepBound<VF>::advance(const Vec12<double>& xp, const Vec12<double>& dxp, double d0, double lp, double cap,
-                              double gap) {
+bool StepBound<VF>::separation(const Vec12<double>& xp, const Vec12<double>& dxp, double& S, double& r) {
   using Kind = std::conditional_t<VF, VertexFace, EdgeEdge>;
-  const double g = gap < 0 ? 0.1 * d0 : gap;
-  double t = gap < 0 ? 0.9 * d0 / lp : (d0 - g) / lp;
+  ClosestFeatureEnergy<double> ce;
+  if (closest_feature_energy<Kind>(xp, UnsignedLength{}, QuadraticPenalty{1.0, 0.0}, ce) != Status::ok ||
+      !(ce.length > 0))
+    return false;
+  // ∇L with a penalty active at L (ψ′ < 0): the first primitive's part sums to ψ′ m, m the
+  // unit vector from the second primitive's closest point to the first's.
+  ClosestFeatureEnergy<double> cg;
+  if (closest_feature_energy<Kind>(xp, UnsignedLength{}, QuadraticPenalty{1.0, 2 * ce.length}, cg) != Status::ok)
+    return false;
+  const Vec12<double> g = energy_gradient(cg);
+  Eigen::Vector3d m = Eigen::Vector3d::Zero();
+  for (int j = 0; j < PairGeometry<VF>::first_side_count(); ++j) m -= g.template segment<3>(3 * j);
+  const double norm = m.norm();
+  if (!(norm > 0) || !std::isfinite(norm)) return false;
+  m /= norm;
+  double low_a = std::numeric_limits<double>::infinity(), high_b = -low_a;
+  double slow_a = low_a, fast_b = -low_a;
+  for (int j = 0; j < 4; ++j) {
+    const double at = m.dot(xp.template segment<3>(3 * j)), rate = m.dot(dxp.template segment<3>(3 * j));
+    if (j < PairGeometry<VF>::first_side_count()) {
+      low_a = std::min(low_a, at);
+      slow_a = std::min(slow_a, rate);
+    } else {
+      high_b = std::max(high_b, at);
+      fast_b = std::max(fast_b, rate);
+    }
+  }
+  S = low_a - high_b;
+  r = fast_b - slow_a;
+  return std::isfinite(S) && std::isfinite(r);
+}
+
+template <bool VF> double StepBound<VF>::directional_advance(const Vec12<double>& xp, const Vec12<double>& dxp,
+                                                             double g, double slack, double cap) {
+  double t = 0;
+  for (int round = 0; round < 32; ++round) {
+    double S = 0, r = 0;
+    if (!separation(Vec12<double>(xp + t * dxp), dxp, S, r)) return t;
+    // The separation along m stays above g − slack for the rest of the step (it shrinks by
+    // at most r (cap − t)): neither can the distance come lower.
+    if (!(r * (cap - t) > S - g + slack)) return cap;
+    const double step = 0.9 * (S - g) / r;
+    if (!(step > 0)) return t;
+    t += step;
+    if (t >= cap) return cap;
+    if (step <= 1e-3 * t) return t;
+  }
+  return t;
+}
+
+template <bool VF>
+double StepBound<VF>::advance(const Vec12<double>& xp, const Vec12<double>& dxp, double d0, double lp, double cap) {
+  using Kind = std::conditional_t<VF, VertexFace, EdgeEdge>;
+  const double g = 0.1 * d0;
+  double t = 0.9 * d0 / lp;
   const QuadraticPenalty probe{1.0, 0.0};
   for (int round = 0; round < 32 && t < cap; ++round) {
     ClosestFeatureEnergy<double> ce;

@@ -26,6 +26,13 @@
 
 namespace pce::sim::contact {
 
+/// A candidate whose limit in a max_step its floor set: the gap g it was to keep and its
+/// distance d₀ at the step's start.
+struct FloorLimit {
+  std::size_t k = 0;
+  double gap = 0, start = 0;
+};
+
 /// The step bound of one self-contact effect (see the file comment).
 template <bool VF> class StepBound {
  public:
@@ -49,30 +56,46 @@ template <bool VF> class StepBound {
   /// The candidates whose limit in the last max_step was set by their floor (or that started
   /// it below their floor) and was below the running minimum: those the step may have brought
   /// to their floor (ascending).
-  const std::vector<std::size_t>& held() const { return held_; }
+  const std::vector<FloorLimit>& held() const { return held_; }
 
  private:
   /// Candidate k's part of max_step: whether it can be active on the segment (appended to
   /// `segment`), and the limit it puts on t (lowering `t`, the running minimum).
   /// A pair whose limit its floor set is appended to `held`.
   void bound_pair(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, std::size_t k, double t_valid, double& t,
-                  std::vector<std::size_t>& segment, std::vector<std::size_t>& held) const;
+                  std::vector<std::size_t>& segment, std::vector<FloorLimit>& held) const;
   /// Additive CCD, iterated (see the file comment): the largest t found for which the pair
-  /// at xp + s dxp, s ∈ [0, t], stays at least g apart: g = 0.1 d₀ when `gap` < 0, else
-  /// `gap` (d₀ its distance at s = 0, `lp` = ma + mb the bound on how fast the distance
-  /// changes along the step). From a distance dᵢ at tᵢ the distance stays ≥ g up to
-  /// tᵢ + (dᵢ − g)/lp; each round advances 0.9 of that and measures again, until t reaches
-  /// `cap` (then the pair cannot lower the minimum), the advance stalls below 1e-3 t, or 32
-  /// rounds. The first round is the one-shot bound (d₀ − g)/lp (0.9 d₀/lp for the tenth).
-  static double advance(const Vec12<double>& xp, const Vec12<double>& dxp, double d0, double lp, double cap,
-                        double gap);
+  /// at xp + s dxp, s ∈ [0, t], stays at least g = 0.1 d₀ apart (d₀ its distance at s = 0,
+  /// `lp` = ma + mb the bound on how fast the distance changes along the step). From a
+  /// distance dᵢ at tᵢ the distance stays ≥ g up to tᵢ + (dᵢ − g)/lp; each round advances
+  /// 0.9 of that and measures again, until t reaches `cap` (then the pair cannot lower the
+  /// minimum), the advance stalls below 1e-3 t, or 32 rounds. The first round is the
+  /// one-shot bound 0.9 d₀/lp.
+  static double advance(const Vec12<double>& xp, const Vec12<double>& dxp, double d0, double lp, double cap);
+  /// The pair's separation along m, the unit vector between its closest points at xp (from
+  /// the second primitive's to the first's): S = min over the first's vertices of m·x less
+  /// the max over the second's, and r = the largest m·dx of the second's vertices less the
+  /// smallest of the first's. Both primitives are convex hulls of their vertices, so at
+  /// xp + s dxp their distance is at least their separation along m, hence at least S − s r
+  /// for every s ≥ 0 (S is the distance at s = 0 up to rounding). False when the pair is
+  /// degenerate or touching.
+  static bool separation(const Vec12<double>& xp, const Vec12<double>& dxp, double& S, double& r);
+  /// The floor's bound (docs/simulation.md §4.6): the largest t ≤ `cap` found for which the
+  /// pair at xp + s dxp, s ∈ [0, t], stays at least g − `slack` apart, by the separation:
+  /// from tᵢ with Sᵢ and rᵢ, the whole rest of the step when Sᵢ − rᵢ (cap − tᵢ) ≥ g − slack,
+  /// else up to tᵢ + (Sᵢ − g)/rᵢ, of which each round advances 0.9 and measures again (until
+  /// an advance below 1e-3 t, or 32 rounds). A pair whose separation does not shrink along
+  /// the step (it slides or parts; rᵢ ≤ 0, or rounding's rᵢ) does not limit it, so a pair
+  /// resting at its floor can slide.
+  static double directional_advance(const Vec12<double>& xp, const Vec12<double>& dxp, double g, double slack,
+                                    double cap);
 
   /// segment_at's tolerance per coordinate, relative to max(|x₀|, 1): far above the rounding
   /// of x₀ + α dx (a few ε), far below any distance that matters.
   static constexpr double kSegmentTolerance = 1e-12;
-  /// The floor's rounding allowance, relative to max(|x|, 1): a step keeps a pair's computed
-  /// distance at least its floor plus this (thousands of times a closest-feature distance's
-  /// rounding error), so its exact distance stays at or above the floor.
+  /// The floor's rounding allowance δ, relative to max(|x|, 1): thousands of times the
+  /// rounding error of a closest-feature distance or a separation, so a pair whose computed
+  /// separation the step keeps at least floor + δ − δ is at least its floor apart.
   static constexpr double kFloorRounding = 1e-12;
 
   CandidateSet<VF>* candidates_;
@@ -83,10 +106,10 @@ template <bool VF> class StepBound {
   std::vector<std::vector<std::size_t>> segments_;
   Eigen::Matrix3Xd segment_x_, segment_dx_;
   double segment_t_ = 0;
-  double segment_slack_ = 0;    ///< the list's allowance for a state up to segment_at's tolerance off the segment
-  double floor_slack_ = 0;      ///< the floor's rounding allowance at the last max_step's x
-  std::vector<std::size_t> held_;  ///< see held()
-  std::vector<std::vector<std::size_t>> held_chunks_;
+  double segment_slack_ = 0;      ///< the list's allowance for a state up to segment_at's tolerance off the segment
+  double floor_slack_ = 0;        ///< the floor's rounding allowance at the last max_step's x
+  std::vector<FloorLimit> held_;  ///< see held()
+  std::vector<std::vector<FloorLimit>> held_chunks_;
   bool segment_valid_ = false;  ///< segment_ belongs to the current candidates
 };
 

@@ -220,6 +220,7 @@ class Simulation {
   void solve_direction(StepState& s, int it);
   bool cover(StepState& s);
   bool line_search(StepState& s, int it, bool small_step, bool& converged);
+  bool stiffen_held(StepState& s);
   void refresh(StepState& s);
   bool update_lagged(StepState& s);
   void accept(StepState& s);
