@@ -49,9 +49,10 @@ const char* const kScene = R"({
     {"type": "self_vertex_face", "penalty": {"type": "quadratic", "stiffness": 1000, "distance": 0.01},
      "hessian": "exact", "area_weighted": true, "friction": {"coefficient": 0.4}},
     {"type": "self_edge_edge", "penalty": {"type": "cubic", "stiffness": 1000, "distance": 0.01, "delta": 0.002},
-     "length": "signed", "friction": {"coefficient": 0.3, "slip_velocity": 0.002, "lagged_iterations": 2}},
+     "length": "signed", "friction": {"coefficient": 0.3, "slip_velocity": 0.002, "lagged_iterations": 2},
+     "min_separation": 0.05},
     {"type": "obstacle_contact", "penalty": {"type": "log_barrier", "stiffness": 10, "distance": 0.01},
-     "friction": {"coefficient": 0.5}},
+     "friction": {"coefficient": 0.5}, "min_separation": 0.02},
     {"type": "volume_elasticity", "young_modulus": 2e4, "poisson_ratio": 0.3}
   ]
 })";
@@ -95,6 +96,7 @@ void transcribe(Simulation& sim) {
   ee.signed_length = true;
   ee.broad_phase = BroadPhaseKind::bullet;
   ee.friction = FrictionSettings{0.3, 0.002, 2};
+  ee.min_separation = 0.05;
   sim.effects.push_back(make_gravity(m));
   sim.effects.push_back(make_stretching(m, 50));
   sim.effects.push_back(make_bending(m, 0.001));
@@ -107,6 +109,7 @@ void transcribe(Simulation& sim) {
   ObstacleContactSettings oc;
   oc.penalty = {ContactPenalty::Kind::log_barrier, 10, 0.01, 0};
   oc.friction = FrictionSettings{0.5};
+  oc.min_separation = 0.02;
   sim.effects.push_back(make_obstacle_contact(m, sim.obstacles, oc));
   sim.effects.push_back(make_volume_elasticity(m, pce::StableNeoHookean::from_young_poisson(2e4, 0.3)));
   sim.start_at_rest();
@@ -249,6 +252,9 @@ TEST(EffectsApi, ContactBuildersNameTheBadField) {
                            }); }),
             "friction.lagged_iterations");
   EXPECT_EQ(field_of([&] { vf([](ContactSettings& s) { s.area_weighted = true; }); }), "(no error)");
+  EXPECT_EQ(field_of([&] { vf([](ContactSettings& s) { s.min_separation = 0.5; }); }), "(no error)");
+  EXPECT_EQ(field_of([&] { vf([](ContactSettings& s) { s.min_separation = 0.6; }); }), "min_separation");
+  EXPECT_EQ(field_of([&] { vf([](ContactSettings& s) { s.min_separation = kNaN; }); }), "min_separation");
   const Model mixed = build_model({{"cloth", grid(1.0, 1.0, 3, 3)}, {"hair", strands(1, 2, 1.0, 0.1, 0.0)}});
   ContactSettings weighted = ok;
   weighted.area_weighted = true;
@@ -258,6 +264,10 @@ TEST(EffectsApi, ContactBuildersNameTheBadField) {
   on_mixed.penalty = {ContactPenalty::Kind::quadratic, 10, 0.01, 0};
   on_mixed.area_weighted = true;
   EXPECT_EQ(field_of([&] { make_obstacle_contact(mixed, {}, on_mixed); }), "area_weighted");
+  ObstacleContactSettings below;
+  below.penalty = {ContactPenalty::Kind::quadratic, 10, 0.01, 0};
+  below.min_separation = -0.01;
+  EXPECT_EQ(field_of([&] { make_obstacle_contact(mixed, {}, below); }), "min_separation");
   EXPECT_EQ(field_of([&] { make_obstacle_contact(m, {}, on_mixed); }), "(no error)");
   on_mixed.friction = FrictionSettings{0.2, 2e6};
   EXPECT_EQ(field_of([&] { make_obstacle_contact(m, {}, on_mixed); }), "friction.slip_velocity");

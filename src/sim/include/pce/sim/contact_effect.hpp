@@ -60,8 +60,10 @@ class ContactEffect : public Effect {
   virtual void refresh(const Eigen::Matrix3Xd& /*x*/) {}
   /// Called when a solve of the time step has ended at `x`: an effect with quantities frozen
   /// at the step's start (friction's normal forces and bases) that is to freeze them again
-  /// at `x` does so and returns true, and the solver solves the step again from `x`
-  /// (friction's `lagged_iterations` − 1 times per step); false: nothing changed.
+  /// at `x` does so, or one whose energy is to change there (obstacle contact stiffening a
+  /// pair the solve left below its minimum separation), and returns true; the solver then
+  /// solves the step again from `x` (friction's `lagged_iterations` − 1 times per step, the
+  /// floor's at most 8). False: nothing changed.
   virtual bool update_lagged(const Eigen::Matrix3Xd& /*x*/) { return false; }
   /// The friction contacts this effect froze for the step (μλ > 0 only): Newton's stopping
   /// rule checks that its model does not ask more of any than Coulomb's μλ

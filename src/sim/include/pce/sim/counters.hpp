@@ -47,7 +47,7 @@ namespace pce::sim {
   X(obstacle_friction_contacts, sum)                                           \
   X(obstacle_friction_sticking, sum)                                           \
   X(obstacle_friction_ms, sum)                                                 \
-  /* the minimum separation, every contact effect */                          \
+  /* the minimum separation, every contact effect */                           \
   X(floor_holds, sum)                                                          \
   X(stiffened_pairs, sum)                                                      \
   /* self contact, summed over both kinds */                                   \
