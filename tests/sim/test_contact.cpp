@@ -12,6 +12,8 @@
 #include <pce/sim/intersections.hpp>
 #include <pce/sim/scene.hpp>
 
+#include "two_sheets.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -26,24 +28,8 @@ using nlohmann::json;
 
 namespace {
 
-/// The scene's effect as the contact effect it is.
-ContactEffect& contact_of(const std::unique_ptr<Effect>& e) { return dynamic_cast<ContactEffect&>(*e); }
-
-/// Two small sheets, the second `gap` above the first and turned by 10°.
-std::unique_ptr<Scene> two_sheets(const json& contact, double gap) {
-  json j = json::parse(R"({
-    "dt": 0.01, "frames": 1,
-    "meshes": [
-      {"name": "a", "generator": {"type": "grid", "width": 0.2, "height": 0.2, "nx": 4, "ny": 4}},
-      {"name": "b", "generator": {"type": "grid", "width": 0.2, "height": 0.2, "nx": 4, "ny": 4},
-       "transform": {"rotation": {"axis": [0, 0, 1], "degrees": 10}}}
-    ],
-    "effects": []
-  })");
-  j["meshes"][1]["transform"]["translation"] = {0.003, -0.002, gap};
-  j["effects"].push_back(contact);
-  return load_scene_text(j.dump(), "contact.json", PCE_TEST_TMP);
-}
+using fixtures::contact_of;
+using fixtures::two_sheets;
 
 json contact(const char* type, const char* length, const char* hessian, bool closest,
              const char* penalty = "quadratic") {
@@ -53,19 +39,7 @@ json contact(const char* type, const char* length, const char* hessian, bool clo
 }
 
 /// Starts a step at the scene's positions (zero velocity) so the effect queries its pairs.
-void begin(Scene& s) {
-  static Eigen::Matrix3Xd x, v;
-  x = s.simulation.x;
-  v = Eigen::Matrix3Xd::Zero(3, x.cols());
-  StepContext ctx;
-  ctx.frame = 1;
-  ctx.time = 0.01;
-  ctx.dt = 0.01;
-  ctx.model = &s.simulation.model;
-  ctx.x_start = &x;
-  ctx.v_start = &v;
-  s.simulation.effects[0]->begin_step(ctx);
-}
+void begin(Scene& s) { fixtures::begin_at(s, s.simulation.x); }
 
 /// A step for two_sheets placed 4 mm apart: every vertex moves randomly by up to 2 mm per
 /// axis, every (5 + seed % 3)-th four times that, and sheet b comes down 12 mm (through a,

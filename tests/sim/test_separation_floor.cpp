@@ -13,6 +13,8 @@
 #include <pce/sim/intersections.hpp>
 #include <pce/sim/scene.hpp>
 
+#include "two_sheets.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -33,24 +35,8 @@ namespace {
 
 constexpr double kDistance = 0.02;  // the contact effects' activation distance d
 
-ContactEffect& contact_of(const std::unique_ptr<Effect>& e) { return dynamic_cast<ContactEffect&>(*e); }
-
-/// Two 4 × 4 sheets (5 cm edges), the second turned 10° and `gap` above the first, with one
-/// contact effect.
-std::unique_ptr<Scene> two_sheets(const json& contact, double gap) {
-  json j = json::parse(R"({
-    "dt": 0.01, "frames": 1,
-    "meshes": [
-      {"name": "a", "generator": {"type": "grid", "width": 0.2, "height": 0.2, "nx": 4, "ny": 4}},
-      {"name": "b", "generator": {"type": "grid", "width": 0.2, "height": 0.2, "nx": 4, "ny": 4},
-       "transform": {"rotation": {"axis": [0, 0, 1], "degrees": 10}}}
-    ],
-    "effects": []
-  })");
-  j["meshes"][1]["transform"]["translation"] = {0.003, -0.002, gap};
-  j["effects"].push_back(contact);
-  return load_scene_text(j.dump(), "floor.json", PCE_TEST_TMP);
-}
+using fixtures::contact_of;
+using fixtures::two_sheets;
 
 json contact(const char* type, bool closest, double min_separation) {
   json c = {{"type", type}, {"length", "unsigned"}, {"closest_features", closest}, {"min_separation", min_separation}};
@@ -59,19 +45,7 @@ json contact(const char* type, bool closest, double min_separation) {
 }
 
 /// Starts a step at x (zero velocity) so the effect queries its pairs.
-void begin(Scene& s, const Eigen::Matrix3Xd& at) {
-  static Eigen::Matrix3Xd x, v;
-  x = at;
-  v = Eigen::Matrix3Xd::Zero(3, x.cols());
-  StepContext ctx;
-  ctx.frame = 1;
-  ctx.time = 0.01;
-  ctx.dt = 0.01;
-  ctx.model = &s.simulation.model;
-  ctx.x_start = &x;
-  ctx.v_start = &v;
-  for (auto& e : s.simulation.effects) e->begin_step(ctx);
-}
+void begin(Scene& s, const Eigen::Matrix3Xd& at) { fixtures::begin_at(s, at); }
 
 /// Sheet b pressed down by 12 mm, every vertex moved randomly by up to 2 mm per axis: the
 /// sheets close in, and a step taken whole would pass b through a.
