@@ -21,12 +21,16 @@
 /// Minimum separation (`min_separation` f, docs/simulation.md §4.6): a solve that ends with
 /// a vertex closer than f·d to an obstacle's surface (at the end pose), which was not that
 /// close at the step's start or has come closer, multiplies that pair's penalty stiffness by
-/// 4 and the step is solved again from there (`update_lagged`, as friction's lagged
-/// iterations), up to 8 times a step; the factor stays until the pair is beyond d at a
-/// step's start. Newton's iterates within a solve may come closer (an obstacle is rigid and
-/// its distance signed: a penalty pushes a vertex that passed its surface back out), so a
-/// step whose solves end above the floor is computed as without one.
-
+/// kFloorStiffening (16) and the step is solved again from there (`update_lagged`, as
+/// friction's lagged iterations), up to 8 times a step. A pair held so has a strict floor
+/// from then on: a trial that brings it below f·d (or, already below at the iterate,
+/// closer) is outside the energy's domain (+∞, as a barrier's), and when the line search
+/// finds no trial the pair is stiffened again (`stiffen_held`). The factor stays until the
+/// pair is beyond d at a step's start. Newton's iterates within a solve may pass the floor
+/// otherwise (an obstacle is rigid and its distance signed: a penalty pushes a vertex that
+/// passed its surface back out), so a step whose solves end above it is computed as
+/// without one.
+///
 /// Area weighting (`area_weighted`): vertex i's energy is Aᵢ ψ(d), Aᵢ its lumped rest area
 /// (the penalty evaluated with stiffness Aᵢ k, which ψ is linear in).
 ///
@@ -185,8 +189,8 @@ class ObstacleContact final : public ContactEffect {
       const auto i = static_cast<Eigen::Index>(j / obstacles_.size());
       const std::size_t k = j % obstacles_.size();
       if (!(surface_distance(obstacles_[k], poses_[k], x.col(i)).distance < 3 * floor_)) continue;
-      if (stiffening_[j] >= kLargestStiffening) continue;
-      stiffening_[j] = std::min(stiffening_[j] * 4, kLargestStiffening);
+      if (stiffening_[j] >= kLargestFloorStiffening) continue;
+      stiffening_[j] = std::min(stiffening_[j] * kFloorStiffening, kLargestFloorStiffening);
       ++holds_;
       any = true;
     }
@@ -249,11 +253,9 @@ class ObstacleContact final : public ContactEffect {
 
   /// The floor's rounding allowance, relative to max(|x|, 1) (as self contact's).
   static constexpr double kFloorRounding = 1e-12;
-  /// The most solves of one step that stiffening for the floor asks for (4⁸: a penalty up
-  /// to 65 536 times stiffer within one step).
+  /// The most solves of one step that stiffening for the floor asks for (16⁸ is beyond the
+  /// largest factor).
   static constexpr int kFloorSolves = 8;
-  /// The largest stiffening factor (4¹⁵, as self contact's).
-  static constexpr double kLargestStiffening = 1073741824.0;
 
   /// The penalty of vertex i against obstacle k: the effect's, with its stiffness times the
   /// vertex's lumped rest area when area weighted and times the pair's stiffening factor.
@@ -273,7 +275,7 @@ class ObstacleContact final : public ContactEffect {
     return it != below_.end() && it->pair == j && distance >= it->distance - slack_;
   }
 
-  /// At the end of a solve at x: stiffens (×4) the penalty of every pair x has closer than
+  /// At the end of a solve at x: stiffens (kFloorStiffening) the penalty of every pair x has closer than
   /// the floor that was at least as far at the step's start, or that came closer; true when
   /// one was (the step is then solved again from x), at most kFloorSolves times a step.
   bool stiffen_below(const Eigen::Matrix3Xd& x) {
@@ -290,8 +292,8 @@ class ObstacleContact final : public ContactEffect {
         if (before < floor_ && d >= before) continue;  // below the floor from the start, and no closer
         const std::size_t j = static_cast<std::size_t>(i) * obstacles_.size() + k;
         if (stiffening_.empty()) stiffening_.assign(static_cast<std::size_t>(x.cols()) * obstacles_.size(), 1.0);
-        if (stiffening_[j] >= kLargestStiffening) continue;
-        stiffening_[j] = std::min(stiffening_[j] * 4, kLargestStiffening);
+        if (stiffening_[j] >= kLargestFloorStiffening) continue;
+        stiffening_[j] = std::min(stiffening_[j] * kFloorStiffening, kLargestFloorStiffening);
         ++holds_;
         any = true;
       }

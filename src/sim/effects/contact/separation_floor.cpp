@@ -41,8 +41,8 @@ template <bool VF> bool SeparationFloor<VF>::stiffen(const Eigen::Matrix3Xd& x, 
     const double now = distance(x, k), floor = classifier_->floor_of(k);
     if (!(now < kHeldWithin * floor && now - h.gap <= std::max(0.5 * (h.start - h.gap), 0.25 * floor))) continue;
     if (m.empty()) m.assign(candidates_->size(), 1.0);
-    if (m[k] >= kLargest) continue;
-    m[k] = std::min(m[k] * kGrowth, kLargest);
+    if (m[k] >= kLargestFloorStiffening) continue;
+    m[k] = std::min(m[k] * kFloorStiffening, kLargestFloorStiffening);
     ++holds_;
     any = true;
   }

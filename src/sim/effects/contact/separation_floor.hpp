@@ -10,8 +10,8 @@
 /// in, cutting every step short until its iteration cap. So after each Newton iteration, a
 /// listed pair that the iteration pressed in (it ended within kHeldWithin floors, and near
 /// the gap the step bound kept, or halfway there) is *held*: its penalty's stiffness is
-/// multiplied by kGrowth (so is its force at every distance, and its largest force grows
-/// fourfold per hold until it carries the load). The factor stays while the pair is
+/// multiplied by kFloorStiffening, 16 (so is its force at every distance, and its largest
+/// force grows sixteenfold per hold until it carries the load). The factor stays while the pair is
 /// active and is forgotten when a step starts with the pair beyond its reach, or the pair
 /// leaves the candidate set; checkpoints keep it.
 #pragma once
@@ -26,11 +26,6 @@ namespace pce::sim::contact {
 /// The minimum separation's stiffening of one self-contact effect (see the file comment).
 template <bool VF> class SeparationFloor {
  public:
-  /// The factor a hold multiplies a pair's stiffness by.
-  static constexpr double kGrowth = 4;
-  /// The largest factor: a pair held so often has a penalty 4¹⁵ times the effect's.
-  static constexpr double kLargest = 1073741824.0;  // 4¹⁵
-
   /// The effect's candidates and classifier (whose stiffening factors this sets).
   SeparationFloor(const CandidateSet<VF>& candidates, Classifier<VF>& classifier)
       : candidates_(&candidates), classifier_(&classifier) {}
