@@ -261,6 +261,31 @@ TEST(PceSim, KilledRunKeepsEveryCompletedFrame) {
   }
 }
 
+TEST(PceSim, ResumedRunKeepsTheStiffeningOfHeldPairs) {
+  // tests/sim/scenes/press.json: vertices held at the box's floor from frame 15 on, plate
+  // and sheet pairs from frame 22, so the checkpoint of frame 30 carries the stiffening
+  // factors of obstacle and self contact; the resumed run ends frame 35 bit for bit where
+  // the uninterrupted one does (either factor left out of a checkpoint fails it).
+  const fs::path scene = fs::path(PCE_SOURCE_DIR) / "tests" / "sim" / "scenes" / "press.json";
+  const fs::path whole = fs::path(PCE_TEST_TMP) / "resume_press_whole";
+  const fs::path parts = fs::path(PCE_TEST_TMP) / "resume_press_parts";
+  fs::remove_all(whole);
+  fs::remove_all(parts);
+  std::string err;
+  const std::string common = scene.string() + " --no-frames --checkpoint-every 5 --out ";
+  ASSERT_EQ(run(common + whole.string() + " --frames 35", &err), 0) << err;
+  ASSERT_EQ(run(common + parts.string() + " --frames 32", &err), 0) << err;
+  ASSERT_EQ(run(scene.string() + " --no-frames --checkpoint-every 5 --frames 35 --resume " + parts.string(), &err), 0)
+      << err;
+  EXPECT_NE(err.find("resumed at frame 30"), std::string::npos) << err;
+  EXPECT_EQ(read_text(whole / "checkpoint_0035.pcecp"), read_text(parts / "checkpoint_0035.pcecp"));
+  const std::vector<json> a = read_jsonl(whole / "stats.jsonl"), b = read_jsonl(parts / "stats.jsonl");
+  ASSERT_EQ(a.size(), 35u);
+  ASSERT_EQ(b.size(), 35u);
+  for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(physics_of(a[k]), physics_of(b[k])) << "frame " << k + 1;
+  EXPECT_GT(a[29]["counters"]["stiffened_pairs"].get<double>(), 0.0);  // the checkpoint carries factors
+}
+
 TEST(PceSim, ResumedRunEndsBitForBitWhereTheUninterruptedRunEnds) {
   // The crumpling drop: contact from frame 9, so the checkpoint of frame 10 carries tracked
   // pairs and declarations; the interrupted run went on to frame 13, whose records the
