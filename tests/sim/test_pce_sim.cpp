@@ -261,28 +261,43 @@ TEST(PceSim, KilledRunKeepsEveryCompletedFrame) {
   }
 }
 
+/// Runs `scene` to frame `frames` whole, and again interrupted at `stop` and resumed (from
+/// its last checkpoint, every 5 frames, at `resumed_at`); the resumed run ends bit for bit
+/// where the whole one does (the last checkpoint, every stats record without timings).
+/// Returns the whole run's stats records (empty after a failure).
+std::vector<json> resume_matches(const fs::path& scene, const std::string& tag, int frames, int stop, int resumed_at) {
+  const fs::path whole = fs::path(PCE_TEST_TMP) / (tag + "_whole"), parts = fs::path(PCE_TEST_TMP) / (tag + "_parts");
+  fs::remove_all(whole);
+  fs::remove_all(parts);
+  std::string err;
+  const std::string common = scene.string() + " --no-frames --checkpoint-every 5 --out ";
+  EXPECT_EQ(run(common + whole.string() + " --frames " + std::to_string(frames), &err), 0) << err;
+  EXPECT_EQ(run(common + parts.string() + " --frames " + std::to_string(stop), &err), 0) << err;
+  EXPECT_EQ(run(scene.string() + " --no-frames --checkpoint-every 5 --frames " + std::to_string(frames) + " --resume " +
+                    parts.string(),
+                &err),
+            0)
+      << err;
+  EXPECT_NE(err.find("resumed at frame " + std::to_string(resumed_at)), std::string::npos) << err;
+  char last[32];
+  std::snprintf(last, sizeof last, "checkpoint_%04d.pcecp", frames);
+  EXPECT_EQ(read_text(whole / last), read_text(parts / last));
+  const std::vector<json> a = read_jsonl(whole / "stats.jsonl"), b = read_jsonl(parts / "stats.jsonl");
+  EXPECT_EQ(a.size(), static_cast<std::size_t>(frames));
+  EXPECT_EQ(b.size(), static_cast<std::size_t>(frames));
+  if (a.size() != b.size() || a.size() != static_cast<std::size_t>(frames)) return {};
+  for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(physics_of(a[k]), physics_of(b[k])) << "frame " << k + 1;
+  return a;
+}
+
 TEST(PceSim, ResumedRunKeepsTheStiffeningOfHeldPairs) {
   // tests/sim/scenes/press.json: vertices held at the box's floor from frame 15 on, plate
   // and sheet pairs from frame 22, so the checkpoint of frame 30 carries the stiffening
   // factors of obstacle and self contact; the resumed run ends frame 35 bit for bit where
   // the uninterrupted one does (either factor left out of a checkpoint fails it).
-  const fs::path scene = fs::path(PCE_SOURCE_DIR) / "tests" / "sim" / "scenes" / "press.json";
-  const fs::path whole = fs::path(PCE_TEST_TMP) / "resume_press_whole";
-  const fs::path parts = fs::path(PCE_TEST_TMP) / "resume_press_parts";
-  fs::remove_all(whole);
-  fs::remove_all(parts);
-  std::string err;
-  const std::string common = scene.string() + " --no-frames --checkpoint-every 5 --out ";
-  ASSERT_EQ(run(common + whole.string() + " --frames 35", &err), 0) << err;
-  ASSERT_EQ(run(common + parts.string() + " --frames 32", &err), 0) << err;
-  ASSERT_EQ(run(scene.string() + " --no-frames --checkpoint-every 5 --frames 35 --resume " + parts.string(), &err), 0)
-      << err;
-  EXPECT_NE(err.find("resumed at frame 30"), std::string::npos) << err;
-  EXPECT_EQ(read_text(whole / "checkpoint_0035.pcecp"), read_text(parts / "checkpoint_0035.pcecp"));
-  const std::vector<json> a = read_jsonl(whole / "stats.jsonl"), b = read_jsonl(parts / "stats.jsonl");
+  const std::vector<json> a =
+      resume_matches(fs::path(PCE_SOURCE_DIR) / "tests" / "sim" / "scenes" / "press.json", "resume_press", 35, 32, 30);
   ASSERT_EQ(a.size(), 35u);
-  ASSERT_EQ(b.size(), 35u);
-  for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(physics_of(a[k]), physics_of(b[k])) << "frame " << k + 1;
   EXPECT_GT(a[29]["counters"]["stiffened_pairs"].get<double>(), 0.0);  // the checkpoint carries factors
 }
 
@@ -290,23 +305,10 @@ TEST(PceSim, ResumedRunEndsBitForBitWhereTheUninterruptedRunEnds) {
   // The crumpling drop: contact from frame 9, so the checkpoint of frame 10 carries tracked
   // pairs and declarations; the interrupted run went on to frame 13, whose records the
   // resume drops.
-  const fs::path scene = kScenes / "crumple.json";
-  const fs::path whole = fs::path(PCE_TEST_TMP) / "resume_whole", parts = fs::path(PCE_TEST_TMP) / "resume_parts";
-  fs::remove_all(whole);
-  fs::remove_all(parts);
-  std::string err;
-  const std::string common = scene.string() + " --no-frames --checkpoint-every 5 --out ";
-  ASSERT_EQ(run(common + whole.string() + " --frames 15", &err), 0) << err;
-  ASSERT_EQ(run(common + parts.string() + " --frames 13", &err), 0) << err;
-  ASSERT_EQ(run(scene.string() + " --no-frames --checkpoint-every 5 --frames 15 --resume " + parts.string(), &err), 0)
-      << err;
-  EXPECT_NE(err.find("resumed at frame 10"), std::string::npos) << err;
-  EXPECT_EQ(read_text(whole / "frame_0015.obj"), read_text(parts / "frame_0015.obj"));
-  EXPECT_EQ(read_text(whole / "checkpoint_0015.pcecp"), read_text(parts / "checkpoint_0015.pcecp"));
-  const std::vector<json> a = read_jsonl(whole / "stats.jsonl"), b = read_jsonl(parts / "stats.jsonl");
+  const std::vector<json> a = resume_matches(kScenes / "crumple.json", "resume", 15, 13, 10);
   ASSERT_EQ(a.size(), 15u);
-  ASSERT_EQ(b.size(), 15u);
-  for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(physics_of(a[k]), physics_of(b[k])) << "frame " << k + 1;
+  EXPECT_EQ(read_text(fs::path(PCE_TEST_TMP) / "resume_whole" / "frame_0015.obj"),
+            read_text(fs::path(PCE_TEST_TMP) / "resume_parts" / "frame_0015.obj"));
   long vertex_face = 0, edge_edge = 0;
   for (const auto& r : a) {
     vertex_face += r["contacts"]["vertex_face"].get<long>();
