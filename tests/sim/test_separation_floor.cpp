@@ -142,6 +142,62 @@ TEST(SeparationFloor, NoStepBringsAPairBelowItsFloorHoweverOftenItIsPressed) {
       }
 }
 
+/// Two identical 4 × 4 sheets (5 cm edges), the second `gap` straight above the first.
+std::unique_ptr<Scene> stacked_sheets(const json& contact, double gap) {
+  json j = json::parse(R"({
+    "dt": 0.01, "frames": 1,
+    "meshes": [
+      {"name": "a", "generator": {"type": "grid", "width": 0.2, "height": 0.2, "nx": 4, "ny": 4}},
+      {"name": "b", "generator": {"type": "grid", "width": 0.2, "height": 0.2, "nx": 4, "ny": 4}}
+    ],
+    "effects": []
+  })");
+  j["meshes"][1]["transform"]["translation"] = {0.0, 0.0, gap};
+  j["effects"].push_back(contact);
+  return load_scene_text(j.dump(), "stacked.json", PCE_TEST_TMP);
+}
+
+TEST(SeparationFloor, APairAtOrBelowItsFloorSlidesFreelyButComesNoCloser) {
+  // Stacked sheets 0.3 mm apart (floor 0.2 mm: within twice of it) and 0.1 mm apart (below
+  // it, as a start state could place them). The upper sliding 8 mm along x is not limited
+  // at all: every pair's separating direction is normal to the slide, or the pair parts (the
+  // Lipschitz bound alone allows 0.9 d / 8 mm, a few percent). Pressed down, no pair comes
+  // closer than its floor, or than it was when below it.
+  for (const double gap : {0.0003, 0.0001})
+    for (const char* type : {"self_vertex_face", "self_edge_edge"}) {
+      SCOPED_TRACE(std::string(type) + " gap " + std::to_string(gap));
+      const bool vf = std::string(type) == "self_vertex_face";
+      auto s = stacked_sheets(contact(type, true, 0.01), gap);
+      ContactEffect& e = contact_of(s->simulation.effects[0]);
+      const Eigen::Matrix3Xd x = s->simulation.x;
+      begin(*s, x);
+      const Eigen::Index half = x.cols() / 2;
+      Eigen::Matrix3Xd slide = Eigen::Matrix3Xd::Zero(3, x.cols());
+      slide.block(0, half, 1, half).setConstant(0.008);
+      e.cover_step(x, slide);
+      EXPECT_EQ(e.max_step(x, slide), 1.0);
+      Eigen::Matrix3Xd press = Eigen::Matrix3Xd::Zero(3, x.cols());
+      press.block(2, half, 1, half).setConstant(-0.01);
+      e.cover_step(x, press);
+      const double t = e.max_step(x, press);
+      EXPECT_LT(t, 0.1);
+      double closest = std::numeric_limits<double>::infinity();
+      for (const auto& p : all_pairs(s->simulation.model, vf)) {
+        const double d0 = distance(x, p, vf);
+        if (!(d0 < 2 * kDistance)) continue;
+        for (int i = 1; i <= 24; ++i) {
+          const double d = distance(x + (t * i / 24.0) * press, p, vf);
+          EXPECT_GE(d, std::min(d0, 0.01 * kDistance) * (1 - 1e-9));
+          closest = std::min(closest, d);
+        }
+      }
+      if (gap > 0.01 * kDistance)
+        EXPECT_LT(closest, gap);  // the press brought pairs into the floor's band
+      else
+        EXPECT_EQ(t, 0.0);  // below the floor: no step toward it at all
+    }
+}
+
 TEST(SeparationFloor, WithoutAFloorTheSameStepsPressPairsTowardZero) {
   // The same presses with min_separation 0 (the step bound keeps a tenth of each distance
   // per step): the pairs come closer than a tenth of the floor above, and nothing is held.

@@ -153,9 +153,10 @@ template <bool VF> double StepBound<VF>::directional_advance(const Vec12<double>
   for (int round = 0; round < 32; ++round) {
     double S = 0, r = 0;
     if (!separation(Vec12<double>(xp + t * dxp), dxp, S, r)) return t;
-    // The separation along m stays above g − slack for the rest of the step (it shrinks by
-    // at most r (cap − t)): neither can the distance come lower.
-    if (!(r * (cap - t) > S - g + slack)) return cap;
+    // The separation along m never shrinks (a pair below g, too, comes no closer), or stays
+    // above g − slack for the rest of the step (it shrinks by at most r (cap − t)): neither
+    // can the distance come lower.
+    if (!(r > 0) || !(r * (cap - t) > S - g + slack)) return cap;
     const double step = 0.9 * (S - g) / r;
     if (!(step > 0)) return t;
     t += step;

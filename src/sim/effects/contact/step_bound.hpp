@@ -81,8 +81,9 @@ template <bool VF> class StepBound {
   /// degenerate or touching.
   static bool separation(const Vec12<double>& xp, const Vec12<double>& dxp, double& S, double& r);
   /// The floor's bound (docs/simulation.md §4.6): the largest t ≤ `cap` found for which the
-  /// pair at xp + s dxp, s ∈ [0, t], stays at least g − `slack` apart, by the separation:
-  /// from tᵢ with Sᵢ and rᵢ, the whole rest of the step when Sᵢ − rᵢ (cap − tᵢ) ≥ g − slack,
+  /// pair at xp + s dxp, s ∈ [0, t], stays at least g − `slack` apart (a pair already
+  /// closer: comes no closer), by the separation: from tᵢ with Sᵢ and rᵢ, the whole rest of
+  /// the step when rᵢ ≤ 0 or Sᵢ − rᵢ (cap − tᵢ) ≥ g − slack,
   /// else up to tᵢ + (Sᵢ − g)/rᵢ, of which each round advances 0.9 and measures again (until
   /// an advance below 1e-3 t, or 32 rounds). A pair whose separation does not shrink along
   /// the step (it slides or parts; rᵢ ≤ 0, or rounding's rᵢ) does not limit it, so a pair
