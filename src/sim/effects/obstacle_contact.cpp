@@ -171,9 +171,7 @@ class ObstacleContact final : public ContactEffect {
     slack_ = kFloorRounding * std::max(x.cwiseAbs().maxCoeff(), 1.0);
     for (std::size_t j = 0; j < stiffening_.size(); ++j) {
       if (stiffening_[j] == 1.0) continue;
-      const auto i = static_cast<Eigen::Index>(j / obstacles_.size());
-      const std::size_t k = j % obstacles_.size();
-      const double d = surface_distance(obstacles_[k], poses_[k], x.col(i)).distance;
+      const double d = pair_distance(x, j);
       if (d < floor_) below_.push_back({j, d});
     }
     return false;
@@ -185,15 +183,8 @@ class ObstacleContact final : public ContactEffect {
     bool any = false;
     std::sort(pressed_.begin(), pressed_.end());
     pressed_.erase(std::unique(pressed_.begin(), pressed_.end()), pressed_.end());
-    for (const std::size_t j : pressed_) {
-      const auto i = static_cast<Eigen::Index>(j / obstacles_.size());
-      const std::size_t k = j % obstacles_.size();
-      if (!(surface_distance(obstacles_[k], poses_[k], x.col(i)).distance < 3 * floor_)) continue;
-      if (stiffening_[j] >= kLargestFloorStiffening) continue;
-      stiffening_[j] = std::min(stiffening_[j] * kFloorStiffening, kLargestFloorStiffening);
-      ++holds_;
-      any = true;
-    }
+    for (const std::size_t j : pressed_)
+      if (pair_distance(x, j) < 3 * floor_) any = stiffen_pair(j, x.cols()) || any;
     pressed_.clear();
     return any;
   }
@@ -290,16 +281,28 @@ class ObstacleContact final : public ContactEffect {
         if (!(d < floor_)) continue;
         const double before = surface_distance(obstacles_[k], poses_[k], x_step_start_->col(i)).distance;
         if (before < floor_ && d >= before) continue;  // below the floor from the start, and no closer
-        const std::size_t j = static_cast<std::size_t>(i) * obstacles_.size() + k;
-        if (stiffening_.empty()) stiffening_.assign(static_cast<std::size_t>(x.cols()) * obstacles_.size(), 1.0);
-        if (stiffening_[j] >= kLargestFloorStiffening) continue;
-        stiffening_[j] = std::min(stiffening_[j] * kFloorStiffening, kLargestFloorStiffening);
-        ++holds_;
-        any = true;
+        any = stiffen_pair(static_cast<std::size_t>(i) * obstacles_.size() + k, x.cols()) || any;
       }
     }
     if (any) ++floor_solves_;
     return any;
+  }
+
+  /// The signed distance at x of pair j (vertex i, obstacle k at j = i·K + k), the obstacle
+  /// at its end pose.
+  double pair_distance(const Eigen::Matrix3Xd& x, std::size_t j) const {
+    const std::size_t k = j % obstacles_.size();
+    return surface_distance(obstacles_[k], poses_[k], x.col(static_cast<Eigen::Index>(j / obstacles_.size()))).distance;
+  }
+
+  /// Holds pair j: multiplies its penalty's stiffness by kFloorStiffening (up to the largest
+  /// factor; `vertices` sizes the factors the first time); true when it grew.
+  bool stiffen_pair(std::size_t j, Eigen::Index vertices) {
+    if (stiffening_.empty()) stiffening_.assign(static_cast<std::size_t>(vertices) * obstacles_.size(), 1.0);
+    if (stiffening_[j] >= kLargestFloorStiffening) return false;
+    stiffening_[j] = std::min(stiffening_[j] * kFloorStiffening, kLargestFloorStiffening);
+    ++holds_;
+    return true;
   }
 
   /// Forgets the stiffening of pairs beyond d at the step's start `x` (the obstacles at the
@@ -309,9 +312,7 @@ class ObstacleContact final : public ContactEffect {
     bool any = false;
     for (std::size_t j = 0; j < stiffening_.size(); ++j) {
       if (stiffening_[j] == 1.0) continue;
-      const auto i = static_cast<Eigen::Index>(j / obstacles_.size());
-      const std::size_t k = j % obstacles_.size();
-      if (surface_distance(obstacles_[k], poses_[k], x.col(i)).distance >= penalty_.distance)
+      if (pair_distance(x, j) >= penalty_.distance)
         stiffening_[j] = 1.0;
       else
         any = true;

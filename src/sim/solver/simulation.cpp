@@ -241,21 +241,17 @@ void Simulation::newton(StepState& s) {
       }
       // A step the minimum separation cut to nothing (a pair held at its floor, pressed
       // further in): the held pairs' penalties grow, and Newton goes on from y with them.
-      if (stiffen_held(s)) {
-        if (it + 1 == cap) {
-          st.stop = solver.single_solve ? StopReason::single_solve : StopReason::iteration_cap;
-          st.hit_iteration_cap = !solver.single_solve;
-        }
-        continue;
+      if (!stiffen_held(s)) {
+        ++st.line_search_failures;
+        st.stop = StopReason::line_search;
+        return;
       }
-      ++st.line_search_failures;
-      st.stop = StopReason::line_search;
-      return;
-    }
-    refresh(s);
-    if (converged) {
-      st.stop = StopReason::tolerance;
-      return;
+    } else {
+      refresh(s);
+      if (converged) {
+        st.stop = StopReason::tolerance;
+        return;
+      }
     }
     if (it + 1 == cap) {
       st.stop = solver.single_solve ? StopReason::single_solve : StopReason::iteration_cap;

@@ -38,6 +38,16 @@ namespace pce::sim::contact {
 /// held there (separation_floor.hpp); the step bound stops a pressed pair at two.
 inline constexpr double kHeldWithin = 3;
 
+/// The distance between a pair's primitives (positions `xp`) by closest features; false
+/// when pce reports a status other than ok (a degenerate primitive).
+template <bool VF> bool closest_distance(const Vec12<double>& xp, double& distance) {
+  using Kind = std::conditional_t<VF, VertexFace, EdgeEdge>;
+  ClosestFeatureEnergy<double> ce;
+  if (closest_feature_energy<Kind>(xp, UnsignedLength{}, QuadraticPenalty{1.0, 0.0}, ce) != Status::ok) return false;
+  distance = ce.length;
+  return true;
+}
+
 /// What `Classifier::classify` decides for one candidate at one state.
 struct Activity {
   /// none: inactive; plane: active in plane mode (its frame and σ below); closest: to be

@@ -10,13 +10,10 @@
 namespace pce::sim::contact {
 
 template <bool VF> double SeparationFloor<VF>::distance(const Eigen::Matrix3Xd& x, std::size_t k) const {
-  using Kind = std::conditional_t<VF, VertexFace, EdgeEdge>;
-  ClosestFeatureEnergy<double> ce;
-  const QuadraticPenalty probe{1.0, 0.0};
-  const Vec12<double> xp = PairGeometry<VF>::gather(x, candidates_->vertices(k));
-  if (closest_feature_energy<Kind>(xp, UnsignedLength{}, probe, ce) != Status::ok)
-    return std::numeric_limits<double>::infinity();
-  return ce.length;
+  double d = 0;
+  return closest_distance<VF>(PairGeometry<VF>::gather(x, candidates_->vertices(k)), d)
+             ? d
+             : std::numeric_limits<double>::infinity();
 }
 
 template <bool VF> void SeparationFloor<VF>::begin_step(const Eigen::Matrix3Xd& x) {

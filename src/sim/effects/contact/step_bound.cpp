@@ -115,14 +115,12 @@ template <bool VF> void StepBound<VF>::bound_pair(const Eigen::Matrix3Xd& x, con
 template <bool VF>
 bool StepBound<VF>::separation(const Vec12<double>& xp, const Vec12<double>& dxp, double& S, double& r) {
   using Kind = std::conditional_t<VF, VertexFace, EdgeEdge>;
-  ClosestFeatureEnergy<double> ce;
-  if (closest_feature_energy<Kind>(xp, UnsignedLength{}, QuadraticPenalty{1.0, 0.0}, ce) != Status::ok ||
-      !(ce.length > 0))
-    return false;
+  double length = 0;
+  if (!closest_distance<VF>(xp, length) || !(length > 0)) return false;
   // ∇L with a penalty active at L (ψ′ < 0): the first primitive's part sums to ψ′ m, m the
   // unit vector from the second primitive's closest point to the first's.
   ClosestFeatureEnergy<double> cg;
-  if (closest_feature_energy<Kind>(xp, UnsignedLength{}, QuadraticPenalty{1.0, 2 * ce.length}, cg) != Status::ok)
+  if (closest_feature_energy<Kind>(xp, UnsignedLength{}, QuadraticPenalty{1.0, 2 * length}, cg) != Status::ok)
     return false;
   const Vec12<double> g = energy_gradient(cg);
   Eigen::Vector3d m = Eigen::Vector3d::Zero();
