@@ -254,3 +254,30 @@ TEST(LaggedFriction, TheModelForceIsTheGradientPlusTheHessianTimesTheStep) {
   const Vec3<double> slid = 3 * f.static_slip * f.basis.col(0);
   EXPECT_NEAR(friction_model_force(f, slid, Vec3<double>(f.static_slip * f.basis.col(0))).norm(), f.mu_lambda, 1e-15);
 }
+
+TEST(LaggedFriction, TheMajorizerBlockBoundsTheHessianAndThePotential) {
+  // μλ (f₁/y) T Tᵀ ⪰ the Hessian's tangent block, and the quadratic with it (and the
+  // gradient) lies above D for a move of one vertex, in both regimes and across y = 0.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int crossed = 0;
+  for (int i = 0; i < 60; ++i) {
+    const LaggedFriction<double, 4> f =
+        frozen(VecN<double, 4>(0.3, 0.7, -0.6, -0.4), Vec3<double>(0.2, 0.1, 1).normalized());
+    const VecN<double, 12> dx = displacement<4>(rng, f.static_slip, i);
+    const Mat3<double> K = friction_majorizer_block(f, dx), T = friction_tangent_block(f, dx);
+    EXPECT_GE(Eigen::SelfAdjointEigenSolver<Mat3<double>>(K - T).eigenvalues().minCoeff(), -1e-12 * K.norm()) << i;
+    const int j = i % 4;
+    const double w = f.weights[j];
+    const VecN<double, 12> g = friction_gradient(f, dx);
+    for (int t = 0; t < 20; ++t) {
+      const Vec3<double> step = (0.2 + 3 * std::abs(u(rng))) * f.static_slip * Vec3<double>(u(rng), u(rng), u(rng));
+      VecN<double, 12> moved = dx;
+      moved.segment<3>(3 * j) += step;
+      const double bound = friction_energy(f, dx) + g.segment<3>(3 * j).dot(step) + 0.5 * w * w * step.dot(K * step);
+      EXPECT_LE(friction_energy(f, moved), bound + 1e-12 * f.mu_lambda * f.static_slip) << i << " " << t;
+      crossed += friction_slip(f, moved).dot(friction_slip(f, dx)) < 0;
+    }
+  }
+  EXPECT_GT(crossed, 10);  // moves that reverse the slip were among them
+}

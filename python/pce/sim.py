@@ -30,6 +30,7 @@ keep_freed_memory = _pce.keep_freed_memory
 # The accepted names, from the compiled module's tables (pce::sim::kContactHessians, kBroadPhaseNames).
 _HESSIANS = tuple(_pce._contact_hessians())
 _BROAD_PHASES = tuple(_pce._broad_phases())
+_MODES = tuple(_pce._solver_modes())
 
 
 def _optional_int(name, value, low, high):
@@ -52,13 +53,17 @@ def load(
     threads: Optional[int] = None,
     single_solve: Optional[bool] = None,
     tolerance: Optional[float] = None,
+    mode: Optional[str] = None,
+    iterations: Optional[int] = None,
 ) -> "Simulation":
     """Loads a scene file (JSON, docs/simulation.md §2) at frame 0.
 
     The keyword arguments override the scene as ``pce-sim``'s options do: ``frames``
     (``--frames``), ``hessian`` (``--hessian``: every contact effect's strategy),
     ``broad_phase`` (``--broad-phase``: "fcl", "bullet", "brute"), ``threads`` (``--threads``,
-    0: all), ``single_solve`` (``--single-solve``), ``tolerance`` (``--tolerance``).
+    0: all), ``single_solve`` (``--single-solve``), ``tolerance`` (``--tolerance``),
+    ``mode`` (``--mode``: "newton", "single_solve", "block_descent"; wins over
+    ``single_solve``), ``iterations`` (``--iterations``: block descent's sweeps per step).
 
     Raises :class:`SceneError` (the message ``pce-sim`` prints) for an invalid scene, and
     for a start state with intersecting meshes unless the scene allows it.
@@ -74,6 +79,11 @@ def load(
         raise ValueError(f"hessian: expected one of {', '.join(_HESSIANS)}, got {hessian!r}")
     if broad_phase is not None and broad_phase not in _BROAD_PHASES:
         raise ValueError(f"broad_phase: expected one of {', '.join(_BROAD_PHASES)}, got {broad_phase!r}")
+    iterations = _optional_int("iterations", iterations, 1, 100_000)
+    if mode is not None and not isinstance(mode, str):
+        raise TypeError(f"mode: expected a string, got {mode!r}")
+    if mode is not None and mode not in _MODES:
+        raise ValueError(f"mode: expected one of {', '.join(_MODES)}, got {mode!r}")
     if single_solve is not None and not isinstance(single_solve, bool):
         raise TypeError(f"single_solve: expected True or False, got {single_solve!r}")
     if tolerance is not None:
@@ -82,7 +92,9 @@ def load(
         if not 0 < tolerance < float("inf"):
             raise ValueError(f"tolerance: expected a finite number > 0, got {tolerance!r}")
         tolerance = float(tolerance)
-    return Simulation(_pce._load(os.fspath(scene), frames, hessian, broad_phase, threads, single_solve, tolerance))
+    return Simulation(
+        _pce._load(os.fspath(scene), frames, hessian, broad_phase, threads, single_solve, tolerance, mode, iterations)
+    )
 
 
 class Simulation:

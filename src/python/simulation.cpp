@@ -118,7 +118,8 @@ pce::Projection contact_hessian(const std::string& name) {
 std::unique_ptr<LoadedScene> load(const std::string& file, std::optional<int> frames,
                                   std::optional<std::string> hessian, std::optional<std::string> broad_phase,
                                   std::optional<int> threads, std::optional<bool> single_solve,
-                                  std::optional<double> tolerance) {
+                                  std::optional<double> tolerance, std::optional<std::string> mode,
+                                  std::optional<int> iterations) {
   SceneOverrides o;
   o.frames = frames;
   if (hessian) o.hessian = contact_hessian(*hessian);
@@ -132,6 +133,13 @@ std::unique_ptr<LoadedScene> load(const std::string& file, std::optional<int> fr
   o.threads = threads;
   o.single_solve = single_solve;
   o.tolerance = tolerance;
+  if (mode) {
+    o.mode = pce::parse<SolverMode>(*mode);
+    if (!o.mode)
+      throw nb::value_error(
+          ("mode: expected one of " + plain_names(pce::enumerators<SolverMode>()) + ", got '" + *mode + "'").c_str());
+  }
+  o.iterations = iterations;
   return std::make_unique<LoadedScene>(file, o);
 }
 
@@ -165,7 +173,10 @@ void bind_simulation(nb::module_& m) {
       "The broad phases' names, in pce::sim::kBroadPhaseNames' order.");
   m.def("_load", &load, nb::arg("file"), nb::arg("frames").none(), nb::arg("hessian").none(),
         nb::arg("broad_phase").none(), nb::arg("threads").none(), nb::arg("single_solve").none(),
-        nb::arg("tolerance").none());
+        nb::arg("tolerance").none(), nb::arg("mode").none(), nb::arg("iterations").none());
+  m.def(
+      "_solver_modes", [] { return names(pce::enumerators<SolverMode>()); },
+      "The solver modes' names, in pce::sim::kSolverModeNames' order.");
 }
 
 }  // namespace pce_python

@@ -62,8 +62,8 @@ Mesh moved(Mesh m, const Eigen::Vector3d& by) {
   return m;
 }
 
-/// kScene, written against the C++ API.
-void transcribe(Simulation& sim) {
+/// kScene, written against the C++ API (with the solver's `mode`; block descent at 10 sweeps).
+void transcribe(Simulation& sim, SolverMode mode) {
   std::vector<ModelMesh> meshes = {
       {"lower", moved(grid(0.5, 0.5, 6, 6), {0, 0, 0.12}), 0.1, 0.005},
       {"upper", moved(grid(0.5, 0.5, 6, 6), {0.01, 0.02, 0.135}), 0.2, 0.005},
@@ -77,6 +77,8 @@ void transcribe(Simulation& sim) {
   sim.solver.dt = 0.02;
   sim.solver.tolerance = 1e-3;
   sim.solver.threads = 1;
+  sim.solver.mode = mode;
+  if (mode == SolverMode::block_descent) sim.solver.iterations = 10;
   sim.frames = 14;
   const Model& m = sim.model;
   std::vector<PinGroup> pins(2);
@@ -142,13 +144,16 @@ Model small_cloth() { return build_model({{"cloth", grid(1.0, 1.0, 3, 3)}}); }
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-}  // namespace
-
-TEST(EffectsApi, SceneAndItsCppTranscriptionSimulateBitForBitAlike) {
-  auto scene = load_scene_text(kScene, "api.json", PCE_TEST_TMP);
+/// kScene with the solver's `mode` and its transcription simulate bit for bit alike, and
+/// the comparison is not vacuous.
+void expect_scene_and_transcription_alike(SolverMode mode) {
+  json j = json::parse(kScene);
+  j["solver"]["mode"] = std::string(pce::name_of(mode));
+  if (mode == SolverMode::block_descent) j["solver"]["iterations"] = 10;
+  auto scene = load_scene_text(j.dump(), "api.json", PCE_TEST_TMP);
   Simulation& a = scene->simulation;
   Simulation b;
-  transcribe(b);
+  transcribe(b, mode);
   ASSERT_EQ(a.effects.size(), b.effects.size());
   for (std::size_t k = 0; k < a.effects.size(); ++k) EXPECT_STREQ(a.effects[k]->name(), b.effects[k]->name());
   EXPECT_EQ(a.model.rest, b.model.rest);
@@ -176,6 +181,16 @@ TEST(EffectsApi, SceneAndItsCppTranscriptionSimulateBitForBitAlike) {
   EXPECT_GT(friction, 0);
   EXPECT_EQ(pinned_after_release, 2);  // the two hair roots; the lower sheet's corner is released
   EXPECT_TRUE(a.x.allFinite());
+}
+
+}  // namespace
+
+TEST(EffectsApi, SceneAndItsCppTranscriptionSimulateBitForBitAlike) {
+  expect_scene_and_transcription_alike(SolverMode::newton);
+}
+
+TEST(EffectsApi, BlockDescentSceneAndItsCppTranscriptionSimulateBitForBitAlike) {
+  expect_scene_and_transcription_alike(SolverMode::block_descent);
 }
 
 TEST(EffectsApi, ElasticBuildersNameTheBadField) {

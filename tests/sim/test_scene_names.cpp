@@ -63,7 +63,7 @@ TEST(SceneNames, TablesListEveryEnumerator) {
   EXPECT_EQ(kShapeNames.size(), static_cast<std::size_t>(ShapeKind::mesh) + 1);
   EXPECT_EQ(kBroadPhaseNames.size(), static_cast<std::size_t>(BroadPhaseKind::brute) + 1);
   EXPECT_EQ(kLinearSolverNames.size(), static_cast<std::size_t>(LinearSolver::cg) + 1);
-  EXPECT_EQ(kStopReasonNames.size(), static_cast<std::size_t>(StopReason::single_solve) + 1);
+  EXPECT_EQ(kStopReasonNames.size(), static_cast<std::size_t>(StopReason::block_descent) + 1);
   EXPECT_EQ(kGeneratorNames.size(), static_cast<std::size_t>(GeneratorKind::tet_ball) + 1);
 }
 
@@ -101,7 +101,7 @@ TEST(SceneNames, TheLoaderListsATablesNames) {
                 .find(R"(solver.broad_phase: expected one of "fcl", "bullet", "brute", got "bvh")"),
             std::string::npos);
   EXPECT_NE(load_error(R"({"dt": 0.01, "frames": 1, "solver": {"mode": "fast"}, )" + mesh + ", " + effects + "}")
-                .find(R"(solver.mode: expected one of "newton", "single_solve", got "fast")"),
+                .find(R"(solver.mode: expected one of "newton", "single_solve", "block_descent", got "fast")"),
             std::string::npos);
   EXPECT_NE(
       load_error(R"({"dt": 0.01, "frames": 1, "meshes": [{"name": "a", "generator": {"type": "cube"}}], )" + effects +

@@ -136,6 +136,21 @@ Mat3<Scalar> friction_tangent_block(const LaggedFriction<Scalar, N>& f, const Ei
   return f.mu_lambda * (f.basis * B * f.basis.transpose());
 }
 
+/// The isotropic block μλ (f₁(y)/y) T Tᵀ (3×3), which is ⪰ `friction_tangent_block` (f₁ is
+/// concave with f₁(0) = 0, so f₁′ ≤ f₁/y). f₁(y)/y does not increase with y, so f₀(|u|) is
+/// concave in |u|² and lies below its tangent quadratic there,
+///     D(u′) ≤ D(u) + μλ (f₁(y)/y) [uᵀ(u′ − u) + ½ |u′ − u|²]
+/// (the iteratively reweighted bound of Weiszfeld's method): a solver that moves one vertex
+/// at a time with this block (w_j² times it for vertex j) never overshoots a friction
+/// contact's slip past where D's own minimum along the move lies, whereas the Hessian's
+/// block, flat along a sliding contact's slip (f₁′ = 0 beyond ε), sends a lone vertex as far
+/// as its other terms let it. At y = 0 it is the Hessian's (2μλ/ε) T Tᵀ.
+template <class Scalar, int N>
+Mat3<Scalar> friction_majorizer_block(const LaggedFriction<Scalar, N>& f, const Eigen::Matrix<Scalar, 3 * N, 1>& dx) {
+  const Scalar y = friction_slip(f, dx).norm();
+  return (f.mu_lambda * friction_mollifier(y, f.static_slip).f1_over_y) * (f.basis * f.basis.transpose());
+}
+
 /// The tangential friction force, in the basis T, that Newton's quadratic model of D about
 /// displacements `dx` assigns after a further step `ddx` (both 3N):
 ///

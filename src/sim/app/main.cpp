@@ -48,8 +48,8 @@ template <class Values> std::vector<std::string> names(const Values& values) {
 
 /// The command line.
 struct Options {
-  std::string scene_file, out_dir, hessian, broad_phase, resume_dir;
-  int frames = 0, threads = -1, checkpoint_every = 0;
+  std::string scene_file, out_dir, hessian, broad_phase, resume_dir, mode;
+  int frames = 0, threads = -1, checkpoint_every = 0, iterations = 0;
   double tolerance = 0;
   bool single_solve = false, no_frames = false;
 
@@ -61,6 +61,8 @@ struct Options {
     if (!broad_phase.empty()) o.broad_phase = pce::parse<BroadPhaseKind>(broad_phase);
     if (threads >= 0) o.threads = threads;
     if (single_solve) o.single_solve = true;
+    if (!mode.empty()) o.mode = pce::parse<SolverMode>(mode);  // checked by IsMember
+    if (iterations > 0) o.iterations = iterations;
     if (tolerance > 0) o.tolerance = tolerance;
     return o;
   }
@@ -80,6 +82,10 @@ int parse_options(int argc, char** argv, Options& o) {
       ->check(CLI::IsMember(names(pce::enumerators<BroadPhaseKind>())));
   app.add_option("--threads", o.threads, "threads for pair evaluation (0: all)")->check(CLI::Range(0, 1024));
   app.add_flag("--single-solve", o.single_solve, "one linearised solve per step (the paper's mode)");
+  app.add_option("--mode", o.mode, "solver mode (overrides the scene; --mode single_solve is --single-solve)")
+      ->check(CLI::IsMember(names(pce::enumerators<SolverMode>())));
+  app.add_option("--iterations", o.iterations, "block descent: sweeps per time step (overrides the scene)")
+      ->check(CLI::Range(1, 100000));
   app.add_option("--tolerance", o.tolerance, "Newton tolerance on max|dx|/(h*size), 1/s")->check(CLI::PositiveNumber);
   app.add_flag("--no-frames", o.no_frames, "write no per-frame meshes (stats, picture and the last frame only)");
   app.add_option("--checkpoint-every", o.checkpoint_every, "write DIR/checkpoint_NNNN.pcecp every K frames")
@@ -136,9 +142,10 @@ void report_frame(const FrameReport& r, const Simulation& sim) {
   const FrameStats& s = r.stats;
   const int f = sim.frame;
   static bool warned_floor = false;
-  std::fprintf(stderr, "frame %d of %d: %.1f ms, %d Newton iterations, residual %.2e, %s%ld intersecting pairs\n", f,
-               sim.frames, s.wall_ms, s.newton_iterations, s.residual, s.hit_iteration_cap ? "iteration cap hit, " : "",
-               r.intersections);
+  const bool sweeps = sim.solver.mode == SolverMode::block_descent;
+  std::fprintf(stderr, "frame %d of %d: %.1f ms, %d %s, residual %.2e, %s%ld intersecting pairs\n", f, sim.frames,
+               s.wall_ms, s.newton_iterations, sweeps ? "block descent sweeps" : "Newton iterations", s.residual,
+               s.hit_iteration_cap ? "iteration cap hit, " : "", r.intersections);
   if (s.line_search_failures > 0 && s.newton_iterations == 1)
     std::fprintf(stderr,
                  "pce-sim: warning: frame %d: the line search found no decrease at the first Newton iteration, so "

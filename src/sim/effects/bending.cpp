@@ -16,6 +16,7 @@
 // 2 k w (θ − θ₀) ∇²θ, which vanishes at the rest angle.
 #include <pce/sim/instrumentation.hpp>
 #include "arguments.hpp"
+#include "local_terms.hpp"
 
 #include <pce/sim/effects.hpp>
 
@@ -74,7 +75,9 @@ inline double angle_difference(double theta, double theta0) {
 
 class Bending final : public Effect {
  public:
-  explicit Bending(std::vector<Hinge> hinges) : Effect("bending"), hinges_(std::move(hinges)) {}
+  Bending(int vertex_count, std::vector<Hinge> hinges) : Effect("bending"), hinges_(std::move(hinges)) {
+    incidence_.build(vertex_count, hinges_.size(), [this](std::size_t e) { return hinges_[e].v; });
+  }
   void declare(Pattern& pattern) const override {
     for (const Hinge& h : hinges_) pattern.add(h.v);
   }
@@ -98,6 +101,22 @@ class Bending final : public Effect {
     }
     return energy;
   }
+  /// Per listed vertex, the sum over its hinges of 2w(θ − θ₀)∇ₐθ and 2w ∇ₐθ∇ₐθᵀ (a its slot
+  /// in the hinge); a degenerate hinge adds nothing, as in `evaluate`. The statistics'
+  /// degenerate hinges are those of the last `evaluate`.
+  void evaluate_local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices, LocalTerms& terms) override {
+    add_local_terms(incidence_, vertices, terms, [&](const Incident& u, Eigen::Vector3d& ga, Eigen::Matrix3d& B) {
+      const Hinge& h = hinges_[static_cast<std::size_t>(u.item)];
+      double theta;
+      Vector12 g;
+      if (!dihedral_angle(x.col(h.v[0]), x.col(h.v[1]), x.col(h.v[2]), x.col(h.v[3]), theta, &g)) return true;
+      const double d = angle_difference(theta, h.theta0);
+      const Eigen::Vector3d gs = g.segment<3>(3 * u.slot);
+      ga += (2 * h.weight * d) * gs;
+      B.noalias() += (2 * h.weight) * gs * gs.transpose();
+      return true;
+    });
+  }
   void report(EffectCounters& counters) const override {
     counters[Counter::hinges] = static_cast<double>(hinges_.size());
     counters[Counter::degenerate_hinges] = static_cast<double>(degenerate_);
@@ -105,6 +124,7 @@ class Bending final : public Effect {
 
  private:
   std::vector<Hinge> hinges_;
+  VertexIncidence incidence_;  ///< per vertex, its hinges
   long degenerate_ = 0;
 };
 
@@ -152,7 +172,7 @@ std::unique_ptr<Effect> make_bending(const Model& model, double stiffness) {
     i = j;
   }
   instrumentation().bending_hinges_allocated += static_cast<long>(hinges.size());
-  return std::make_unique<Bending>(std::move(hinges));
+  return std::make_unique<Bending>(model.vertex_count(), std::move(hinges));
 }
 
 }  // namespace pce::sim

@@ -94,4 +94,19 @@ template <int N> double add_friction(const std::vector<FrictionContact<N>>& cont
   return energy;
 }
 
+/// Contact c's friction at `x` (displacements from `x_start`) as seen by its vertex in
+/// `slot`: adds that vertex's gradient ∂D/∂x_slot to `g` and w_slot² times the majorizer
+/// block μλ (f₁/y) T Tᵀ (`friction_majorizer_block`, ⪰ the Hessian's block) to `H`: block
+/// descent's local terms, whose vertex steps would otherwise overshoot a sliding contact.
+template <int N> void add_friction_local(const FrictionContact<N>& c, int slot, const Eigen::Matrix3Xd& x,
+                                         const Eigen::Matrix3Xd& x_start, Eigen::Vector3d& g, Eigen::Matrix3d& H) {
+  Eigen::Matrix<double, 3 * N, 1> dx;
+  for (int j = 0; j < N; ++j)
+    dx.template segment<3>(3 * j) =
+        x.col(c.v[static_cast<std::size_t>(j)]) - x_start.col(c.v[static_cast<std::size_t>(j)]);
+  g += friction_gradient(c.f, dx).template segment<3>(3 * slot);
+  const double w = c.f.weights[slot];
+  H += (w * w) * friction_majorizer_block(c.f, dx);
+}
+
 }  // namespace pce::sim

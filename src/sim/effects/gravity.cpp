@@ -24,6 +24,11 @@ class Gravity final : public Effect {
     for (std::size_t j = 0; j < vertices.size(); ++j)
       terms.gradient.col(static_cast<Eigen::Index>(j)) -= model_->mass[vertices[j]] * g_;
   }
+  /// A uniform field: every vertex is accelerated by g.
+  bool uniform_acceleration(Eigen::Vector3d& a) const override {
+    a = g_;
+    return true;
+  }
 
  private:
   const Model* model_;

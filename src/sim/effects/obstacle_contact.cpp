@@ -50,6 +50,7 @@
 /// shape (d ≥ |xᵢ − cₖ| − Rₖ for every shape).
 #include "effects/contact/ordered_chunks.hpp"
 #include "effects/friction.hpp"
+#include "effects/vertex_incidence.hpp"
 #include "effects/contact_penalty.hpp"
 #include "util/stopwatch.hpp"
 
@@ -163,6 +164,72 @@ class ObstacleContact final : public ContactEffect {
     });
   }
 
+  /// Block descent's first move: as max_step, for every penalty (a vertex keeps its floor, or
+  /// nine tenths of its distance when closer; one inside an obstacle is not limited).
+  double safe_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) override {
+    return contact::min_over_chunks(x.cols(), kChunk, 1.0, [&](std::size_t, long begin, long end, double& t) {
+      for (long i = begin; i < end; ++i) {
+        if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;  // inside a volume
+        const double step = dx.col(i).norm();
+        if (!(step > 0)) continue;
+        const Eigen::Vector3d p = x.col(i);
+        for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+          const double lower = (p - poses_[k].translation()).norm() - radius_[k];  // d ≥ lower
+          if (lower > 0 && room(lower) >= step) continue;                          // t = 1 keeps the room
+          const double d = surface_distance(obstacles_[k], poses_[k], p).distance;
+          if (d > 0) t = std::min(t, room(d) / step);
+        }
+      }
+    });
+  }
+
+  /// Block descent: vertex i may move 0.9 (d − F) towards obstacle k's surface, d its
+  /// distance at x (at the step's end pose, which the obstacle keeps during the sweeps) and F
+  /// the floor (0.09 d when d ≤ F; inside, d ≤ 0, no limit: the penalty pushes it out).
+  void vertex_bounds(const Eigen::Matrix3Xd& x, Eigen::VectorXd& bound) override {
+#pragma omp parallel for schedule(dynamic, kChunk) if (x.cols() > kChunk)
+    for (Eigen::Index i = 0; i < x.cols(); ++i) {
+      if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;
+      const Eigen::Vector3d p = x.col(i);
+      for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+        const double lower = (p - poses_[k].translation()).norm() - radius_[k];  // d ≥ lower
+        if (lower > 0 && room(lower) >= bound[i]) continue;
+        const double d = surface_distance(obstacles_[k], poses_[k], p).distance;
+        if (d > 0) bound[i] = std::min(bound[i], room(d));
+      }
+    }
+  }
+
+  /// Block descent's local terms: vertex by vertex, the pairs of `gather` and its frozen
+  /// friction (a held pair's strict floor is the bounds' to keep).
+  void evaluate_local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices, LocalTerms& terms) override {
+    const long count = static_cast<long>(vertices.size());
+    const double reach = penalty_.distance;
+    visit_penalty(penalty_, [&](const auto& penalty) {
+#pragma omp parallel for schedule(dynamic, 256) if (count >= 64)
+      for (long j = 0; j < count; ++j) {
+        const int i = vertices[static_cast<std::size_t>(j)];
+        if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;
+        const Eigen::Vector3d p = x.col(i);
+        Eigen::Vector3d g = Eigen::Vector3d::Zero();
+        Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+        for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+          if ((p - poses_[k].translation()).norm() - radius_[k] >= reach) continue;
+          const SurfaceDistance s = surface_distance(obstacles_[k], poses_[k], p);
+          if (!(s.distance < reach) || (penalty_.barrier() && !(s.distance > 0))) continue;
+          const PenaltyDerivatives<double> psi = weighted(penalty, i, k).evaluate(s.distance);
+          g += psi.first * s.normal;
+          if (psi.second > 0) H += psi.second * (s.normal * s.normal.transpose());
+        }
+        if (friction_ && friction_incidence_.has(i))
+          for (const Incident* e = friction_incidence_.begin(i); e != friction_incidence_.end(i); ++e)
+            add_friction_local(frozen_[static_cast<std::size_t>(e->item)], e->slot, x, *x_start_, g, H);
+        terms.gradient.col(j) += g;
+        terms.hessian[static_cast<std::size_t>(j)] += H;
+      }
+    });
+  }
+
   /// Before each Newton iteration's assembly at the iterate x: the held pairs (stiffening
   /// above 1) closer than the floor there, which the floor then keeps no closer than they
   /// are. The pattern is unchanged (diagonal blocks only).
@@ -255,6 +322,10 @@ class ObstacleContact final : public ContactEffect {
     if (!areas_.size()) return m == 1.0 ? penalty : scaled(penalty, m);
     return scaled(penalty, areas_[i] * m);
   }
+
+  /// How far a vertex at distance d > 0 from a surface may move towards it (block descent,
+  /// safe_step): to its floor less a tenth of the way, or by 0.09 d below the floor.
+  double room(double d) const { return 0.9 * (d > floor_ ? d - floor_ : 0.1 * d); }
 
   /// Whether pair j (i·K + k) may be at `distance` (below the floor): only when it was never
   /// held (its factor is 1), or was below the floor at the iterate (`below_`) and is no
@@ -407,6 +478,7 @@ class ObstacleContact final : public ContactEffect {
     });
     contact::join_chunks(parts_, chunks, frozen_);
     publish_friction(frozen_, published_);
+    friction_incidence_.build(static_cast<int>(n), frozen_.size(), [&](std::size_t i) { return frozen_[i].v; });
   }
 
   ContactPenalty penalty_;
@@ -419,6 +491,7 @@ class ObstacleContact final : public ContactEffect {
   std::vector<Eigen::Isometry3d> poses_;                ///< at the end of the step
   std::vector<Eigen::Isometry3d> start_poses_;          ///< at its start (friction)
   std::vector<FrictionContact<1>> frozen_;              ///< the step's frozen friction pairs
+  VertexIncidence friction_incidence_;                  ///< per vertex, its entries of frozen_
   std::vector<std::vector<FrictionContact<1>>> parts_;  ///< per chunk while freezing
   std::vector<FrozenFriction> published_;               ///< frozen_ with μλ > 0, padded
   const Eigen::Matrix3Xd* x_start_ = nullptr;

@@ -16,8 +16,10 @@
 // both bending directions (φ cot(φ/2) → 2 as φ → 0: the Hessian of k φ²/ℓ̄ is isotropic
 // there). The in-plane part of (φ − φ₀)∇²φ is dropped; it vanishes at the rest angle.
 #include "arguments.hpp"
+#include "local_terms.hpp"
 
 #include <pce/core/orthogonal.hpp>
+#include <pce/core/types.hpp>
 #include <pce/sim/effects.hpp>
 
 #include <array>
@@ -43,57 +45,89 @@ inline double turning_angle(const Eigen::Vector3d& e1, const Eigen::Vector3d& e2
   return std::atan2(e1.cross(e2).norm(), e1.dot(e2));
 }
 
+/// One joint: returns E = w (φ − φ₀)², sets `g` = ∇E = 2w(φ − φ₀)∇φ (vertex order of
+/// Joint::v) and `H` to the projected Hessian (file comment) when non-null. Sets `collapsed`
+/// when a segment has zero length, where ∇φ does not exist: no force then (`g`, `H`
+/// untouched).
+PCE_ALWAYS_INLINE double joint_terms(const Joint& j, const Eigen::Matrix3Xd& x, Vector9* g, Matrix9* H,
+                                     bool& collapsed) {
+  constexpr double pi = 3.14159265358979323846;
+  const Eigen::Vector3d e1 = x.col(j.v[1]) - x.col(j.v[0]), e2 = x.col(j.v[2]) - x.col(j.v[1]);
+  const double l1 = e1.norm(), l2 = e2.norm();
+  const double phi = turning_angle(e1, e2), d = phi - j.phi0;
+  const double energy = j.weight * d * d;
+  collapsed = !(l1 > 0 && l2 > 0);
+  if (collapsed || (!g && !H)) return energy;
+  const Eigen::Vector3d t1 = e1 / l1, t2 = e2 / l2;
+  const Eigen::Vector3d b = t1.cross(t2);
+  const double s = b.norm();
+  const Eigen::Vector3d bh = s > 1e-10 ? Eigen::Vector3d(b / s) : pce::any_orthogonal<double>(t1);
+  const Eigen::Vector3d d1 = -bh.cross(t1) / l1, d2 = bh.cross(t2) / l2;  // ∂φ/∂e1, ∂φ/∂e2
+  Vector9 gphi;
+  gphi << -d1, d1 - d2, d2;
+  if (g) *g = (2 * j.weight * d) * gphi;
+  if (H) {
+    H->noalias() = gphi * gphi.transpose();
+    // Out-of-plane curvature of φ, kept where (φ − φ₀) times its eigenvalue is > 0.
+    const double c_minus = phi > 0 ? d / std::tan(0.5 * phi) : (j.phi0 == 0 ? 2.0 : 0.0);
+    const double c_plus = d < 0 && phi < pi ? -d * std::tan(0.5 * phi) : 0.0;
+    const double r1 = 1 / l1, r2 = 1 / l2;
+    if (c_minus > 0) {
+      Vector9 q;
+      q << -r1 * bh, (r1 + r2) * bh, -r2 * bh;
+      H->noalias() += (0.5 * c_minus) * q * q.transpose();
+    }
+    if (c_plus > 0) {
+      Vector9 q;
+      q << -r1 * bh, (r1 - r2) * bh, r2 * bh;
+      H->noalias() += (0.5 * c_plus) * q * q.transpose();
+    }
+    *H *= 2 * j.weight;
+  }
+  return energy;
+}
+
 class StrandBending final : public Effect {
  public:
-  explicit StrandBending(std::vector<Joint> joints) : Effect("strand_bending"), joints_(std::move(joints)) {}
+  StrandBending(int vertex_count, std::vector<Joint> joints) : Effect("strand_bending"), joints_(std::move(joints)) {
+    incidence_.build(vertex_count, joints_.size(), [this](std::size_t e) { return joints_[e].v; });
+  }
   void declare(Pattern& pattern) const override {
     for (const Joint& j : joints_) pattern.add(j.v);
   }
   /// E = Σ_joints k (φ − φ₀)²/ℓ̄, ∇E = 2k/ℓ̄ (φ − φ₀)∇φ, Hessian as in the file comment.
   double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) override {
-    constexpr double pi = 3.14159265358979323846;
     double energy = 0;
     degenerate_ = 0;
+    Vector9 g;
+    Matrix9 H;
     for (const Joint& j : joints_) {
-      const Eigen::Vector3d e1 = x.col(j.v[1]) - x.col(j.v[0]), e2 = x.col(j.v[2]) - x.col(j.v[1]);
-      const double l1 = e1.norm(), l2 = e2.norm();
-      const double phi = turning_angle(e1, e2), d = phi - j.phi0;
-      energy += j.weight * d * d;
-      if (!(l1 > 0 && l2 > 0)) {  // a collapsed segment has no direction: no force, counted
+      bool collapsed;
+      energy += joint_terms(j, x, gradient ? &g : nullptr, hessian ? &H : nullptr, collapsed);
+      if (collapsed) {  // a collapsed segment has no direction: no force, counted
         ++degenerate_;
         continue;
       }
-      if (!gradient && !hessian) continue;
-      const Eigen::Vector3d t1 = e1 / l1, t2 = e2 / l2;
-      const Eigen::Vector3d b = t1.cross(t2);
-      const double s = b.norm();
-      const Eigen::Vector3d bh = s > 1e-10 ? Eigen::Vector3d(b / s) : pce::any_orthogonal<double>(t1);
-      const Eigen::Vector3d d1 = -bh.cross(t1) / l1, d2 = bh.cross(t2) / l2;  // ∂φ/∂e1, ∂φ/∂e2
-      Vector9 g;
-      g << -d1, d1 - d2, d2;
       if (gradient)
-        for (int a = 0; a < 3; ++a) gradient->col(j.v[a]) += (2 * j.weight * d) * g.segment<3>(3 * a);
-      if (hessian) {
-        Matrix9 H = g * g.transpose();
-        // Out-of-plane curvature of φ, kept where (φ − φ₀) times its eigenvalue is > 0.
-        const double c_minus = phi > 0 ? d / std::tan(0.5 * phi) : (j.phi0 == 0 ? 2.0 : 0.0);
-        const double c_plus = d < 0 && phi < pi ? -d * std::tan(0.5 * phi) : 0.0;
-        const double r1 = 1 / l1, r2 = 1 / l2;
-        if (c_minus > 0) {
-          Vector9 q;
-          q << -r1 * bh, (r1 + r2) * bh, -r2 * bh;
-          H.noalias() += (0.5 * c_minus) * q * q.transpose();
-        }
-        if (c_plus > 0) {
-          Vector9 q;
-          q << -r1 * bh, (r1 - r2) * bh, r2 * bh;
-          H.noalias() += (0.5 * c_plus) * q * q.transpose();
-        }
-        H *= 2 * j.weight;
-        hessian->add<3>(j.v, H);
-      }
+        for (int a = 0; a < 3; ++a) gradient->col(j.v[a]) += g.segment<3>(3 * a);
+      if (hessian) hessian->add<3>(j.v, H);
     }
     return energy;
+  }
+  /// Per listed vertex, the sum over its joints of the joint's gradient and Hessian block at
+  /// it (joint_terms, as `evaluate`); a collapsed joint adds nothing. The statistics'
+  /// degenerate joints are those of the last `evaluate`.
+  void evaluate_local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices, LocalTerms& terms) override {
+    add_local_terms(incidence_, vertices, terms, [&](const Incident& u, Eigen::Vector3d& ga, Eigen::Matrix3d& B) {
+      Vector9 g;
+      Matrix9 H;
+      bool collapsed;
+      joint_terms(joints_[static_cast<std::size_t>(u.item)], x, &g, &H, collapsed);
+      if (collapsed) return true;
+      ga += g.segment<3>(3 * u.slot);
+      B += H.block<3, 3>(3 * u.slot, 3 * u.slot);
+      return true;
+    });
   }
   void report(EffectCounters& counters) const override {
     counters[Counter::joints] = static_cast<double>(joints_.size());
@@ -102,6 +136,7 @@ class StrandBending final : public Effect {
 
  private:
   std::vector<Joint> joints_;
+  VertexIncidence incidence_;  ///< per vertex, its joints
   long degenerate_ = 0;
 };
 
@@ -136,7 +171,7 @@ std::unique_ptr<Effect> make_strand_bending(const Model& model, double stiffness
     jt.weight = k / mean;
     joints.push_back(jt);
   }
-  return std::make_unique<StrandBending>(std::move(joints));
+  return std::make_unique<StrandBending>(model.vertex_count(), std::move(joints));
 }
 
 }  // namespace pce::sim

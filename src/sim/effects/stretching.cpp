@@ -12,6 +12,7 @@
 // The projection clamps the three last eigenvalues at 0; the result maps to x-space with
 // the constant dF/dx (F = X D, X = [x0 x1 x2], D the 3×2 matrix below).
 #include "arguments.hpp"
+#include "local_terms.hpp"
 
 #include <pce/core/orthogonal.hpp>
 #include <pce/sim/effects.hpp>
@@ -42,11 +43,22 @@ inline Vector9 pull_back(const Matrix32& Q, const Matrix32& D) {
   return g;
 }
 
-/// One triangle: returns E = w Σ(σᵢ − 1)², adds ∂E/∂X (3×3, column a = vertex a) to `G`
-/// and the projected Hessian to `H` when non-null. Degenerate F (σ₂ ≈ 0, even F = 0) uses
-/// any orthonormal completion of the polar factor: finite, never NaN.
-inline double arap_triangle(const Eigen::Matrix3d& X, const Matrix32& D, double w, Eigen::Matrix3d* G, Matrix9* H) {
-  const Matrix32 F = X * D;
+/// The thin SVD of F = X D (3×2), F = σ₁ u₁v₁ᵀ + σ₂ u₂v₂ᵀ, with u₃ the unit normal, and its
+/// polar factor R = u₁v₁ᵀ + u₂v₂ᵀ: what the energy, the gradient and the Hessian share.
+/// Degenerate F (σ₂ ≈ 0, even F = 0) uses any orthonormal completion of the polar factor:
+/// finite, never NaN.
+struct ArapFrame {
+  Matrix32 F, R;
+  double s1, s2;
+  Eigen::Vector3d u1, u2, u3;
+  Eigen::Vector2d v1, v2;
+};
+
+/// The frame of F = X D.
+inline ArapFrame arap_frame(const Eigen::Matrix3d& X, const Matrix32& D) {
+  ArapFrame f;
+  f.F = X * D;
+  const Matrix32& F = f.F;
   // V and σ₁ from the 2×2 FᵀF = [[a, b], [b, c]]; σ₂ = |F₀ × F₁|/σ₁ avoids the cancellation
   // of √λ₂ for thin triangles.
   const double a = F.col(0).squaredNorm(), b = F.col(0).dot(F.col(1)), c = F.col(1).squaredNorm();
@@ -63,49 +75,96 @@ inline double arap_triangle(const Eigen::Matrix3d& X, const Matrix32& D, double 
       v1[0] = b / (2 * r * v1[1]);
     }
   }
-  const Eigen::Vector2d v2(-v1[1], v1[0]);
-  const double s1 = std::sqrt(0.5 * (a + c) + r);
+  f.v1 = v1;
+  f.v2 = Eigen::Vector2d(-v1[1], v1[0]);
+  f.s1 = std::sqrt(0.5 * (a + c) + r);
   const Eigen::Vector3d n = F.col(0).cross(F.col(1));
   const double area2 = n.norm();
-  const double s2 = s1 > 0 ? area2 / s1 : 0.0;
+  f.s2 = f.s1 > 0 ? area2 / f.s1 : 0.0;
   const Eigen::Vector3d Fv1 = F * v1;
   const double fv1 = Fv1.norm();
-  const Eigen::Vector3d u1 = fv1 > 0 ? Eigen::Vector3d(Fv1 / fv1) : Eigen::Vector3d::UnitX();
-  Eigen::Vector3d u3;
-  if (s2 > 1e-10 * s1) {
-    u3 = n - n.dot(u1) * u1;  // exact orthogonality to u1
-    u3.normalize();
+  f.u1 = fv1 > 0 ? Eigen::Vector3d(Fv1 / fv1) : Eigen::Vector3d::UnitX();
+  if (f.s2 > 1e-10 * f.s1) {
+    f.u3 = n - n.dot(f.u1) * f.u1;  // exact orthogonality to u1
+    f.u3.normalize();
   } else {
-    u3 = pce::any_orthogonal<double>(u1);  // σ₂ ≈ 0: any completion is a closest orthonormal frame
+    f.u3 = pce::any_orthogonal<double>(f.u1);  // σ₂ ≈ 0: any completion is a closest orthonormal frame
   }
-  const Eigen::Vector3d u2 = u3.cross(u1);  // F v₂ lies along u₃ × u₁ (σ₂ ≥ 0)
-  const Matrix32 R = u1 * v1.transpose() + u2 * v2.transpose();
-  const double energy = w * ((s1 - 1) * (s1 - 1) + (s2 - 1) * (s2 - 1));
-  if (G) G->noalias() += (2 * w) * (F - R) * D.transpose();
+  f.u2 = f.u3.cross(f.u1);  // F v₂ lies along u₃ × u₁ (σ₂ ≥ 0)
+  f.R = f.u1 * f.v1.transpose() + f.u2 * f.v2.transpose();
+  return f;
+}
+
+/// The three F-space modes the projection changes (twist, two out of plane; unit 3×2
+/// directions Q_k) and c_k = 1 − λ_k⁺, the part of the identity each removes: the
+/// projected Hessian is 2w [(D Dᵀ ⊗ I₃) − Σₖ c_k g_k g_kᵀ] with g_k = pull_back(Q_k, D).
+struct ArapModes {
+  std::array<Matrix32, 3> Q;
+  std::array<double, 3> c;
+};
+
+/// The modes at frame `f`.
+inline ArapModes arap_modes(const ArapFrame& f) {
+  ArapModes m;
+  const double sum = f.s1 + f.s2;
+  m.Q[0] = (f.u2 * f.v1.transpose() - f.u1 * f.v2.transpose()) * std::sqrt(0.5);
+  m.c[0] = sum > 2 ? 2 / sum : 1.0;  // 1 − max(0, 1 − 2/(σ₁+σ₂))
+  m.Q[1] = f.u3 * f.v1.transpose();
+  m.c[1] = f.s1 > 1 ? 1 / f.s1 : 1.0;
+  m.Q[2] = f.u3 * f.v2.transpose();
+  m.c[2] = f.s2 > 1 ? 1 / f.s2 : 1.0;
+  return m;
+}
+
+/// w Σ(σᵢ − 1)².
+inline double arap_energy(const ArapFrame& f, double w) {
+  return w * ((f.s1 - 1) * (f.s1 - 1) + (f.s2 - 1) * (f.s2 - 1));
+}
+
+/// One triangle: returns E = w Σ(σᵢ − 1)², adds ∂E/∂X = 2w (F − R) Dᵀ (3×3, column a =
+/// vertex a) to `G` and sets `H` to the projected Hessian when non-null.
+inline double arap_triangle(const Eigen::Matrix3d& X, const Matrix32& D, double w, Eigen::Matrix3d* G, Matrix9* H) {
+  const ArapFrame f = arap_frame(X, D);
+  if (G) G->noalias() += (2 * w) * (f.F - f.R) * D.transpose();
   if (H) {
-    // 2w [ (D Dᵀ ⊗ I₃) − Σₖ (1 − λₖ⁺) gₖ gₖᵀ ] over the twist and the two out-of-plane modes.
+    // 2w [ (D Dᵀ ⊗ I₃) − Σₖ c_k gₖ gₖᵀ ] over the twist and the two out-of-plane modes.
     const Eigen::Matrix3d DD = D * D.transpose();
     H->setZero();
     for (int p = 0; p < 3; ++p)
       for (int q = 0; q < 3; ++q) H->block<3, 3>(3 * p, 3 * q).diagonal().setConstant(DD(p, q));
-    const double sum = s1 + s2;
-    const double c_twist = sum > 2 ? 2 / sum : 1.0;  // 1 − max(0, 1 − 2/(σ₁+σ₂))
-    const double c_out1 = s1 > 1 ? 1 / s1 : 1.0;
-    const double c_out2 = s2 > 1 ? 1 / s2 : 1.0;
-    const Vector9 g_twist = pull_back((u2 * v1.transpose() - u1 * v2.transpose()) * std::sqrt(0.5), D);
-    const Vector9 g_out1 = pull_back(u3 * v1.transpose(), D);
-    const Vector9 g_out2 = pull_back(u3 * v2.transpose(), D);
-    H->noalias() -= c_twist * g_twist * g_twist.transpose();
-    H->noalias() -= c_out1 * g_out1 * g_out1.transpose();
-    H->noalias() -= c_out2 * g_out2 * g_out2.transpose();
+    const ArapModes m = arap_modes(f);
+    const Vector9 g0 = pull_back(m.Q[0], D), g1 = pull_back(m.Q[1], D), g2 = pull_back(m.Q[2], D);
+    H->noalias() -= m.c[0] * g0 * g0.transpose();
+    H->noalias() -= m.c[1] * g1 * g1.transpose();
+    H->noalias() -= m.c[2] * g2 * g2.transpose();
     *H *= 2 * w;
   }
-  return energy;
+  return arap_energy(f, w);
+}
+
+/// One triangle's terms at its vertex `a` alone: adds column a of ∂E/∂X, 2w (F − R) dₐ (dₐ
+/// = D.row(a)ᵀ), to `g` and the block (a, a) of arap_triangle's projected Hessian,
+/// 2w [|dₐ|² I − Σₖ c_k (Q_k dₐ)(Q_k dₐ)ᵀ] (slot a of g_k is Q_k dₐ), to `B`.
+inline void arap_vertex(const Eigen::Matrix3d& X, const Matrix32& D, double w, int a, Eigen::Vector3d& g,
+                        Eigen::Matrix3d& B) {
+  const ArapFrame f = arap_frame(X, D);
+  const Eigen::Vector2d d = D.row(a).transpose();
+  g.noalias() += (2 * w) * ((f.F - f.R) * d);
+  const ArapModes m = arap_modes(f);
+  Eigen::Matrix3d Ba = d.squaredNorm() * Eigen::Matrix3d::Identity();
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d q = m.Q[static_cast<std::size_t>(k)] * d;
+    Ba.noalias() -= m.c[static_cast<std::size_t>(k)] * q * q.transpose();
+  }
+  B += (2 * w) * Ba;
 }
 
 class Stretching final : public Effect {
  public:
-  explicit Stretching(std::vector<RestTriangle> triangles) : Effect("stretching"), triangles_(std::move(triangles)) {}
+  Stretching(int vertex_count, std::vector<RestTriangle> triangles)
+      : Effect("stretching"), triangles_(std::move(triangles)) {
+    incidence_.build(vertex_count, triangles_.size(), [this](std::size_t e) { return triangles_[e].v; });
+  }
   void declare(Pattern& pattern) const override {
     for (const RestTriangle& t : triangles_) pattern.add(t.v);
   }
@@ -124,9 +183,21 @@ class Stretching final : public Effect {
     }
     return energy;
   }
+  /// Per listed vertex, the sum over its triangles of their gradient column and diagonal
+  /// Hessian block at it (arap_vertex, the same frame and modes as `evaluate`).
+  void evaluate_local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices, LocalTerms& terms) override {
+    add_local_terms(incidence_, vertices, terms, [&](const Incident& u, Eigen::Vector3d& g, Eigen::Matrix3d& B) {
+      const RestTriangle& t = triangles_[static_cast<std::size_t>(u.item)];
+      Eigen::Matrix3d X;
+      for (int a = 0; a < 3; ++a) X.col(a) = x.col(t.v[a]);
+      arap_vertex(X, t.D, t.weight, u.slot, g, B);
+      return true;
+    });
+  }
 
  private:
   std::vector<RestTriangle> triangles_;
+  VertexIncidence incidence_;  ///< per vertex, its triangles
 };
 
 }  // namespace
@@ -156,7 +227,7 @@ std::unique_ptr<Effect> make_stretching(const Model& model, double stiffness) {
     t.weight = mu * 0.5 * area2;
     triangles.push_back(t);
   }
-  return std::make_unique<Stretching>(std::move(triangles));
+  return std::make_unique<Stretching>(model.vertex_count(), std::move(triangles));
 }
 
 }  // namespace pce::sim

@@ -6,6 +6,8 @@
 // the reference). The tetrahedra are evaluated in parallel (OpenMP) into per-tetrahedron
 // slots and added to the gradient and Hessian in order, so results do not depend on the
 // thread count.
+#include "local_terms.hpp"
+
 #include <pce/sim/effects.hpp>
 #include <pce/sim/input_error.hpp>
 #include <pce/volumes/stable_neo_hookean.hpp>
@@ -24,9 +26,10 @@ namespace {
 
 class VolumeElasticity final : public Effect {
  public:
-  VolumeElasticity(const StableNeoHookean& material, VolumeProjection how, std::vector<std::array<int, 4>> tets,
-                   std::vector<TetRest<double>> rests)
+  VolumeElasticity(int vertex_count, const StableNeoHookean& material, VolumeProjection how,
+                   std::vector<std::array<int, 4>> tets, std::vector<TetRest<double>> rests)
       : Effect("volume_elasticity"), material_(material), how_(how), tets_(std::move(tets)), rests_(std::move(rests)) {
+    incidence_.build(vertex_count, tets_.size(), [this](std::size_t e) { return tets_[e]; });
     for (const auto& r : rests_) rest_volume_ += r.volume;
     volume_ = rest_volume_;
   }
@@ -74,6 +77,25 @@ class VolumeElasticity final : public Effect {
     return energy;
   }
 
+  /// Per listed vertex, the sum over its tetrahedra of their gradient slot and diagonal
+  /// Hessian block at it (snh_tet_energy, as `evaluate`). Where `evaluate` returns +∞ (a
+  /// tetrahedron's energy or derivatives overflow) it adds nothing at all; here a vertex one
+  /// of whose tetrahedra overflows gets nothing (its terms stay finite). The statistics are
+  /// those of the last `evaluate`.
+  void evaluate_local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices, LocalTerms& terms) override {
+    add_local_terms(incidence_, vertices, terms, [&](const Incident& u, Eigen::Vector3d& g, Eigen::Matrix3d& B) {
+      const auto k = static_cast<std::size_t>(u.item);
+      Vec12<double> xt, gt;
+      Mat12<double> Ht;
+      for (int a = 0; a < 4; ++a) xt.segment<3>(3 * a) = x.col(tets_[k][static_cast<std::size_t>(a)]);
+      double energy;
+      if (snh_tet_energy(material_, rests_[k], xt, how_, energy, &gt, &Ht) != Status::ok) return false;
+      g += gt.segment<3>(3 * u.slot);
+      B += Ht.block<3, 3>(3 * u.slot, 3 * u.slot);
+      return true;
+    });
+  }
+
   /// The tetrahedra, those inverted (signed volume ≤ 0) and Σ volume / Σ rest volume, at
   /// the last state evaluated (the accepted one when the solver reports).
   void report(EffectCounters& counters) const override {
@@ -87,6 +109,7 @@ class VolumeElasticity final : public Effect {
   VolumeProjection how_;
   std::vector<std::array<int, 4>> tets_;
   std::vector<TetRest<double>> rests_;
+  VertexIncidence incidence_;  ///< per vertex, its tetrahedra
   double rest_volume_ = 0, volume_ = 0;
   long inverted_ = 0;
   std::vector<double> energy_, volume_of_;  ///< per tetrahedron, at the last state evaluated
@@ -122,7 +145,7 @@ std::unique_ptr<Effect> make_volume_elasticity(const Model& model, const StableN
     tets.push_back(t);
     rests.push_back(rest);
   }
-  return std::make_unique<VolumeElasticity>(material, hessian, std::move(tets), std::move(rests));
+  return std::make_unique<VolumeElasticity>(model.vertex_count(), material, hessian, std::move(tets), std::move(rests));
 }
 
 }  // namespace pce::sim

@@ -131,7 +131,8 @@ json summary_of(const Simulation& sim, const std::string& scene_file, const json
   summary["triangles"] = sim.model.triangles.cols();
   summary["segments"] = sim.model.segments.cols();
   summary["dt"] = sim.solver.dt;
-  summary["mode"] = std::string(name_of(sim.solver.single_solve ? SolverMode::single_solve : SolverMode::newton));
+  summary["mode"] = std::string(name_of(sim.solver.mode));
+  if (sim.solver.mode == SolverMode::block_descent) summary["iterations"] = sim.solver.iterations;
   summary["total_s"] = total_s;
   summary["peak_memory_mib"] = peak_memory_mib();
   summary["failure"] = failure.empty() ? json(nullptr) : json(failure);
@@ -159,6 +160,8 @@ std::string physics_key(const std::filesystem::path& scene_file, const SceneOver
   if (o.hessian) key += "\n--hessian " + std::string(name_of(*o.hessian));
   if (o.broad_phase) key += "\n--broad-phase " + std::to_string(static_cast<int>(*o.broad_phase));
   if (o.single_solve && *o.single_solve) key += "\n--single-solve";
+  if (o.mode) key += "\n--mode " + std::string(name_of(*o.mode));
+  if (o.iterations) key += "\n--iterations " + std::to_string(*o.iterations);
   if (o.tolerance) key += "\n--tolerance " + json(*o.tolerance).dump();
   return key;
 }

@@ -227,8 +227,13 @@ BroadPhaseKind parse_settings(const Params& root, const SceneOverrides& override
   BroadPhaseKind broad_phase = BroadPhaseKind::fcl;
   if (root.has("solver")) {
     const Params s = root.object("solver");
-    s.only({"mode", "tolerance", "max_iterations", "linear_solver", "threads", "broad_phase"});
-    sim.solver.single_solve = s.choice<SolverMode>("mode", SolverMode::newton) == SolverMode::single_solve;
+    s.only({"mode", "iterations", "tolerance", "max_iterations", "linear_solver", "threads", "broad_phase"});
+    sim.solver.mode = s.choice<SolverMode>("mode", SolverMode::newton);
+    if (s.has("iterations") && sim.solver.mode != SolverMode::block_descent)
+      s.fail("iterations",
+             "only \"mode\": \"block_descent\" takes a number of iterations (Newton's cap is "
+             "\"max_iterations\")");
+    sim.solver.iterations = static_cast<int>(s.integer("iterations", long{kDefaultBlockIterations}, 1, 100000));
     sim.solver.tolerance = s.positive("tolerance", sim.solver.tolerance);
     sim.solver.max_iterations = static_cast<int>(s.integer("max_iterations", 50L, 1, 100000));
     sim.solver.linear = s.choice<LinearSolver>("linear_solver", LinearSolver::direct);
@@ -237,7 +242,16 @@ BroadPhaseKind parse_settings(const Params& root, const SceneOverrides& override
   }
   if (overrides.frames) sim.frames = *overrides.frames;
   if (overrides.threads) sim.solver.threads = *overrides.threads;
-  if (overrides.single_solve) sim.solver.single_solve = *overrides.single_solve;
+  if (overrides.single_solve && *overrides.single_solve) sim.solver.mode = SolverMode::single_solve;
+  if (overrides.mode) sim.solver.mode = *overrides.mode;
+  if (overrides.iterations) {
+    if (sim.solver.mode != SolverMode::block_descent)
+      throw ArgumentError("iterations",
+                          "only the block_descent mode takes a number of sweeps (Newton's cap is the "
+                          "scene's solver.max_iterations)");
+    if (*overrides.iterations < 1) throw ArgumentError("iterations", "expected at least 1");
+    sim.solver.iterations = *overrides.iterations;
+  }
   if (overrides.tolerance) sim.solver.tolerance = *overrides.tolerance;
   if (overrides.broad_phase) broad_phase = *overrides.broad_phase;
   return broad_phase;

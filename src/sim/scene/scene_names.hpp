@@ -24,16 +24,6 @@ inline constexpr EnumNames<GeneratorKind, 4> kGeneratorNames{{
 /// The table of `GeneratorKind`'s names.
 constexpr const EnumNames<GeneratorKind, 4>& enum_names(GeneratorKind) { return kGeneratorNames; }
 
-/// The solver's `mode`: projected Newton, or one linearised solve per step.
-enum class SolverMode { newton, single_solve };
-/// The names of `SolverMode`.
-inline constexpr EnumNames<SolverMode, 2> kSolverModeNames{{
-    {SolverMode::newton, "newton"},
-    {SolverMode::single_solve, "single_solve"},
-}};
-/// The table of `SolverMode`'s names.
-constexpr const EnumNames<SolverMode, 2>& enum_names(SolverMode) { return kSolverModeNames; }
-
 /// A self-contact effect's `length`: pce::UnsignedLength or pce::SignedLength.
 enum class LengthKind { unsigned_length, signed_length };
 /// The names of `LengthKind`.

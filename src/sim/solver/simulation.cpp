@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Backward Euler by projected Newton on the incremental potential (simulation.hpp).
 #include "solver/linear_state.hpp"
+#include "solver/step_state.hpp"
 #include "util/stopwatch.hpp"
 
 #include <pce/sim/contact_effect.hpp>
@@ -56,6 +57,7 @@ void Simulation::check() const {
   if (!(std::isfinite(solver.tolerance) && solver.tolerance > 0))
     throw ArgumentError("solver.tolerance", "expected a finite number > 0");
   if (solver.max_iterations < 1) throw ArgumentError("solver.max_iterations", "expected at least 1");
+  if (solver.iterations < 1) throw ArgumentError("solver.iterations", "expected at least 1");
   if (!(std::isfinite(solver.reuse_tolerance) && solver.reuse_tolerance > 0))
     throw ArgumentError("solver.reuse_tolerance", "expected a finite number > 0");
   if (solver.reuse_max_cg_iterations < 0) throw ArgumentError("solver.reuse_max_cg_iterations", "expected at least 0");
@@ -91,27 +93,6 @@ void Simulation::fail_non_finite(const Eigen::Matrix3Xd& y, int frame_number, co
   throw SimulationError(frame_number, "", -1, head + "the energy or its gradient is not finite");
 }
 
-/// What one step carries from stage to stage.
-struct Simulation::StepState {
-  StepState(LinearState& linear, int n) : ls(linear), n(n) {}
-  LinearState& ls;
-  int n;
-  Clock::time_point t_frame = Clock::now();
-  FrameStats st;
-  std::vector<double> effect_ms;
-  Eigen::Matrix3Xd x_start, v_start;  ///< xⁿ and vⁿ
-  Eigen::Matrix3Xd y, g, dxm, y1;     ///< the iterate, its gradient, the direction, a trial
-  Eigen::VectorXd dx, rhs;            ///< the direction and −g as vectors
-  double E = 0;                       ///< the energy at y with the current candidates
-  double E_accepted = 0;              ///< the energy of the last accepted state
-  /// The effects' last evaluation was at y with the current candidates: set when a trial
-  /// is accepted, cleared by a refresh (and by a trial that is not).
-  bool evaluated_at_y = false;
-  bool covered = false;  ///< a contact effect queried again over this iteration's step
-  /// The contact effects among the scene's (found once per step), with their indices.
-  std::vector<std::pair<std::size_t, ContactEffect*>> contacts;
-};
-
 double Simulation::friction_load(const StepState& s, const Eigen::Matrix3Xd& step) const {
   const Eigen::Matrix3Xd &y = s.y, &x_start = s.x_start;
   double load = 0;
@@ -146,8 +127,12 @@ FrameStats Simulation::step() {
   predict(s);
   // One solve, or more when an effect freezes quantities again at a solve's result
   // (update_lagged: friction with lagged_iterations > 1).
-  do newton(s);
-  while (update_lagged(s));
+  if (solver.mode == SolverMode::block_descent) {
+    block_descent(s);
+  } else {
+    do newton(s);
+    while (update_lagged(s));
+  }
   accept(s);
   report(s);
   return s.st;
@@ -180,7 +165,7 @@ void Simulation::predict(StepState& s) {
     }
     if (ContactEffect* c = as_contact(effects[k].get())) s.contacts.emplace_back(k, c);
   }
-  rebuild_pattern(s);
+  if (solver.mode != SolverMode::block_descent) rebuild_pattern(s);  // block descent assembles no matrix
   s.y = s.x_start;
   s.g.resize(3, n);
   s.dxm.resize(3, n);
@@ -208,7 +193,8 @@ void Simulation::rebuild_pattern(StepState& s) {
 /// within Coulomb's bound, docs/simulation.md §5.2), a failed line search or the cap.
 void Simulation::newton(StepState& s) {
   static const bool trace = std::getenv("PCE_SIM_TRACE") != nullptr;  // one line per Newton iteration on stderr
-  const int cap = solver.single_solve ? 1 : std::max(1, solver.max_iterations);
+  const bool single_solve = solver.mode == SolverMode::single_solve;
+  const int cap = single_solve ? 1 : std::max(1, solver.max_iterations);
   FrameStats& st = s.st;
   for (int it = 0; it < cap; ++it) {
     assemble(s, it);
@@ -254,8 +240,8 @@ void Simulation::newton(StepState& s) {
       }
     }
     if (it + 1 == cap) {
-      st.stop = solver.single_solve ? StopReason::single_solve : StopReason::iteration_cap;
-      st.hit_iteration_cap = !solver.single_solve;
+      st.stop = single_solve ? StopReason::single_solve : StopReason::iteration_cap;
+      st.hit_iteration_cap = !single_solve;
     }
   }
 }

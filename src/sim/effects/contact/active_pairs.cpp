@@ -27,7 +27,7 @@ template <bool VF> bool ActivePairs<VF>::update_pattern(const Eigen::Matrix3Xd& 
     const long n = static_cast<long>(candidates_->size());
     if (near_.size() < candidates_->size()) near_.resize(candidates_->size());
     candidates_->measure_drift(x);
-#pragma omp parallel for schedule(dynamic, 2048)
+#pragma omp parallel for schedule(dynamic, 2048) if (n > 2048)
     for (long k = 0; k < n; ++k)
       near_[static_cast<std::size_t>(k)] = classifier_->is_active(x, static_cast<std::size_t>(k));
   }

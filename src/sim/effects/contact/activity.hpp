@@ -97,9 +97,11 @@ template <bool VF> class Classifier {
   /// Candidate k at x, read only as far as needed: false when the filter drops it or
   /// classify finds it inactive; otherwise true with its vertices `v`, positions `xp` and
   /// activity `a`.
-  bool active_candidate(const Eigen::Matrix3Xd& x, std::size_t k, std::array<int, 4>& v, Vec12<double>& xp,
-                        Activity& a) const {
-    if (filtered_out(k)) return false;
+  /// `filter` false: without the candidate set's filter (a pass whose state the last
+  /// measure_drift does not describe: block descent's local terms).
+  bool active_candidate(const Eigen::Matrix3Xd& x, std::size_t k, std::array<int, 4>& v, Vec12<double>& xp, Activity& a,
+                        bool filter = true) const {
+    if (filter && filtered_out(k)) return false;
     v = candidates_->vertices(k);
     xp = Geometry::gather(x, v);
     a = classify(xp, k);
@@ -191,7 +193,7 @@ template <bool VF> class Classifier {
   /// neighbours would get random sides and "penetrate" when the sheet folds).
   void settle_sides(const Eigen::Matrix3Xd& x) {
     const long n = static_cast<long>(candidates_->size());
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) if (n > 256)
     for (long k = 0; k < n; ++k) {
       const auto uk = static_cast<std::size_t>(k);
       signed char& side = sides_[uk];

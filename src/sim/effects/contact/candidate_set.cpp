@@ -44,8 +44,8 @@ template <bool VF> void CandidateSet<VF>::refresh(const Eigen::Matrix3Xd& x, std
 }
 
 template <bool VF> bool CandidateSet<VF>::cover(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, double reach,
-                                                std::vector<long>& previous) {
-  if (!bounded_ || valid_fraction(x, dx, mesh_drift(dx)) >= 1) return false;
+                                                std::vector<long>& previous, bool always) {
+  if (!(bounded_ || always) || valid_fraction(x, dx, mesh_drift(dx)) >= 1) return false;
   const double largest = dx.colwise().norm().maxCoeff();
   const double c = largest > reach ? reach / largest : 1.0;
   validity_bound_ = false;
@@ -236,7 +236,7 @@ template <bool VF> void CandidateSet<VF>::bound_at_query(const std::vector<long>
   const int M = static_cast<int>(model_->meshes.size());
   query_lb_.resize(pairs_.size());
   mesh_pair_.resize(pairs_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 2048)
   for (long k = 0; k < n; ++k) {
     const auto uk = static_cast<std::size_t>(k);
     const auto v = vertices(uk);
@@ -262,7 +262,7 @@ template <bool VF> void CandidateSet<VF>::find_fold_pairs() {
   const long n = static_cast<long>(rest_pairs.size());
   std::vector<char> near(rest_pairs.size(), 0);
   std::vector<double> rest_distance(rest_pairs.size(), 0.0);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 2048)
   for (long k = 0; k < n; ++k) {
     const auto v = Geometry::vertices(*model_, rest_pairs[static_cast<std::size_t>(k)]);
     if (mesh_of_[static_cast<std::size_t>(v[0])] != mesh_of_[static_cast<std::size_t>(v[3])]) continue;

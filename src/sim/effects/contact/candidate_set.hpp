@@ -92,12 +92,25 @@ template <bool VF> class CandidateSet {
   /// Queries again at x, over the sweep to the last step's Newton target.
   void refresh(const Eigen::Matrix3Xd& x, std::vector<long>& previous);
 
+  /// Queries again at x alone (no sweep): afterwards every pair that is not a candidate is
+  /// more than the query radius r = d + m apart at x (block descent's bounds).
+  void query_at(const Eigen::Matrix3Xd& x, std::vector<long>& previous) {
+    validity_bound_ = false;
+    query(x, x, previous);
+  }
+  /// The query radius r = d + m: at the query's state, a pair that is not a candidate is
+  /// farther apart.
+  double query_radius() const { return distance_ + margin_; }
+
   /// Before a step: when the set does not stay valid along the whole step x → x + dx (a
   /// step_limit below 1), queries again over the sweep x → x + c dx, c = min(1, `reach` /
   /// max|dxᵢ|) (a step that moves a vertex by more than `reach` is covered only that far), so
   /// the step is not cut short for the set's sake. Returns true when it queried (then
-  /// `previous` maps the new candidates to the former ones). Only with a step bound.
-  bool cover(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, double reach, std::vector<long>& previous);
+  /// `previous` maps the new candidates to the former ones). Only with a step bound, or
+  /// `always`.
+  /// `always`: also without a step bound (block descent's first move).
+  bool cover(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, double reach, std::vector<long>& previous,
+             bool always = false);
 
   /// The largest t ∈ [0, 1] for which x + t dx keeps the set valid (the larger of the two
   /// conditions' limits, each where it holds at x); measures the drift (as measure_drift)

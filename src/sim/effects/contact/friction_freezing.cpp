@@ -31,6 +31,23 @@ double FrictionFreezing<VF>::evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3X
   return add_friction(frozen_, x, *x_start_, gradient, hessian, stats_.sticking);
 }
 
+template <bool VF> void FrictionFreezing<VF>::evaluate_local(const Eigen::Matrix3Xd& x,
+                                                             const std::vector<int>& vertices,
+                                                             LocalTerms& terms) const {
+  const long count = static_cast<long>(vertices.size());
+#pragma omp parallel for schedule(dynamic, 256) if (count >= 64)
+  for (long j = 0; j < count; ++j) {
+    const int v = vertices[static_cast<std::size_t>(j)];
+    if (!incidence_.has(v)) continue;
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+    for (const Incident* e = incidence_.begin(v); e != incidence_.end(v); ++e)
+      add_friction_local(frozen_[static_cast<std::size_t>(e->item)], e->slot, x, *x_start_, g, H);
+    terms.gradient.col(j) += g;
+    terms.hessian[static_cast<std::size_t>(j)] += H;
+  }
+}
+
 template <bool VF> void FrictionFreezing<VF>::report(Counters& c) const {
   c[VF ? Counter::vertex_face_friction_contacts : Counter::edge_edge_friction_contacts] =
       static_cast<double>(frozen_.size());
@@ -87,6 +104,7 @@ template <bool VF> void FrictionFreezing<VF>::freeze(const Eigen::Matrix3Xd& x) 
   });
   join_chunks(parts_, chunks, frozen_);
   publish_friction(frozen_, published_);
+  incidence_.build(static_cast<int>(x.cols()), frozen_.size(), [&](std::size_t i) { return frozen_[i].v; });
 }
 
 template class FrictionFreezing<true>;

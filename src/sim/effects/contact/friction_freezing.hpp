@@ -10,6 +10,8 @@
 /// frozen again after each of the first n − 1 solves of the step.
 #pragma once
 
+#include "effects/vertex_incidence.hpp"
+
 #include "effects/friction.hpp"
 #include "activity.hpp"
 
@@ -33,6 +35,10 @@ template <bool VF> class FrictionFreezing {
   bool update_lagged(const Eigen::Matrix3Xd& x);
   /// The friction potential at x; adds its gradient and Hessian where non-null.
   double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian);
+  /// Adds, for each vertex of `vertices`, its gradient and diagonal Hessian block of the
+  /// friction potential at x to `terms` (block descent; the frozen pairs it is a corner of,
+  /// in order).
+  void evaluate_local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices, LocalTerms& terms) const;
   /// Declares the frozen pairs' vertices.
   void declare(Pattern& pattern) const {
     for (const FrictionContact<4>& c : frozen_) pattern.add(c.v);
@@ -52,6 +58,7 @@ template <bool VF> class FrictionFreezing {
   const Classifier<VF>* classifier_;
   const Eigen::Matrix3Xd* x_start_ = nullptr;
   std::vector<FrictionContact<4>> frozen_;              ///< the step's frozen pairs
+  VertexIncidence incidence_;                           ///< per vertex, the frozen pairs it is a corner of
   std::vector<std::vector<FrictionContact<4>>> parts_;  ///< per chunk while freezing
   std::vector<FrozenFriction> published_;               ///< frozen_ with μλ > 0, padded
   double slip_ = 0;                                     ///< ε_v h, the slip below which a contact sticks

@@ -40,22 +40,25 @@ template <bool VF> class PairPotential {
       : settings_(&settings), candidates_(&candidates), classifier_(&classifier) {}
 
   /// Candidate k at x with the effect's `penalty`: its term in `o` when active, its
-  /// projected Hessian appended to `blocks` when that is non-null.
+  /// projected Hessian appended to `blocks` when that is non-null. `local`: a pass of block
+  /// descent's local terms, on several threads that may share k: without the candidate
+  /// set's filter (the last measure_drift was at another state) and without tightening its
+  /// bound (no write).
   template <class Penalty> void evaluate(const Eigen::Matrix3Xd& x, long k, const Penalty& penalty,
-                                         std::vector<PairBlock<4>>* blocks, PairOutcome& o) const {
+                                         std::vector<PairBlock<4>>* blocks, PairOutcome& o, bool local = false) const {
     o.active = false;
     const auto uk = static_cast<std::size_t>(k);
     std::array<int, 4> v;
     Vec12<double> xp;
     Activity a;
-    if (!classifier_->active_candidate(x, uk, v, xp, a)) return;
+    if (!classifier_->active_candidate(x, uk, v, xp, a, !local)) return;
     o.declare = a.mode == Activity::Mode::plane;  // is_active: plane mode is active
     o.term.k = k;
     o.term.vertices = v;
     const Penalty pk = classifier_->weighted(penalty, uk);
     if (a.mode == Activity::Mode::closest)
-      return a.fold ? closest(xp, k, Classifier<VF>::with_reach(pk, a.limit), a.limit, blocks, o)
-                    : closest(xp, k, pk, a.limit, blocks, o);
+      return a.fold ? closest(xp, k, Classifier<VF>::with_reach(pk, a.limit), a.limit, blocks, o, local)
+                    : closest(xp, k, pk, a.limit, blocks, o, local);
     // pair_energy's result from the frame already built (signed with the side σ, or the
     // unsigned length, whose σ = sgn l is the same number): no second frame.
     PairEnergy<double> e;
@@ -75,7 +78,7 @@ template <bool VF> class PairPotential {
  private:
   /// Closest-feature evaluation of candidate k: active when the distance is below `limit`.
   template <class Penalty> void closest(const Vec12<double>& xp, long k, const Penalty& penalty, double limit,
-                                        std::vector<PairBlock<4>>* blocks, PairOutcome& o) const {
+                                        std::vector<PairBlock<4>>* blocks, PairOutcome& o, bool local) const {
     ClosestFeatureEnergy<double> ce;
     const Status s = closest_feature_energy<Kind>(xp, UnsignedLength{}, penalty, ce);
     // What is_active (which measures with a probe penalty) says: degenerate, or a distance
@@ -86,7 +89,7 @@ template <bool VF> class PairPotential {
     // A barrier at distance 0 (out of its domain, or a point kind's `degenerate`, which
     // is reported only at distance exactly 0) is infinite energy.
     if (s == Status::out_of_domain || (s == Status::degenerate && settings_->penalty.barrier())) return infinite(o);
-    if (s == Status::ok) candidates_->tighten(static_cast<std::size_t>(k), o.term.vertices, ce.length);
+    if (s == Status::ok && !local) candidates_->tighten(static_cast<std::size_t>(k), o.term.vertices, ce.length);
     if (s != Status::ok || !(ce.length < limit)) return;
     o.active = true;
     o.term.length = ce.length;

@@ -15,10 +15,12 @@
 //  * the separation floor (separation_floor.*): pairs the step bound held at their
 //    minimum separation have their penalties stiffened;
 //  * friction (friction_freezing.*): the pairs active at a step's start, frozen;
-//  * saved state (saved_state.*): what a checkpoint keeps.
+//  * saved state (saved_state.*): what a checkpoint keeps;
+//  * block descent (local_pairs.*): per-vertex bounds and per-vertex terms.
 // No pair that shares a vertex, and no vertex inside a volume, is ever a candidate.
 #include "active_pairs.hpp"
 #include "friction_freezing.hpp"
+#include "local_pairs.hpp"
 #include "saved_state.hpp"
 #include "separation_floor.hpp"
 #include "step_bound.hpp"
@@ -48,12 +50,14 @@ template <bool VF> class SelfContact final : public ContactEffect {
         active_(settings_, candidates_, classifier_, potential_),
         step_bound_(candidates_, classifier_),
         floor_(candidates_, classifier_),
-        friction_(settings_, candidates_, classifier_) {}
+        friction_(settings_, candidates_, classifier_),
+        local_(settings_, candidates_, classifier_, potential_) {}
 
   void begin_step(const StepContext& ctx) override {
     x_start_ = ctx.x_start;
     inertial_motion_ = ctx.dt * ctx.v_start->colwise().norm().maxCoeff();
     stats_ = {};
+    local_.forget();
     // (a kept set keeps what its passes recorded: each record names the state it was made at)
     if (candidates_.begin_step(*ctx.x_start, *ctx.x_start + ctx.dt * *ctx.v_start, previous_)) carry_over();
     floor_.begin_step(*ctx.x_start);
@@ -76,6 +80,34 @@ template <bool VF> class SelfContact final : public ContactEffect {
     if (!candidates_.cover(x, dx, reach, previous_)) return false;
     carry_over();
     return true;
+  }
+
+  double safe_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) override {
+    const double reach = std::max(8 * 2 * settings_.penalty.distance, 2 * inertial_motion_);
+    if (candidates_.cover(x, dx, reach, previous_, true)) carry_over();
+    step_bound_.invalidate();
+    return step_bound_.max_step(x, dx);
+  }
+
+  void vertex_bounds(const Eigen::Matrix3Xd& x, Eigen::VectorXd& bound) override {
+    candidates_.query_at(x, previous_);
+    carry_over();
+    local_.bounds(*model_, x, bound);
+  }
+
+  void begin_sweep(const Eigen::Matrix3Xd& x, const Eigen::VectorXd& reach, Pattern& couplings) override {
+    const ScopedTimer timer(stats_.pair_ms);
+    local_.begin_sweep(x, reach, couplings);
+    if (settings_.friction) friction_.declare(couplings);
+  }
+
+  void evaluate_local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices, LocalTerms& terms) override {
+    if (!local_.ready()) return ContactEffect::evaluate_local(x, vertices, terms);
+    {
+      const ScopedTimer timer(stats_.pair_ms);
+      local_.evaluate(x, vertices, terms);
+    }
+    if (settings_.friction) friction_.evaluate_local(x, vertices, terms);
   }
 
   void refresh(const Eigen::Matrix3Xd& x) override {
@@ -165,6 +197,7 @@ template <bool VF> class SelfContact final : public ContactEffect {
   /// next update_pattern); new pairs start undeclared, with their side settled at xⁿ.
   void carry_over() {
     const ScopedTimer timer(stats_.settle_ms);
+    local_.forget();
     active_.carry_over(previous_);
     step_bound_.invalidate();
     floor_.carry_over(previous_);
@@ -186,6 +219,7 @@ template <bool VF> class SelfContact final : public ContactEffect {
   StepBound<VF> step_bound_;
   SeparationFloor<VF> floor_;
   FrictionFreezing<VF> friction_;
+  LocalPairs<VF> local_;
   const Eigen::Matrix3Xd* x_start_ = nullptr;
   double inertial_motion_ = 0;  ///< max |h vᵢⁿ| of the step (cover_step's reach)
   std::vector<long> previous_;  ///< per candidate of the last query: its former index, or −1

@@ -7,7 +7,10 @@
 /// scene's (`dynamic_cast`, once per time step) and calls the functions below on them alone;
 /// they are called in the order update_pattern (before each Newton iteration's assembly),
 /// cover_step, max_step, stiffen_held, still_valid (and refresh when that says no) per Newton
-/// iteration, update_lagged after each solve.
+/// iteration, update_lagged after each solve. Block descent calls cover_step and safe_step
+/// once per step (its first move), then vertex_bounds, and per sweep begin_sweep (the
+/// colouring follows the couplings it declares), evaluate_local per colour and still_valid
+/// (vertex_bounds again when that says no).
 #pragma once
 
 #include <pce/friction/lagged_friction.hpp>
@@ -65,6 +68,23 @@ class ContactEffect : public Effect {
   /// solves the step again from `x` (friction's `lagged_iterations` − 1 times per step, the
   /// floor's at most 8). False: nothing changed.
   virtual bool update_lagged(const Eigen::Matrix3Xd& /*x*/) { return false; }
+  /// Block descent (docs/simulation.md §5.5): the largest fraction t ∈ (0, 1] of the move dx
+  /// from x along which no pair this effect sees can cross (its candidates and the set's
+  /// validity for self contact, the obstacles' surfaces for obstacle contact), whether or
+  /// not the effect bounds Newton's steps. The default is `max_step`.
+  virtual double safe_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) { return max_step(x, dx); }
+  /// Block descent: queries the effect's candidates again at x and lowers `bound[i]` (one
+  /// entry per vertex, +∞ where nothing limits) to a distance vertex i may move away from x
+  /// while every other vertex also stays within its bound, such that no pair of the effect
+  /// crosses or comes closer than its minimum separation (a pair already closer keeps nine
+  /// tenths of its distance), and no pair that is not a candidate comes within reach of
+  /// crossing. The default (no domain to keep) leaves `bound` as it is.
+  virtual void vertex_bounds(const Eigen::Matrix3Xd& /*x*/, Eigen::VectorXd& /*bound*/) {}
+  /// Block descent, before each sweep from x in which vertex i moves at most `reach[i]`: an
+  /// effect lists what its evaluate_local calls of the sweep can find active, so that they
+  /// visit only that (and not the default's whole evaluation), and declares in `couplings`
+  /// the vertex tuples those couple (the colouring keeps them apart).
+  virtual void begin_sweep(const Eigen::Matrix3Xd& /*x*/, const Eigen::VectorXd& /*reach*/, Pattern& /*couplings*/) {}
   /// The friction contacts this effect froze for the step (μλ > 0 only): Newton's stopping
   /// rule checks that its model does not ask more of any than Coulomb's μλ
   /// (docs/simulation.md §5.2). Empty without friction.

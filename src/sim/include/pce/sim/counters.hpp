@@ -77,7 +77,13 @@ namespace pce::sim {
   X(factorize_ms, sum)                                                         \
   X(analyses, sum)                                                             \
   X(factorizations, sum)                                                       \
-  X(cg_iterations, sum)
+  X(cg_iterations, sum)                                                        \
+  /* block descent */                                                          \
+  X(colours, sum)                                                              \
+  X(colourings, sum)                                                           \
+  X(detections, sum)                                                           \
+  X(bound_clamps, sum)                                                         \
+  X(first_move, sum)
 
 /// Expands one entry of `PCE_SIM_COUNTERS` to its enumerator (for `Counter`).
 #define PCE_SIM_COUNTER_ENUMERATOR(id, rule) id,

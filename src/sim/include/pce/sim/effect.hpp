@@ -5,8 +5,9 @@
 /// effects through this interface without knowing any of them by name; only the effects a
 /// scene declares are constructed (`pce/sim/scene.hpp`), so nothing else costs time.
 ///
-/// Every effect considers five virtual functions: `begin_step`, `declare`, `evaluate`,
-/// `evaluate_local` and `report` (each but `declare` and `evaluate` has a default). What
+/// Every effect considers six virtual functions: `begin_step`, `declare`, `evaluate`,
+/// `evaluate_local`, `uniform_acceleration` and `report` (each but `declare` and `evaluate`
+/// has a default). What
 /// only contact needs (a step bound, re-queries, a state-dependent pattern, lagged friction,
 /// saved state) is the separate interface `ContactEffect` (`pce/sim/contact_effect.hpp`),
 /// which the solver discovers; no other effect carries it.
@@ -31,7 +32,9 @@ using EffectCounters = Counters;
 
 /// Per-vertex terms of the potential, for solvers that update one vertex at a time (block
 /// coordinate descent): for each vertex i of a list, the effect's gradient ∂E/∂xᵢ and the
-/// 3×3 diagonal block of its positive-semidefinite Hessian approximation, ∂²E/∂xᵢ².
+/// 3×3 diagonal block of its positive-semidefinite Hessian approximation, ∂²E/∂xᵢ² — except
+/// friction's, whose block is its majorizer (`pce::friction_majorizer_block`, ⪰ the
+/// Hessian's block), so that a vertex's step does not overshoot a sliding contact.
 struct LocalTerms {
   Eigen::Matrix3Xd gradient;             ///< column j: the gradient at the list's vertex j
   std::vector<Eigen::Matrix3d> hessian;  ///< entry j: the diagonal block of the list's vertex j
@@ -68,6 +71,10 @@ class Effect {
   /// evaluates the whole effect and reads those columns and blocks; an effect overrides it
   /// to evaluate only the elements touching the vertices.
   virtual void evaluate_local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices, LocalTerms& terms);
+  /// Whether the effect is a uniform acceleration field (gravity), and then its acceleration
+  /// in `a`: block descent starts each step from xⁿ + h vⁿ + h² a (docs/simulation.md §5.5).
+  /// The default: it is none.
+  virtual bool uniform_acceleration(Eigen::Vector3d& /*a*/) const { return false; }
   /// Counters for the frame's statistics (contact counts, minimum distance, …).
   virtual void report(EffectCounters& /*counters*/) const {}
 

@@ -29,8 +29,12 @@ struct SceneOverrides {
   std::optional<BroadPhaseKind> broad_phase;
   /// OpenMP threads (`solver.threads`).
   std::optional<int> threads;
-  /// One linearised solve per step (`solver.single_solve`).
+  /// One linearised solve per step (true: `solver.mode` single_solve; false changes nothing).
   std::optional<bool> single_solve;
+  /// The solver's mode (`solver.mode`; wins over `single_solve`).
+  std::optional<SolverMode> mode;
+  /// Block descent's sweeps per step (`solver.iterations`, ≥ 1).
+  std::optional<int> iterations;
   /// Newton's stopping tolerance (`solver.tolerance`).
   std::optional<double> tolerance;
 };

@@ -48,12 +48,33 @@ inline constexpr EnumNames<LinearSolver, 4> kLinearSolverNames{{
 /// The table of `LinearSolver`'s names (for `pce::name_of` and `pce::parse`).
 constexpr const EnumNames<LinearSolver, 4>& enum_names(LinearSolver) { return kLinearSolverNames; }
 
+/// How a time step is solved (scene key `solver.mode`, docs/simulation.md §5): projected
+/// Newton to the tolerance (`newton`), one linearised solve per step (`single_solve`, the
+/// paper's cheap mode), or `iterations` sweeps of vertex block descent (`block_descent`:
+/// Gauss–Seidel over coloured vertices, one 3×3 Newton step per vertex, each vertex kept
+/// within its conservative bound; §5.5).
+enum class SolverMode { newton, single_solve, block_descent };
+
+/// The solver modes' names, in the order the scene format lists them.
+inline constexpr EnumNames<SolverMode, 3> kSolverModeNames{{
+    {SolverMode::newton, "newton"},
+    {SolverMode::single_solve, "single_solve"},
+    {SolverMode::block_descent, "block_descent"},
+}};
+
+/// The table of `SolverMode`'s names (for `pce::name_of` and `pce::parse`).
+constexpr const EnumNames<SolverMode, 3>& enum_names(SolverMode) { return kSolverModeNames; }
+
+/// Block descent's sweeps per time step when the scene does not say (`solver.iterations`).
+inline constexpr int kDefaultBlockIterations = 20;
+
 /// The scene's `solver` block: step size, Newton's stopping rule, linear solver, threads.
 struct SolverSettings {
   double dt = 1.0 / 40.0;                      ///< time step (s), one per frame
   int max_iterations = 50;                     ///< Newton iteration cap per step
   double tolerance = 1e-2;                     ///< on max|Δx|/(h·ℓ), 1/s
-  bool single_solve = false;                   ///< one linearised solve per step (the paper's mode)
+  SolverMode mode = SolverMode::newton;        ///< Newton, single solve or block descent
+  int iterations = kDefaultBlockIterations;    ///< block descent: sweeps over every colour per step
   LinearSolver linear = LinearSolver::direct;  ///< direct: CHOLMOD when built with it, else LDLᵀ
   /// factor_reuse: CG stops at ‖H Δx + g‖ ≤ η ‖g‖, this η (not a scene key).
   double reuse_tolerance = 1e-2;
@@ -87,19 +108,21 @@ enum class StopReason {
   line_search,    ///< the line search found no decrease (`line_search_failures`)
   iteration_cap,  ///< `max_iterations` were used up (`hit_iteration_cap`)
   single_solve,   ///< single-solve mode: one direction, no test
+  block_descent,  ///< block-descent mode: its sweeps were done
 };
 
 /// The reasons' names (`stats.json`'s `stop`), in enumerator order.
-inline constexpr EnumNames<StopReason, 5> kStopReasonNames{{
+inline constexpr EnumNames<StopReason, 6> kStopReasonNames{{
     {StopReason::tolerance, "tolerance"},
     {StopReason::rounding, "rounding"},
     {StopReason::line_search, "line_search"},
     {StopReason::iteration_cap, "iteration_cap"},
     {StopReason::single_solve, "single_solve"},
+    {StopReason::block_descent, "block_descent"},
 }};
 
 /// The table of `StopReason`'s names (for `pce::name_of` and `pce::parse`).
-constexpr const EnumNames<StopReason, 5>& enum_names(StopReason) { return kStopReasonNames; }
+constexpr const EnumNames<StopReason, 6>& enum_names(StopReason) { return kStopReasonNames; }
 
 /// The name of `reason` in kStopReasonNames ("tolerance", "rounding", …).
 const char* to_string(StopReason reason);
@@ -224,6 +247,10 @@ class Simulation {
   void refresh(StepState& s);
   bool update_lagged(StepState& s);
   void accept(StepState& s);
+  // Block descent's step (solver/block_descent.cpp, docs/simulation.md §5.5).
+  void block_descent(StepState& s);
+  struct BlockState;
+  std::shared_ptr<BlockState> block_;
   void report(StepState& s);
 };
 

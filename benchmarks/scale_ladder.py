@@ -1,0 +1,676 @@
+#!/usr/bin/env python3
+"""The scale ladder: one generated cloth scene at several mesh sizes, to measure how pce-sim's
+cost grows with the vertex count, per solver mode and thread count.
+
+    benchmarks/scale_ladder.py scene --vertices 8000 --out DIR [--frames F] [--mode MODE[:N]]
+    benchmarks/scale_ladder.py run --pce-sim PATH --results DIR [--levels 8k,32k,128k]
+                                   [--modes newton,block_descent:20] [--threads 1,2] [--frames F]
+                                   [--timeout S] [--dry-run]
+
+The scene (`scene`): a 1 m x 1 m cloth of N x N quads (the scene format's `grid` generator,
+so nothing but the JSON is written) dropped from 3 cm above a sphere (radius 0.2 m, its top
+0.3 m above a floor box, slightly off the sheet's centre so the drape is not symmetric),
+dt = 0.025 s. Effects: gravity, stretching, bending, damping, self_vertex_face and
+self_edge_edge (closest features, unsigned, area weighted) and obstacle_contact (area
+weighted), all three contacts with friction. The contact distance is half the edge length,
+d = 1/(2N), and each penalty's stiffness is k = C/d, so the contact pressure at a given
+fraction of d (2 k (d - L)) is the same at every level: the levels simulate the same physics
+at finer resolution. The sheet touches the sphere at t = 0.078 s (frame 4; contact forces act
+from frame 3, within d), its free parts land on the floor at frame ~10 and fold onto
+themselves from frame ~11 (self contact), so the first 15 frames hold all three contacts.
+
+Levels (vertices = (N + 1)^2): 2k (N = 45, 2 116: a smoke test), 8k (N = 90, 8 281),
+32k (N = 180, 32 761), 128k (N = 360, 130 321). `scene --vertices V` writes the level whose
+vertex count is closest to V (on a log scale) as DIR/scale_<level>.json and prints its path.
+
+`run` writes each level's scene into RESULTS/scenes/, then runs pce-sim once per (level,
+mode, threads), one run at a time, with --no-frames (only the last frame's OBJ), into
+RESULTS/runs/scale_<level>_<mode>_t<threads>/, and reads its stats.jsonl and summary.json. It
+writes RESULTS/scale_ladder.json (every run's numbers, the commands, the scene parameters),
+RESULTS/scale_ladder.csv (one row per run) and RESULTS/scale_ladder.md (the tables):
+per run vertices, mean ms per frame and its split (broad_phase_ms, pair_ms, assembly_ms,
+solve_ms, line_search_ms; other = the rest of wall_ms), iterations per frame
+(newton_iterations), broad-phase queries per frame (counters.broad_phase_queries, both
+contact effects together) and the largest intersecting_triangle_pairs of any frame (pce-sim's
+exact end-of-frame count, docs/simulation.md section 6.1); then per mode and thread count the
+growth exponent p of ms/frame ~ c * vertices^p (least squares in log-log) and per level and
+mode the speed-up of each thread count above 1 over 1 thread.
+
+Frames: by default 30 (2k, 8k), 20 (32k), 15 (128k); --frames F sets every level's. Levels
+run for different numbers of frames cover different parts of the drop, so the exponent is
+fitted on the frames every run of the ladder completed (frames 1..W, W the smallest number
+of completed frames), and the tables also show each run's own mean.
+
+Modes: `newton`, `single_solve` or `block_descent`, each optionally `:N` (iterations, passed
+as --iterations N). pce-sim is given `--mode MODE [--iterations N]` when its --help lists
+--mode; an older pce-sim without it runs `newton` with no option and `single_solve` as
+--single-solve, and a mode it cannot select is reported as not run (the other runs go on).
+
+Only the Python standard library is used. Timings are comparable only within one run of this
+script on an otherwise idle machine.
+"""
+
+import argparse
+import csv
+import datetime
+import json
+import math
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+# (name, quads per side N); vertices (N + 1)^2.
+LEVELS = [("2k", 45), ("8k", 90), ("32k", 180), ("128k", 360)]
+DEFAULT_FRAMES = {"2k": 30, "8k": 30, "32k": 20, "128k": 15}
+STAGES = ["broad_phase_ms", "pair_ms", "assembly_ms", "solve_ms", "line_search_ms"]
+# Counters shown in a table of their own when a run reports them (block descent's, the linear solver's).
+BLOCK_COUNTERS = ["colours", "colourings", "detections", "bound_clamps", "initial_step", "factorizations",
+                  "analyses"]
+STAGE_NAMES = {"broad_phase_ms": "broad phase", "pair_ms": "pairs", "assembly_ms": "assembly",
+               "solve_ms": "solve", "line_search_ms": "line search", "other_ms": "other"}
+
+# The scene's physics. Lengths in m, times in s.
+SIDE = 1.0              # the sheet's side
+DT = 0.025              # time step: one step per frame (drape.json, hammock.json)
+SPHERE_RADIUS = 0.2
+SPHERE_CENTRE = (0.03, 0.02, 0.1)  # top 0.3 m above the floor, off the sheet's centre
+GAP = 0.03              # the sheet starts GAP above the sphere's top: touches it at sqrt(2 GAP / g) = 0.078 s
+FLOOR_HALF = (1.0, 1.0, 0.05)  # floor box, top face at z = 0
+DENSITY = 0.1           # kg/m^2
+STRETCHING = 60.0       # N/m (drape.json, hammock.json)
+BENDING = 2e-5          # J (drape.json, hammock.json)
+DAMPING = 0.2           # 1/s (drape.json, hammock.json)
+D_OVER_EDGE = 0.5       # contact distance d = D_OVER_EDGE * edge length
+SELF_KD = 20.0          # self contact k*d (J/m^3 with area weighting): the paper's hammock, k = 1000 J/m^4 at d = 0.02 m
+OBSTACLE_KD = 100.0     # obstacle contact k*d: 5x the self contact's (the landing's impact is on the obstacles)
+SELF_FRICTION = {"coefficient": 0.4, "slip_velocity": 0.001}      # pile.json's cloth-on-cloth
+OBSTACLE_FRICTION = {"coefficient": 0.4, "slip_velocity": 0.001}  # drape.json's
+TOLERANCE = 0.01
+MAX_ITERATIONS = 30
+
+
+def level_by_name(name):
+    for lv, n in LEVELS:
+        if lv == name.lower():
+            return lv, n
+    m = re.fullmatch(r"n(\d+)", name.lower())  # a custom size: nN quads per side
+    if m and 1 <= int(m.group(1)) <= 4096:
+        return name.lower(), int(m.group(1))
+    raise ValueError(f"unknown level {name!r} (levels: {', '.join(lv for lv, _ in LEVELS)}, or nN for N x N quads)")
+
+
+def level_for_vertices(v):
+    if v <= 0:
+        raise ValueError("--vertices must be > 0")
+    return min(LEVELS, key=lambda ln: abs(math.log((ln[1] + 1) ** 2 / v)))
+
+
+def parse_mode(spec):
+    """'block_descent:20' -> ('block_descent', 20); 'newton' -> ('newton', None)."""
+    name, _, it = spec.strip().partition(":")
+    if not re.fullmatch(r"[a-z_]+", name):
+        raise ValueError(f"bad mode {spec!r} (expected MODE or MODE:N, e.g. newton, block_descent:20)")
+    if it and not (it.isdigit() and int(it) > 0):
+        raise ValueError(f"bad mode {spec!r}: the iterations after ':' must be an integer > 0")
+    return name, (int(it) if it else None)
+
+
+def mode_label(mode, iterations):
+    return mode if iterations is None else f"{mode}:{iterations}"
+
+
+def scene_parameters(n):
+    edge = SIDE / n
+    d = D_OVER_EDGE * edge
+    return {"quads_per_side": n, "vertices": (n + 1) ** 2, "triangles": 2 * n * n, "edge_m": edge,
+            "contact_distance_m": d, "self_stiffness": float(f"{SELF_KD / d:.6g}"),
+            "obstacle_stiffness": float(f"{OBSTACLE_KD / d:.6g}"),
+            "dt": DT, "drop_gap_m": GAP, "sphere_radius_m": SPHERE_RADIUS, "sphere_centre": list(SPHERE_CENTRE),
+            "frame_touching_sphere": math.ceil(math.sqrt(2 * GAP / 9.81) / DT)}
+
+
+def make_scene(level, n, frames, mode=None, iterations=None):
+    p = scene_parameters(n)
+    d = p["contact_distance_m"]
+    top = SPHERE_CENTRE[2] + SPHERE_RADIUS + GAP
+
+    def contact(kind, k, friction):
+        e = {"type": kind, "penalty": {"type": "quadratic", "stiffness": k, "distance": d}, "area_weighted": True,
+             "friction": dict(friction)}
+        if kind != "obstacle_contact":
+            e.update({"length": "unsigned", "hessian": "analytic", "closest_features": True})
+        return e
+
+    solver = {"mode": "newton", "tolerance": TOLERANCE, "max_iterations": MAX_ITERATIONS}
+    if mode is not None:
+        solver["mode"] = mode
+        if iterations is not None:
+            solver["iterations"] = iterations
+    return {
+        "description": (f"Scale ladder level {level} (benchmarks/scale_ladder.py): a {SIDE:g} m cloth of {n} x {n} "
+                        f"quads ({p['vertices']} vertices, edges {1000 * p['edge_m']:.3g} mm) dropped from "
+                        f"{100 * GAP:g} cm onto a sphere resting on a floor box; contact distance half an edge "
+                        f"({1000 * d:.3g} mm), area-weighted quadratic penalties with k*d = {SELF_KD:g} (self) "
+                        f"and {OBSTACLE_KD:g} (obstacles) J/m^3, friction on every contact. Generated; not "
+                        f"hand-edited."),
+        "dt": DT,
+        "frames": frames,
+        "output_every": 1000000,
+        "view_direction": [-0.6, -1.5, -0.9],
+        "solver": solver,
+        "meshes": [{"name": "cloth",
+                    "generator": {"type": "grid", "width": SIDE, "height": SIDE, "nx": n, "ny": n},
+                    "transform": {"translation": [0, 0, round(top, 9)]},
+                    "density": DENSITY}],
+        "obstacles": [
+            {"name": "ball", "shape": "sphere", "radius": SPHERE_RADIUS, "position": list(SPHERE_CENTRE)},
+            {"name": "floor", "shape": "box", "half_extents": list(FLOOR_HALF), "position": [0, 0, -FLOOR_HALF[2]]},
+        ],
+        "effects": [
+            {"type": "gravity"},
+            {"type": "stretching", "model": "arap", "stiffness": STRETCHING},
+            {"type": "bending", "stiffness": BENDING},
+            {"type": "damping", "coefficient": DAMPING},
+            contact("obstacle_contact", p["obstacle_stiffness"], OBSTACLE_FRICTION),
+            contact("self_vertex_face", p["self_stiffness"], SELF_FRICTION),
+            contact("self_edge_edge", p["self_stiffness"], SELF_FRICTION),
+        ],
+    }
+
+
+def write_scene(out_dir, level, n, frames, mode=None, iterations=None):
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    path = out_dir / f"scale_{level}.json"
+    path.write_text(json.dumps(make_scene(level, n, frames, mode, iterations), indent=1) + "\n")
+    return path
+
+
+# ---------------------------------------------------------------------------------------------
+# Numbers.
+
+def mean(xs):
+    xs = [x for x in xs if x is not None and isinstance(x, (int, float)) and math.isfinite(x)]
+    return sum(xs) / len(xs) if xs else float("nan")
+
+
+def fit_exponent(ns, ts):
+    """Least-squares slope of log t against log n: t ~ c n^slope (nan with fewer than 2 sizes)."""
+    pts = [(math.log(n), math.log(t)) for n, t in zip(ns, ts)
+           if n and n > 0 and t is not None and math.isfinite(t) and t > 0]
+    if len({p[0] for p in pts}) < 2:
+        return float("nan")
+    mx = sum(p[0] for p in pts) / len(pts)
+    my = sum(p[1] for p in pts) / len(pts)
+    sxx = sum((p[0] - mx) ** 2 for p in pts)
+    return sum((p[0] - mx) * (p[1] - my) for p in pts) / sxx
+
+
+def load_records(directory):
+    """stats.jsonl (complete lines: a killed run keeps its completed frames), else stats.json."""
+    jsonl = Path(directory) / "stats.jsonl"
+    if jsonl.exists():
+        out = []
+        for line in jsonl.read_text().splitlines():
+            try:
+                out.append(json.loads(line))
+            except json.JSONDecodeError:
+                pass  # a line cut short
+        return out
+    js = Path(directory) / "stats.json"
+    return json.loads(js.read_text()) if js.exists() else []
+
+
+def iterations_of(rec):
+    if "newton_iterations" in rec:
+        return rec["newton_iterations"]
+    return len(rec.get("iterations", [])) or None
+
+
+def window_numbers(records):
+    """Per-frame means over `records`: ms, stages, other, iterations, queries."""
+    r = {"ms_per_frame": mean([x.get("wall_ms") for x in records])}
+    for k in STAGES:
+        r[k] = mean([x.get(k) for x in records])
+    if records:
+        r["other_ms"] = max(r["ms_per_frame"] - sum(r[k] for k in STAGES if math.isfinite(r[k])), 0.0)
+    else:
+        r["other_ms"] = float("nan")
+    r["iterations_per_frame"] = mean([iterations_of(x) for x in records])
+    r["queries_per_frame"] = mean([x.get("counters", {}).get("broad_phase_queries") for x in records])
+    return r
+
+
+def summarise_run(records, summary):
+    r = window_numbers(records)
+    counters = {}
+    for rec in records:
+        for k, v in rec.get("counters", {}).items():
+            if isinstance(v, (int, float)) and not isinstance(v, bool):
+                counters.setdefault(k, []).append(v)
+    contacts = {}
+    for rec in records:
+        for k, v in (rec.get("contacts") or {}).items():
+            contacts.setdefault(k, []).append(v)
+    first_contact = next((rec["frame"] for rec in records if (rec.get("contacts") or {}).get("obstacle", 0) > 0), None)
+    ips = [rec.get("intersecting_triangle_pairs") for rec in records if rec.get("intersecting_triangle_pairs") is not None]
+    r.update({
+        "frames_done": len(records),
+        "vertices": summary.get("vertices"),
+        "triangles": summary.get("triangles"),
+        "mode_reported": summary.get("mode"),
+        "max_intersecting_pairs": max(ips) if ips else None,
+        "frames_with_intersections": sum(1 for x in ips if x > 0),
+        "new_intersections": summary.get("new_intersections"),
+        "iteration_caps": sum(1 for rec in records if rec.get("hit_iteration_cap")),
+        "line_search_failures": sum(rec.get("line_search_failures", 0) or 0 for rec in records),
+        "first_obstacle_contact_frame": first_contact,
+        "contacts_per_frame": {k: mean(v) for k, v in contacts.items()},
+        "contacts_max": {k: max(v) for k, v in contacts.items()},
+        "counters_per_frame": {k: mean(v) for k, v in sorted(counters.items())},
+        "peak_memory_mib": summary.get("peak_memory_mib"),
+        "pce_sim_total_s": summary.get("total_s"),
+        "failure": summary.get("failure"),
+        "stopped_by": summary.get("stopped_by"),
+        "wall_ms_per_frame_list": [rec.get("wall_ms") for rec in records],
+    })
+    return r
+
+
+# ---------------------------------------------------------------------------------------------
+# Running pce-sim.
+
+def sim_help(exe):
+    p = subprocess.run([str(exe), "--help"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    return p.stdout
+
+
+def mode_arguments(help_text, mode, iterations):
+    """pce-sim options selecting the mode, or raises ValueError when this pce-sim cannot."""
+    if re.search(r"--mode\b", help_text):
+        args = ["--mode", mode]
+        if iterations is not None:
+            if not re.search(r"--iterations\b", help_text):
+                raise ValueError(f"this pce-sim has --mode but no --iterations (mode {mode_label(mode, iterations)})")
+            args += ["--iterations", str(iterations)]
+        return args
+    if iterations is not None:
+        raise ValueError(f"this pce-sim has no --mode/--iterations (mode {mode_label(mode, iterations)})")
+    if mode == "newton":
+        return []
+    if mode == "single_solve" and "--single-solve" in help_text:
+        return ["--single-solve"]
+    raise ValueError(f"this pce-sim has no --mode option: mode {mode} cannot be selected (not built yet?)")
+
+
+def log(msg):
+    print(f"[scale_ladder {datetime.datetime.now().strftime('%H:%M:%S')}] {msg}", file=sys.stderr, flush=True)
+
+
+def run_one(cmd, out, timeout):
+    """Runs pce-sim; stdout and stderr into out/pce-sim.log. On timeout it gets SIGTERM (pce-sim
+    then ends after the current frame and writes its stats) and, 30 min later, SIGKILL."""
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.monotonic()
+    timed_out = False
+    with open(out / "pce-sim.log", "w") as logf:
+        p = subprocess.Popen([str(c) for c in cmd], stdout=logf, stderr=subprocess.STDOUT)
+        try:
+            p.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            timed_out = True
+            p.send_signal(signal.SIGTERM)
+            try:
+                p.wait(timeout=1800)
+            except subprocess.TimeoutExpired:
+                p.kill()
+                p.wait()
+        except BaseException:  # Ctrl-C or SIGTERM to this script: stop the run too
+            p.send_signal(signal.SIGTERM)
+            try:
+                p.wait(timeout=60)
+            except subprocess.TimeoutExpired:
+                p.kill()
+                p.wait()
+            raise
+    return p.returncode, time.monotonic() - t0, timed_out
+
+
+def log_tail(out, lines=3):
+    f = out / "pce-sim.log"
+    return " | ".join(f.read_text(errors="replace").strip().splitlines()[-lines:]) if f.exists() else ""
+
+
+def run_ladder(exe, results, levels, modes, threads, frames=None, timeout=None, dry_run=False, note=None):
+    """Runs every (level, mode, threads); writes scale_ladder.json/.csv/.md into `results`; returns
+    the summary dict."""
+    exe = Path(exe).resolve()
+    results = Path(results).resolve()
+    results.mkdir(parents=True, exist_ok=True)
+    help_text = sim_help(exe)
+    plan = []
+    for lv in levels:
+        name, n = level_by_name(lv)
+        f = frames or DEFAULT_FRAMES.get(name, 20)
+        scene = write_scene(results / "scenes", name, n, f)
+        for spec in modes:
+            mode, it = parse_mode(spec)
+            for t in threads:
+                plan.append((name, n, f, scene, mode, it, t))
+    rows = []
+    started = datetime.datetime.now(datetime.timezone.utc)
+    meta = {
+        "pce_sim": str(exe), "date_utc": started.strftime("%Y-%m-%d %H:%M UTC"), "cores": os.cpu_count(),
+        "load_average_at_start": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
+        "note": note, "levels": levels, "modes": modes, "threads": threads, "frames_override": frames,
+        "scene_parameters": {name: scene_parameters(n) for name, n, *_ in plan},
+        "physics": {"side_m": SIDE, "dt": DT, "gap_m": GAP, "sphere_radius_m": SPHERE_RADIUS,
+                    "sphere_centre": list(SPHERE_CENTRE), "floor_half_extents": list(FLOOR_HALF),
+                    "density": DENSITY, "stretching": STRETCHING, "bending": BENDING, "damping": DAMPING,
+                    "d_over_edge": D_OVER_EDGE, "self_k_times_d": SELF_KD, "obstacle_k_times_d": OBSTACLE_KD,
+                    "self_friction": SELF_FRICTION, "obstacle_friction": OBSTACLE_FRICTION,
+                    "tolerance": TOLERANCE, "max_iterations": MAX_ITERATIONS},
+        "commit": git_commit(),
+    }
+    for name, n, f, scene, mode, it, t in plan:
+        label = mode_label(mode, it)
+        tag = f"scale_{name}_{label.replace(':', '')}_t{t}"
+        out = results / "runs" / tag
+        row = {"level": name, "quads_per_side": n, "mode": mode, "mode_iterations": it, "mode_label": label,
+               "threads": t, "frames": f, "tag": tag, "out": str(out)}
+        try:
+            margs = mode_arguments(help_text, mode, it)
+        except ValueError as e:
+            row.update({"status": "not run", "reason": str(e)})
+            log(f"{tag}: not run: {e}")
+            rows.append(row)
+            continue
+        cmd = [exe, scene, "--out", out, "--frames", str(f), "--threads", str(t), "--no-frames"] + margs
+        row["command"] = " ".join(str(c) for c in cmd)
+        if dry_run:
+            print(row["command"])
+            continue
+        if out.exists():
+            shutil.rmtree(out)
+        log(f"{tag}: {f} frames of {(n + 1) ** 2} vertices ...")
+        code, wall_s, timed_out = run_one(cmd, out, timeout)
+        summary_path = out / "summary.json"
+        summary = json.loads(summary_path.read_text()) if summary_path.exists() else {}
+        records = load_records(out)
+        row.update({"exit_code": code, "process_wall_s": wall_s, "timed_out": timed_out})
+        if not records:
+            row.update({"status": "failed", "reason": f"exit {code}, no frame completed: {log_tail(out)}"})
+            log(f"{tag}: FAILED: {row['reason']}")
+            rows.append(row)
+            continue
+        row.update(summarise_run(records, summary))
+        row["status"] = "ok" if code == 0 else ("timed out" if timed_out else "failed")
+        if code != 0:
+            row["reason"] = f"exit {code}: {summary.get('failure') or log_tail(out)}"
+        elif row.get("mode_reported") not in (None, mode):
+            row["status"] = "wrong mode"
+            row["reason"] = f"asked for mode {mode}, summary.json says {row['mode_reported']}"
+        log(f"{tag}: {row['ms_per_frame']:.0f} ms/frame, {row['iterations_per_frame']:.2f} it/frame, "
+            f"{row['frames_done']} frames, max {row['max_intersecting_pairs']} intersecting pairs"
+            + (f" ({row['status']}: {row.get('reason')})" if row["status"] != "ok" else ""))
+        rows.append(row)
+        write_outputs(results, rows, meta, complete=False)  # a stopped ladder keeps the runs it finished
+    if dry_run:
+        return None
+    result = write_outputs(results, rows, meta, complete=True)
+    log(f"wrote {results / 'scale_ladder.md'}, scale_ladder.json, scale_ladder.csv")
+    return result
+
+
+def write_outputs(results, rows, meta, complete):
+    """scale_ladder.json/.csv/.md from the runs so far (`complete`: every planned run is in `rows`)."""
+    result = analyse([dict(r) for r in rows])
+    result.update(meta)
+    result["complete"] = complete
+    (results / "scale_ladder.json").write_text(json.dumps(result, indent=1, default=str) + "\n")
+    write_csv(results / "scale_ladder.csv", result["runs"])
+    (results / "scale_ladder.md").write_text(markdown(result))
+    return result
+
+
+def git_commit():
+    try:
+        p = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True, text=True)
+        d = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--untracked-files=no"],
+                           capture_output=True, text=True)
+        if p.returncode != 0 or not p.stdout.strip():
+            return None
+        return p.stdout.strip() + (" (with uncommitted changes)" if d.stdout.strip() else "")
+    except OSError:
+        return None
+
+
+def analyse(rows):
+    """Adds the common window's numbers to each run; fits exponents; computes speed-ups."""
+    ran = [r for r in rows if r.get("frames_done")]
+    # The common window: the frames every completed run has (a failed or stopped run would cut
+    # it short for all; it is fitted only if it reached the window).
+    done = [r for r in ran if r.get("status") == "ok"] or ran
+    window = min((r["frames_done"] for r in done), default=0)
+    for r in ran:
+        recs = load_records(r["out"])[:window]
+        w = window_numbers(recs)
+        r["window_frames"] = window
+        r["window_ms_per_frame"] = w["ms_per_frame"]
+        for k in STAGES + ["other_ms"]:
+            r["window_" + k] = w[k]
+        r["window_iterations_per_frame"] = w["iterations_per_frame"]
+    exponents = []
+    for label in dict.fromkeys(r["mode_label"] for r in ran):
+        for t in sorted({r["threads"] for r in ran if r["mode_label"] == label}):
+            sel = sorted([r for r in ran if r["mode_label"] == label and r["threads"] == t
+                          and r["frames_done"] >= window],
+                         key=lambda r: r["vertices"] or 0)
+            if len({r["vertices"] for r in sel}) < 2:
+                continue
+            vs = [r["vertices"] for r in sel]
+            e = {"mode": label, "threads": t, "levels": [r["level"] for r in sel], "window_frames": window,
+                 "ms_per_frame": fit_exponent(vs, [r["window_ms_per_frame"] for r in sel]),
+                 "ms_per_frame_own_frames": fit_exponent(vs, [r["ms_per_frame"] for r in sel]),
+                 "ms_per_iteration": fit_exponent(vs, [r["window_ms_per_frame"] / r["window_iterations_per_frame"]
+                                                       if r["window_iterations_per_frame"] else float("nan")
+                                                       for r in sel]),
+                 "iterations_per_frame": fit_exponent(vs, [r["window_iterations_per_frame"] for r in sel])}
+            for k in STAGES + ["other_ms"]:
+                e[k] = fit_exponent(vs, [r["window_" + k] for r in sel])
+            exponents.append(e)
+    speedups = []
+    for r in ran:
+        if r["threads"] == 1:
+            continue
+        base = next((b for b in ran if b["threads"] == 1 and b["level"] == r["level"]
+                     and b["mode_label"] == r["mode_label"] and b["frames_done"] == r["frames_done"]), None)
+        if base:
+            s = {"level": r["level"], "vertices": r["vertices"], "mode": r["mode_label"], "threads": r["threads"],
+                 "frames": r["frames_done"], "ms_per_frame_1": base["ms_per_frame"],
+                 "ms_per_frame_t": r["ms_per_frame"],
+                 "speedup": base["ms_per_frame"] / r["ms_per_frame"] if r["ms_per_frame"] else float("nan"),
+                 "same_iterations": base["iterations_per_frame"] == r["iterations_per_frame"]}
+            for k in STAGES + ["other_ms"]:
+                s["speedup_" + k] = base[k] / r[k] if r[k] else float("nan")
+            speedups.append(s)
+    return {"runs": rows, "window_frames": window, "exponents": exponents, "speedups": speedups}
+
+
+def write_csv(path, rows):
+    cols = ["level", "vertices", "mode_label", "threads", "frames", "frames_done", "status", "ms_per_frame"] + \
+        STAGES + ["other_ms", "iterations_per_frame", "queries_per_frame", "max_intersecting_pairs",
+                  "frames_with_intersections", "iteration_caps", "line_search_failures",
+                  "first_obstacle_contact_frame", "window_frames", "window_ms_per_frame",
+                  "window_iterations_per_frame", "peak_memory_mib", "process_wall_s", "exit_code", "reason", "command"]
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=cols, extrasaction="ignore")
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
+
+
+def fmt(x, digits=3):
+    if x is None or (isinstance(x, float) and not math.isfinite(x)):
+        return "n/a"
+    if isinstance(x, bool):
+        return str(x)
+    if isinstance(x, int):
+        return f"{x:,}".replace(",", " ")
+    a = abs(x)
+    if a >= 1000:
+        return f"{x:,.0f}".replace(",", " ")
+    if a == 0:
+        return "0"
+    if a >= 0.01:
+        return f"{x:.{digits}g}"
+    return f"{x:.1e}"
+
+
+def md_table(header, rows):
+    out = ["| " + " | ".join(header) + " |", "|" + "|".join(["---"] * 3 + ["---:"] * (len(header) - 3)) + "|"]
+    out += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
+    return "\n".join(out) + "\n"
+
+
+def markdown(res, title="# Scale ladder", sub="##"):
+    """The tables as markdown: `title` first, sections headed by `sub` (run_all's page embeds it
+    as a section of its own). Paths inside the repository are shown relative to it."""
+    L = []
+    A = L.append
+    A(title + "\n")
+    A(f"pce-sim `{res['pce_sim']}`" + (f", commit {res['commit']}" if res.get("commit") else "") +
+      f", {res['date_utc']}, {res['cores']} cores"
+      + (f", load average at start {res['load_average_at_start'][0]:.2f}" if res.get("load_average_at_start") else "")
+      + (f"; {res['note']}" if res.get("note") else "") + ".\n")
+    ph = res["physics"]
+    A(f"Scene (`benchmarks/scale_ladder.py`): a {ph['side_m']:g} m cloth of N × N quads dropped from "
+      f"{100 * ph['gap_m']:g} cm onto a sphere (r = {ph['sphere_radius_m']:g} m) on a floor box, dt = {ph['dt']:g} s; "
+      f"self contact (vertex-face, edge-edge; closest features) and obstacle contact, area weighted, "
+      f"d = {ph['d_over_edge']:g} × edge, k·d = {ph['self_k_times_d']:g} (self) and {ph['obstacle_k_times_d']:g} "
+      f"(obstacles), friction μ = {ph['self_friction']['coefficient']:g} / {ph['obstacle_friction']['coefficient']:g}. "
+      "Times are means of `stats.jsonl` per frame (ms); the stages are `broad_phase_ms`, `pair_ms`, `assembly_ms`, "
+      "`solve_ms`, `line_search_ms` (they overlap a little: `pair_ms` includes the line search's pair passes), and "
+      "*other* is the rest of `wall_ms` (at least 0). *it* is `newton_iterations` per frame, "
+      "*queries* `counters.broad_phase_queries` per frame (both contact effects), *max ∩* the largest "
+      "`intersecting_triangle_pairs` of any frame, *contact* the first frame with obstacle contacts.\n")
+    if not res.get("complete", True):
+        A("**Incomplete**: the ladder was stopped or is still running; these are the runs it finished.\n")
+    A(f"{sub} Runs\n")
+    rows = []
+    notes = []
+    for r in res["runs"]:
+        if r.get("status") != "ok":
+            notes.append(f"- {r['level']}, {r['mode_label']}, {r['threads']} thread(s): {r.get('status', '?')}: "
+                         f"{r.get('reason', '')}")
+        if not r.get("frames_done"):
+            rows.append([r["level"], fmt((r["quads_per_side"] + 1) ** 2), r["mode_label"], r["threads"],
+                         r.get("status", "?")] + ["—"] * 12)
+            continue
+        rows.append([r["level"], fmt(r["vertices"]), r["mode_label"], r["threads"],
+                     f"{r['frames_done']}" + ("" if r["status"] == "ok" else f" ({r['status']})"),
+                     fmt(r["ms_per_frame"])] + [fmt(r[k]) for k in STAGES + ["other_ms"]] +
+                    [fmt(r["iterations_per_frame"]), fmt(r["queries_per_frame"]), fmt(r["max_intersecting_pairs"]),
+                     fmt(r["first_obstacle_contact_frame"]), fmt(r["peak_memory_mib"])])
+    A(md_table(["level", "vertices", "mode", "threads", "frames", "ms/frame"] + [STAGE_NAMES[k] for k in STAGES] +
+               ["other", "it/frame", "queries/frame", "max ∩", "contact", "peak MiB"], rows))
+    if notes:
+        A("Runs that did not complete:\n\n" + "\n".join(notes) + "\n")
+    extra = [k for k in BLOCK_COUNTERS if any(k in (r.get("counters_per_frame") or {}) for r in res["runs"])]
+    if extra:
+        A("Solver counters per frame (`counters` in `stats.jsonl`, where a run reports them):\n")
+        A(md_table(["level", "mode", "threads"] + extra,
+                   [[r["level"], r["mode_label"], r["threads"]] + [fmt(r["counters_per_frame"].get(k)) for k in extra]
+                    for r in res["runs"] if r.get("frames_done")]))
+    W = res["window_frames"]
+    if res["exponents"]:
+        A(f"{sub} Growth exponents\n\nms/frame ≈ c · vertices^p, least squares in log-log over the levels, each run's "
+          f"mean over frames 1–{W} (the frames every run completed); *own frames*: each run's mean over all its "
+          f"frames.\n")
+        A(md_table(["mode", "threads", "levels", "p (ms/frame)", "p (own frames)", "p (ms/iteration)",
+                    "p (it/frame)"] + [f"p ({STAGE_NAMES[k]})" for k in STAGES + ["other_ms"]],
+                   [[e["mode"], e["threads"], ", ".join(e["levels"]), fmt(e["ms_per_frame"]),
+                     fmt(e["ms_per_frame_own_frames"]), fmt(e["ms_per_iteration"]), fmt(e["iterations_per_frame"])] +
+                    [fmt(e[k]) for k in STAGES + ["other_ms"]] for e in res["exponents"]]))
+    if res["speedups"]:
+        A(f"{sub} Thread speed-up\n\nms/frame with 1 thread ÷ ms/frame with T threads, same level, mode and frames.\n")
+        A(md_table(["level", "vertices", "mode", "threads", "ms/frame (1)", "ms/frame (T)", "speed-up",
+                    "same it/frame"] + [STAGE_NAMES[k] for k in STAGES + ["other_ms"]],
+                   [[s["level"], fmt(s["vertices"]), s["mode"], s["threads"], fmt(s["ms_per_frame_1"]),
+                     fmt(s["ms_per_frame_t"]), fmt(s["speedup"]), "yes" if s["same_iterations"] else "no"] +
+                    [fmt(s["speedup_" + k]) for k in STAGES + ["other_ms"]] for s in res["speedups"]]))
+    A(f"{sub} Commands\n\n```sh\n" + "\n".join(r["command"] for r in res["runs"] if r.get("command")) + "\n```\n")
+    return "\n".join(L).replace(str(ROOT) + "/", "")
+
+
+# ---------------------------------------------------------------------------------------------
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = ap.add_subparsers(dest="command", required=True)
+    s = sub.add_parser("scene", help="write one level's scene JSON")
+    g = s.add_mutually_exclusive_group(required=True)
+    g.add_argument("--vertices", type=int, help="the level closest to this vertex count")
+    g.add_argument("--level", help="a level by name (%s) or nN" % ", ".join(lv for lv, _ in LEVELS))
+    s.add_argument("--out", required=True, help="output folder (created)")
+    s.add_argument("--frames", type=int, default=None, help="frames (default: the level's)")
+    s.add_argument("--mode", default=None, help="write solver.mode (and solver.iterations with MODE:N) into the scene")
+    r = sub.add_parser("run", help="run the ladder and write the summary")
+    r.add_argument("--pce-sim", required=True, help="the pce-sim executable")
+    r.add_argument("--results", required=True, help="results folder (created)")
+    r.add_argument("--levels", default="8k,32k,128k", help="comma-separated levels (default 8k,32k,128k)")
+    r.add_argument("--modes", default="newton", help="comma-separated MODE or MODE:N (default newton)")
+    r.add_argument("--threads", default="1,2", help="comma-separated thread counts (default 1,2)")
+    r.add_argument("--frames", type=int, default=None, help="frames of every level (default: 2k 30, 8k 30, 32k 20, 128k 15)")
+    r.add_argument("--timeout", type=float, default=None, help="seconds per run, then SIGTERM (default: none)")
+    r.add_argument("--note", default=None, help="a line about the conditions, kept in the summary")
+    r.add_argument("--dry-run", action="store_true", help="print the pce-sim commands only")
+    a = ap.parse_args(argv)
+
+    def stop(signum, frame):
+        raise KeyboardInterrupt
+    signal.signal(signal.SIGTERM, stop)
+    if a.command == "scene":
+        name, n = level_by_name(a.level) if a.level else level_for_vertices(a.vertices)
+        mode, it = parse_mode(a.mode) if a.mode else (None, None)
+        if a.frames is not None and a.frames < 1:
+            raise ValueError("--frames must be >= 1")
+        path = write_scene(a.out, name, n, a.frames or DEFAULT_FRAMES.get(name, 20), mode, it)
+        print(path)
+        return 0
+    if a.frames is not None and a.frames < 1:
+        raise ValueError("--frames must be >= 1")
+    threads = [int(t) for t in a.threads.split(",") if t.strip()]
+    if not threads or any(t < 0 for t in threads):
+        raise ValueError("--threads: comma-separated integers >= 0")
+    levels = [x.strip() for x in a.levels.split(",") if x.strip()]
+    modes = [x.strip() for x in a.modes.split(",") if x.strip()]
+    for m in modes:
+        parse_mode(m)
+    for lv in levels:
+        level_by_name(lv)
+    if not (Path(a.pce_sim).is_file() and os.access(a.pce_sim, os.X_OK)):
+        raise ValueError(f"--pce-sim {a.pce_sim}: not an executable file")
+    res = run_ladder(a.pce_sim, a.results, levels, modes, threads, a.frames, a.timeout, a.dry_run, a.note)
+    if res is None:
+        return 0
+    bad = [r for r in res["runs"] if r.get("status") not in ("ok", "not run")]
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    try:
+        sys.exit(main())
+    except (ValueError, OSError) as e:
+        print(f"scale_ladder: {e}", file=sys.stderr)
+        sys.exit(2)
+    except KeyboardInterrupt:
+        print("scale_ladder: stopped (the runs finished so far are in the results folder's scale_ladder.*)",
+              file=sys.stderr)
+        sys.exit(130)
