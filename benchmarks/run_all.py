@@ -36,6 +36,12 @@ Steps, in this order (each writes JSON/CSV into the results folder):
                compiler of the build folder's CMakeCache.txt; --quick: the three fast ones.
                It needs no executable, and run alone it leaves machine.json as it is (its own
                JSON records compiler, commit and date); --note TEXT is kept in its JSON.
+  scale        scale_ladder.json/.csv: benchmarks/scale_ladder.py, a generated 1 m cloth dropped
+               onto a sphere and a floor at 8k, 32k and 128k vertices (frames 30, 20, 15), full
+               Newton and block descent (20 iterations; reported as not run by a pce-sim without
+               --mode), 1 and 2 threads, each run alone: ms per frame and its split, iterations,
+               queries, intersecting pairs, the growth exponent of ms/frame in the vertex count
+               per mode, the 2-thread speed-up per level; --quick: 2k vertices, Newton, 3 frames
 then draws the PNG plots (next to the docs file, in images/benchmarks/) and writes the docs
 file, whose last section is benchmarks/guidance.md with its numbers recomputed from the
 results folder by benchmarks/guidance_numbers.py (when the results folder is
@@ -71,6 +77,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import compare_runs  # noqa: E402
 import guidance_numbers  # noqa: E402
+import scale_ladder  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 STRATEGIES = ["analytic", "abs", "exact", "gauss_newton", "numerical"]
@@ -109,8 +116,9 @@ def scene_configs(quick):
     return out
 
 
-ALL_STEPS = ["pair_cost", "accuracy", "broad_phase", "threads", "scenes", "hammock", "friction", "compile_time"]
-OPTIONAL_STEPS = {"friction", "compile_time"}  # steps whose missing results the page reports as not measured
+ALL_STEPS = ["pair_cost", "accuracy", "broad_phase", "threads", "scenes", "hammock", "friction", "compile_time",
+             "scale"]
+OPTIONAL_STEPS = {"friction", "compile_time", "scale"}  # steps whose missing results the page reports as not measured
 FRICTION_KINDS = ["vertex_face", "edge_edge", "obstacle"]  # the contact kinds' friction counters' prefixes
 FRICTION_SCENES = [("without friction", "hammock_frictionless.json"), ("with friction", "hammock.json")]
 REFERENCE = ("exact", "newton", 1e-5)      # the tight-tolerance reference of every scene
@@ -603,6 +611,48 @@ def step_friction(ctx):
     return {"frames": frames, "scenes": [name for _, name in FRICTION_SCENES], "before": ctx.before, "rows": rows}
 
 
+def scale_plan(quick):
+    """Levels, modes (MODE or MODE:N), thread counts and frames (None: each level's default) of the
+    scale step."""
+    if quick:
+        return {"levels": ["2k"], "modes": ["newton"], "threads": [1], "frames": 3}
+    return {"levels": ["8k", "32k", "128k"], "modes": ["newton", "block_descent:20"],
+            "threads": [1, 2] if (os.cpu_count() or 1) >= 2 else [1], "frames": None}
+
+
+def step_scale(ctx):
+    """The scale ladder (benchmarks/scale_ladder.py): its generated cloth drop at each level, mode and
+    thread count, one run at a time; scenes into scenes/scale_<level>.json, runs into runs/scale_*,
+    scale_ladder.json/.csv/.md into the results folder. A mode this pce-sim cannot select is
+    reported as not run; a failed run is reported, and fails the step in quick mode."""
+    plan = scale_plan(ctx.quick)
+    log(f"  scale: levels {', '.join(plan['levels'])}, modes {', '.join(plan['modes'])}, "
+        f"threads {', '.join(map(str, plan['threads']))}")
+    res = scale_ladder.run_ladder(ctx.exe("pce-sim"), ctx.results, plan["levels"], plan["modes"], plan["threads"],
+                                  plan["frames"], note=ctx.note)
+    failed = [r for r in res["runs"] if r.get("status") not in ("ok", "not run")]
+    if failed and ctx.quick:
+        raise RuntimeError("scale runs failed: " + "; ".join(f"{r['tag']}: {r.get('reason')}" for r in failed))
+    return dict(res, plan=plan)
+
+
+def write_scale_section(A, scale):
+    """Section 8: the scale ladder, from step_scale (not measured when its results are missing)."""
+    A("## 8. Scale ladder\n")
+    if not scale or not scale.get("runs"):
+        A("Not measured: the results folder has no `step_scale.json` (`benchmarks/run_all --steps scale` measures "
+          "it).\n")
+        return
+    A("How the cost of a frame grows with the mesh: `benchmarks/scale_ladder.py` (its docstring has the scene) "
+      "runs one generated scene, a 1 m cloth of N × N quads dropped onto a sphere and a floor with self and "
+      "obstacle contact (area weighted, contact distance half an edge) and friction, at several sizes, each run "
+      "alone; `benchmarks/scale_ladder.py run --pce-sim build/src/sim/pce-sim --results DIR --levels %s --modes %s "
+      "--threads %s` repeats it (`scale_ladder.csv` has every run).\n"
+      % (",".join(scale["plan"]["levels"]), ",".join(scale["plan"]["modes"]),
+         ",".join(map(str, scale["plan"]["threads"]))))
+    A(scale_ladder.markdown(scale, title="", sub="###").lstrip("\n"))
+
+
 # The compile_time step: what including pce costs a user's build.
 COMPILE_EXAMPLES = ["basic_energies", "custom_penalty", "newton_assembly", "strategy_per_pair", "closest_features"]
 COMPILE_FLOOR = "#include <pce/pce.hpp> alone"  # the floor's file label (an empty main written to a temporary file)
@@ -1044,7 +1094,7 @@ def broad_phase_exponents(bp, quick):
 # ---------------------------------------------------------------------------------------------
 # The report.
 
-def write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction, compile_time, total_s):
+def write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction, compile_time, total_s, scale=None):
     img = os.path.relpath(ctx.images, ctx.docs.parent)
     L = []
     A = L.append
@@ -1220,10 +1270,11 @@ def write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction
     write_hammock_section(A, hammock)
     write_friction_section(A, friction)
     write_compile_time_section(A, compile_time)
+    write_scale_section(A, scale)
     A("## Files\n")
     A("`benchmarks/results/`: `machine.json`, `pce_bench.json`/`.csv`, `accuracy.json`/`.csv`, "
       "`broad_phase.json`/`.csv`, `threads.csv`, `scenes.csv`, `hammock.csv`, `friction.csv`, "
-      "`compile_time.json`/`.csv`, `step_*.json` (each step's numbers as this page "
+      "`compile_time.json`/`.csv`, `scale_ladder.json`/`.csv`/`.md`, `step_*.json` (each step's numbers as this page "
       "used them; `run_all --steps scenes` reruns one step and reads the others from there), and the scene "
       "variants in `scenes/`. The simulations' own outputs go to `runs/` (not kept in git).\n")
     ctx.docs.parent.mkdir(parents=True, exist_ok=True)
@@ -1344,6 +1395,12 @@ def self_test():
     missing = [j[0] for j in compile_jobs(False) if j[0] != COMPILE_FLOOR and not (ROOT / j[0]).is_file()]
     assert not missing, f"compile_time: files not found: {missing}"
     assert set(map(str, compile_jobs(True))) <= set(map(str, compile_jobs(False)))
+    # scale: level choice, mode options for a pce-sim with and without --mode, the exponent fit.
+    assert scale_ladder.level_for_vertices(8000) == ("8k", 90) and scale_ladder.level_for_vertices(1e5) == ("128k", 360)
+    assert scale_ladder.mode_arguments("--mode --iterations", "block_descent", 20) == [
+        "--mode", "block_descent", "--iterations", "20"]
+    assert scale_ladder.mode_arguments("--single-solve", "newton", None) == []
+    assert abs(scale_ladder.fit_exponent([2116, 8281, 32761], [2116 ** 1.3, 8281 ** 1.3, 32761 ** 1.3]) - 1.3) < 1e-12
     print("run_all self-test: ok")
 
 
@@ -1376,7 +1433,8 @@ def main():
     if unknown:
         raise ValueError(f"--steps: unknown step(s) {', '.join(unknown)} (steps: {', '.join(ALL_STEPS)})")
     needs = {"pair_cost": "pce-bench", "accuracy": "pce-accuracy", "broad_phase": "pce-broad-phase-bench",
-             "threads": "pce-sim", "scenes": "pce-sim", "hammock": "pce-sim", "friction": "pce-sim"}
+             "threads": "pce-sim", "scenes": "pce-sim", "hammock": "pce-sim", "friction": "pce-sim",
+             "scale": "pce-sim"}
     # compile_time needs no executable: the build folder's CMakeCache.txt (its compiler and Eigen).
     if args.build is None:
         args.build = str(default_build([needs[x] for x in steps if x in needs], args.jobs))
@@ -1445,6 +1503,10 @@ def main():
         log("compile time (one compilation at a time)")
         t = time.monotonic()
         done("compile_time", step_compile_time(ctx), t)
+    if "scale" in steps:
+        log("scale ladder (one run at a time)")
+        t = time.monotonic()
+        done("scale", step_scale(ctx), t)
     for name in ALL_STEPS:  # steps not run now: their last results
         if name not in data:
             f = ctx.results / f"step_{name}.json"
@@ -1457,19 +1519,20 @@ def main():
             data[name] = json.loads(f.read_text())
             if name == "accuracy":
                 data[name]["rows"] = json.loads((ctx.results / "accuracy.json").read_text())["rows"]
-    cost, acc, bp, threads, scenes, hammock, friction, compile_time = (data[k] for k in ALL_STEPS)
+    cost, acc, bp, threads, scenes, hammock, friction, compile_time, scale = (data[k] for k in ALL_STEPS)
     total = time.monotonic() - t0
     # The page reports the time the whole pipeline takes: the steps' own times (accuracy and
     # broad phase run side by side, so the longer of the two counts).
     run_total = (data["pair_cost"].get("wall_s", 0) + max(acc.get("wall_s", 0), bp.get("wall_s", 0)) +
                  threads.get("wall_s", 0) + scenes.get("wall_s", 0) + hammock.get("wall_s", 0) +
-                 (friction or {}).get("wall_s", 0) + (compile_time or {}).get("wall_s", 0))
+                 (friction or {}).get("wall_s", 0) + (compile_time or {}).get("wall_s", 0) +
+                 (scale or {}).get("wall_s", 0))
     log("plots and page")
     plot_pair(ctx, acc, cost)
     plot_scenes(ctx, scenes)
     plot_broad_phase(ctx, bp)
     plot_threads(ctx, threads, scenes)
-    write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction, compile_time, run_total)
+    write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction, compile_time, run_total, scale)
     missing = [p for p in [ctx.docs] + [ctx.images / f for f in ("pair_accuracy_cost.png", "scene_pareto.png",
                                                                    "broad_phase_scaling.png", "threads.png")]
                if not p.exists() or p.stat().st_size == 0]
@@ -1478,7 +1541,7 @@ def main():
     page = ctx.docs.read_text()
     absent = [h for h in ("## What accuracy costs", "## 1. Per pair", "## 2. Per scene", "## 3. Broad phase",
                           "## 4. Threads", "## 5. The hammock", "## 6. Friction's cost on the hammock",
-                          "## 7. Compile time")
+                          "## 7. Compile time", "## 8. Scale ladder")
               if h not in page]
     if absent:
         raise RuntimeError(f"{ctx.docs}: sections missing: {', '.join(absent)}")

@@ -29,6 +29,8 @@
 #include <Eigen/Cholesky>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -94,6 +96,12 @@ void Simulation::block_descent(StepState& s) {
     }
     b.anchor = s.y;
     st.counters[Counter::detections] += 1;
+    if (std::getenv("DBGB")) {
+      Eigen::VectorXd c = b.bound;
+      std::sort(c.data(), c.data() + c.size());
+      std::fprintf(stderr, "bounds min %g q01 %g q10 %g med %g max %g\n", c[0], c[c.size() / 100], c[c.size() / 10],
+                   c[c.size() / 2], c[c.size() - 1]);
+    }
   };
   measure_bounds();
 
@@ -109,7 +117,10 @@ void Simulation::block_descent(StepState& s) {
       const ScopedTimer timer(s.effect_ms[k]);
       c->begin_sweep(s.y, b.reach, couplings);
     }
-    if (b.colouring.colour(couplings.pairs())) st.counters[Counter::colourings] += 1;
+    {
+      const ScopedTimer timer(st.assembly_ms);
+      if (b.colouring.colour(couplings.pairs())) st.counters[Counter::colourings] += 1;
+    }
     double largest = 0;
     long cut = 0;
     for (const std::vector<int>& colour : b.colouring.colours()) {
@@ -140,13 +151,12 @@ void Simulation::block_descent(StepState& s) {
         }
         const Eigen::Vector3d r = p - b.anchor.col(i);
         const double rn = r.norm();
-        if (rn > b.bound[i]) {
-          p = b.anchor.col(i) + (b.bound[i] / rn) * r;
-          b.cut[uj] = 1;
-        }
+        if (rn > b.bound[i]) p = b.anchor.col(i) + (b.bound[i] / rn) * r;
         // then the trust region (p and yᵢ both lie in the bound's ball, so their chord does)
         const double step = (p - yi).norm();
         if (step > b.reach[i]) p = yi + (b.reach[i] / step) * (p - yi);
+        // the vertex used its bound: it ends on the ball's surface
+        b.cut[uj] = rn > b.bound[i] && (p - b.anchor.col(i)).norm() >= b.bound[i] * (1 - 1e-9);
         b.motion[uj] = (p - yi).norm();
         b.next.col(j) = p;
       }
@@ -166,6 +176,19 @@ void Simulation::block_descent(StepState& s) {
     record.alpha = 1;
     st.iterations.push_back(record);
     st.counters[Counter::bound_clamps] += static_cast<double>(cut);
+    if (std::getenv("DBGB")) {
+      int nc = 0;
+      double bmin = 1e9, bmax = 0;
+      for (const auto& colour : b.colouring.colours()) (void)colour;
+      for (int i = 0; i < n; ++i)
+        if ((s.y.col(i) - b.anchor.col(i)).norm() >= b.bound[i] * (1 - 1e-9)) {
+          ++nc;
+          bmin = std::min(bmin, b.bound[i]);
+          bmax = std::max(bmax, b.bound[i]);
+        }
+      std::fprintf(stderr, "sweep %d cut %ld at-bound %d bound range %g %g largest %g\n", sweep, cut, nc, bmin, bmax,
+                   largest);
+    }
     bool stale = cut > 0;
     for (const auto& [k, c] : s.contacts) stale = !c->still_valid(s.y) || stale;
     if (stale && sweep + 1 < solver.iterations) measure_bounds();

@@ -39,8 +39,17 @@ bool Colouring::set_static(int n, const std::vector<std::uint64_t>& declared) {
 }
 
 bool Colouring::colour(const std::vector<std::uint64_t>& declared) {
-  if (coloured_ && declared == last_extra_) return false;
-  last_extra_ = declared;
+  if (coloured_) {
+    bool apart = true;
+    for (const std::uint64_t key : declared) {
+      const auto j = static_cast<std::size_t>(key >> 32), i = static_cast<std::size_t>(key & 0xffffffffu);
+      if (i != j && colour_of_[i] == colour_of_[j]) {
+        apart = false;
+        break;
+      }
+    }
+    if (apart) return false;
+  }
   coloured_ = true;
   adjacency(n_, declared, extra_begin_, extra_neighbours_);
   colour_of_.assign(static_cast<std::size_t>(n_), -1);

@@ -22,8 +22,8 @@ class Colouring {
   /// Colours the vertices greedily, in index order (each takes the smallest colour none of
   /// its earlier neighbours has), with the static couplings and those `declared` (a
   /// `Pattern::pairs`). Deterministic: the result depends on the graph alone. Returns false,
-  /// and keeps the colours, when neither these nor the static couplings changed since the
-  /// last call.
+  /// and keeps the colours, when the static couplings did not change since the last call and
+  /// the current colours already keep every pair of `declared` apart.
   bool colour(const std::vector<std::uint64_t>& declared);
   /// The colours, each a list of ascending vertex indices.
   const std::vector<std::vector<int>>& colours() const { return colours_; }
@@ -34,7 +34,6 @@ class Colouring {
                         std::vector<int>& neighbours);
   int n_ = 0;
   std::vector<std::uint64_t> last_;                  ///< the static declaration, as given
-  std::vector<std::uint64_t> last_extra_;            ///< the last colour's declaration, as given
   bool coloured_ = false;                            ///< colours_ belong to the current static couplings
   std::vector<int> begin_, neighbours_;              ///< static adjacency
   std::vector<int> extra_begin_, extra_neighbours_;  ///< the contacts' adjacency

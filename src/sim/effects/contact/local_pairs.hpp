@@ -9,8 +9,9 @@
 /// separation). Each of its vertices may move kShare (D − F) from x₀, or kShare D/10 when
 /// D ≤ F: however all of them move within their bounds, its primitives close in by at most
 /// 2 kShare (D − F) < D − F, so it keeps its floor (or nine tenths of its distance). A pair
-/// that is not a candidate is more than r = d + m apart at x₀, so a bound of at most
-/// kShare (r − F) keeps it apart too.
+/// that is not a candidate is more than r = d + m apart at a query's state x₀ (more than d
+/// where the set is still valid), so a bound of at most kShare (r − F) (kShare (d − F))
+/// keeps it apart too.
 #pragma once
 
 #include "activity.hpp"
@@ -36,13 +37,14 @@ template <bool VF> class LocalPairs {
              const PairPotential<VF>& potential)
       : settings_(&settings), candidates_(&candidates), classifier_(&classifier), potential_(&potential) {}
 
-  /// Lowers bound[i] for every vertex of the model's surface (see the file comment); x is
-  /// the state the candidates were just queried at.
-  void bounds(const Model& model, const Eigen::Matrix3Xd& x, Eigen::VectorXd& bound) const;
+  /// Lowers bound[i] for every vertex of the model's surface (see the file comment); at x
+  /// every pair that is not a candidate is more than `apart` apart (the query radius at the
+  /// query's state, d where the set is still valid).
+  void bounds(const Model& model, const Eigen::Matrix3Xd& x, double apart, Eigen::VectorXd& bound) const;
   /// Before a sweep from x in which vertex i moves at most reach[i]: lists the candidates
   /// that can be active somewhere in the sweep (their distance at x, less the most their
-  /// vertices can close in, below their reach), per vertex, and declares in `couplings` the
-  /// vertices of those active at x.
+  /// vertices can close in, below their reach), per vertex, and declares their vertices in
+  /// `couplings`.
   void begin_sweep(const Eigen::Matrix3Xd& x, const Eigen::VectorXd& reach, Pattern& couplings);
   /// Forgets the sweep's list (the candidates changed, or a step begins).
   void forget() { ready_ = false; }

@@ -90,9 +90,15 @@ template <bool VF> class SelfContact final : public ContactEffect {
   }
 
   void vertex_bounds(const Eigen::Matrix3Xd& x, Eigen::VectorXd& bound) override {
-    candidates_.query_at(x, previous_);
-    carry_over();
-    local_.bounds(*model_, x, bound);
+    // A set still valid at x has every other pair more than d apart there; after a query at
+    // x, more than the query radius.
+    double apart = settings_.penalty.distance;
+    if (!candidates_.has_query(x) || !candidates_.still_valid(x)) {
+      candidates_.query_at(x, previous_);
+      carry_over();
+      apart = candidates_.query_radius();
+    }
+    local_.bounds(*model_, x, apart, bound);
   }
 
   void begin_sweep(const Eigen::Matrix3Xd& x, const Eigen::VectorXd& reach, Pattern& couplings) override {
