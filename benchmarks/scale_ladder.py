@@ -347,9 +347,11 @@ def log_tail(out, lines=3):
     return " | ".join(f.read_text(errors="replace").strip().splitlines()[-lines:]) if f.exists() else ""
 
 
-def run_ladder(exe, results, levels, modes, threads, frames=None, timeout=None, dry_run=False, note=None):
+def run_ladder(exe, results, levels, modes, threads, frames=None, timeout=None, dry_run=False, note=None,
+               only=None):
     """Runs every (level, mode, threads); writes scale_ladder.json/.csv/.md into `results`; returns
-    the summary dict."""
+    the summary dict. `only`: {mode: [levels]} restricts a mode to those levels (Newton's
+    factorisations make its 128k level cost minutes a frame)."""
     exe = Path(exe).resolve()
     results = Path(results).resolve()
     results.mkdir(parents=True, exist_ok=True)
@@ -361,6 +363,8 @@ def run_ladder(exe, results, levels, modes, threads, frames=None, timeout=None, 
         scene = write_scene(results / "scenes", name, n, f)
         for spec in modes:
             mode, it = parse_mode(spec)
+            if only and mode in only and name not in only[mode]:
+                continue
             for t in threads:
                 plan.append((name, n, f, scene, mode, it, t))
     rows = []
@@ -631,6 +635,7 @@ def main(argv=None):
     r.add_argument("--timeout", type=float, default=None, help="seconds per run, then SIGTERM (default: none)")
     r.add_argument("--note", default=None, help="a line about the conditions, kept in the summary")
     r.add_argument("--dry-run", action="store_true", help="print the pce-sim commands only")
+    r.add_argument("--newton-levels", default=None, help="comma-separated levels Newton runs at (default: all)")
     a = ap.parse_args(argv)
 
     def stop(signum, frame):
@@ -657,7 +662,8 @@ def main(argv=None):
         level_by_name(lv)
     if not (Path(a.pce_sim).is_file() and os.access(a.pce_sim, os.X_OK)):
         raise ValueError(f"--pce-sim {a.pce_sim}: not an executable file")
-    res = run_ladder(a.pce_sim, a.results, levels, modes, threads, a.frames, a.timeout, a.dry_run, a.note)
+    only = {"newton": a.newton_levels.split(",")} if a.newton_levels else None
+    res = run_ladder(a.pce_sim, a.results, levels, modes, threads, a.frames, a.timeout, a.dry_run, a.note, only)
     if res is None:
         return 0
     bad = [r for r in res["runs"] if r.get("status") not in ("ok", "not run")]

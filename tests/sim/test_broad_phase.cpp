@@ -249,6 +249,7 @@ TEST(BroadPhases, ShippedScenesInitialStateAllKindsAgree) {
     const auto scene = pce::sim::load_scene(entry.path());
     const pce::sim::Simulation& sim = scene->simulation;
     seen.insert(entry.path().stem().string());
+    if (sim.model.vertex_count() > 20000) continue;  // the brute force is quadratic (drop_130k)
     std::set<double> distances{0.0, 0.05};
     for (double d : self_contact_distances(entry.path())) distances.insert({d, 2 * d});
     auto fcl = pce::sim::make_broad_phase(BroadPhaseKind::fcl);
