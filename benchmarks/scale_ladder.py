@@ -504,7 +504,37 @@ def analyse(rows):
             for k in STAGES + ["other_ms"]:
                 s["speedup_" + k] = base[k] / r[k] if r[k] else float("nan")
             speedups.append(s)
-    return {"runs": rows, "window_frames": window, "exponents": exponents, "speedups": speedups}
+    # How far each other mode's last frame lies from Newton's (same level, frames, 1 thread):
+    # the RMS over vertices of the distance between their last OBJ files, metres.
+    agreement = []
+    for r in ran:
+        if r["mode"] == "newton":
+            continue
+        ref = next((b for b in ran if b["mode"] == "newton" and b["level"] == r["level"]
+                    and b["frames_done"] == r["frames_done"]), None)
+        a, b = last_obj(r["out"]), last_obj(ref["out"]) if ref else None
+        if a and b:
+            pa, pb = read_positions(a), read_positions(b)
+            if len(pa) == len(pb) and pa:
+                agreement.append({"level": r["level"], "mode": r["mode_label"], "threads": r["threads"],
+                                  "frame": r["frames_done"],
+                                  "rms_to_newton_m": math.sqrt(sum((x - y) ** 2 for p, q in zip(pa, pb)
+                                                                   for x, y in zip(p, q)) / len(pa)),
+                                  "lowest_z_m": min(p[2] for p in pa), "newton_lowest_z_m": min(p[2] for p in pb)})
+    return {"runs": rows, "window_frames": window, "exponents": exponents, "speedups": speedups,
+            "agreement": agreement}
+
+
+def last_obj(directory):
+    """The highest-numbered frame_NNNN.obj a run wrote, or None."""
+    files = sorted(Path(directory).glob("frame_*.obj"))
+    return files[-1] if files else None
+
+
+def read_positions(path):
+    """The vertex positions of an OBJ file, in order."""
+    with open(path) as f:
+        return [tuple(float(t) for t in line.split()[1:4]) for line in f if line.startswith("v ")]
 
 
 def write_csv(path, rows):

@@ -183,6 +183,24 @@ class ObstacleContact final : public ContactEffect {
     });
   }
 
+  /// Block descent's first move, per vertex: the fraction of dxᵢ that keeps vertex i's room
+  /// (safe_step's rule for one vertex).
+  void limit_moves(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, Eigen::VectorXd& limit) override {
+#pragma omp parallel for schedule(dynamic, kChunk) if (x.cols() > kChunk)
+    for (Eigen::Index i = 0; i < x.cols(); ++i) {
+      if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;
+      const double step = dx.col(i).norm();
+      if (!(step > 0)) continue;
+      const Eigen::Vector3d p = x.col(i);
+      for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+        const double lower = (p - poses_[k].translation()).norm() - radius_[k];
+        if (lower > 0 && room(lower) >= step) continue;
+        const double d = surface_distance(obstacles_[k], poses_[k], p).distance;
+        if (d > 0) limit[i] = std::min(limit[i], room(d) / step);
+      }
+    }
+  }
+
   /// Block descent: vertex i may move 0.9 (d − F) towards obstacle k's surface, d its
   /// distance at x (at the step's end pose, which the obstacle keeps during the sweeps) and F
   /// the floor (0.09 d when d ≤ F; inside, d ≤ 0, no limit: the penalty pushes it out).

@@ -4,9 +4,10 @@
 // 2025, "Offset geometric contact"): docs/simulation.md §5.5.
 //
 // A step: (1) the first move from xⁿ towards x̃ + h² a (x̃ = xⁿ + h vⁿ the inertial
-// prediction, a the uniform fields' acceleration, gravity: the paper's initialisation), as far
-// as every contact effect finds safe (`ContactEffect::safe_step`: conservative advancement
-// over its candidates and the obstacles' surfaces); (2) the contact effects' per-vertex
+// prediction, a the uniform fields' acceleration, gravity: the paper's initialisation), each
+// vertex as far as the obstacles let it alone (`ContactEffect::limit_moves`), then the whole
+// move as far as every contact effect finds safe (`ContactEffect::safe_step`: conservative
+// advancement over the candidates and the obstacles' surfaces); (2) the contact effects' per-vertex
 // bounds at that state (`vertex_bounds`); (3) `iterations` sweeps: the vertices are
 // coloured so that no two of one colour share an element or a contact pair the sweep can
 // find active (greedy, solver/colouring.*; again whenever those pairs change), and colour by
@@ -48,6 +49,7 @@ struct Simulation::BlockState {
   std::vector<char> cut, bad;
   std::vector<double> motion;
   Eigen::VectorXd moved;  ///< per vertex: its move in the last sweep
+  Eigen::VectorXd limit;  ///< per vertex: the fraction of the first move the one-vertex effects allow
 };
 
 /// A vertex's trust region in a sweep: this many times its move in the sweep before…
@@ -70,13 +72,22 @@ void Simulation::block_descent(StepState& s) {
     if (e->uniform_acceleration(a)) field += a;
   }
   s.dxm = (x_tilde_ - s.x_start).colwise() + h * h * field;
+  // Effects of one-vertex pairs stop the vertices they must (`limit_moves`), then the move
+  // they leave is cut to what every effect finds safe: a vertex landing on an obstacle does
+  // not hold back the rest of its sheet.
+  b.limit.setOnes(n);
+  for (const auto& [k, c] : s.contacts) {
+    const ScopedTimer timer(s.effect_ms[k]);
+    c->limit_moves(s.y, s.dxm, b.limit);
+  }
+  for (int i = 0; i < n; ++i) s.dxm.col(i) *= b.limit[i];
   double t = 1;
   for (const auto& [k, c] : s.contacts) {
     const ScopedTimer timer(s.effect_ms[k]);
     t = std::min(t, c->safe_step(s.y, s.dxm));
   }
   s.y = s.x_start + t * s.dxm;
-  st.counters[Counter::first_move] = t;
+  st.counters[Counter::first_move] = t * b.limit.mean();
 
   // The elements' couplings (unchanged from step to step unless an effect's declaration is).
   {

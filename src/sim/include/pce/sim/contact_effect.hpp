@@ -73,6 +73,12 @@ class ContactEffect : public Effect {
   /// validity for self contact, the obstacles' surfaces for obstacle contact), whether or
   /// not the effect bounds Newton's steps. The default is `max_step`.
   virtual double safe_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) { return max_step(x, dx); }
+  /// Block descent's first move, before safe_step: an effect whose pairs each hold one
+  /// vertex (obstacle contact: the obstacles do not move during the sweeps) lowers limit[i],
+  /// the fraction of dxᵢ vertex i alone may move (every other vertex moving any part of its
+  /// own), so that the vertices it stops do not stop the rest; the solver then takes the
+  /// largest safe_step of the move they leave. The default limits nothing.
+  virtual void limit_moves(const Eigen::Matrix3Xd& /*x*/, const Eigen::Matrix3Xd& /*dx*/, Eigen::VectorXd& /*limit*/) {}
   /// Block descent: queries the effect's candidates again at x and lowers `bound[i]` (one
   /// entry per vertex, +∞ where nothing limits) to a distance vertex i may move away from x
   /// while every other vertex also stays within its bound, such that no pair of the effect
