@@ -17,37 +17,19 @@ run of this script on an otherwise idle machine. Only the Python standard librar
 
 import argparse
 import json
-import math
 import os
 import subprocess
 import sys
 import time
 
-
-def read_obj(path):
-    """The vertex positions of an OBJ file, in order."""
-    out = []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("v "):
-                out.append(tuple(float(t) for t in line.split()[1:4]))
-    return out
+from run_all import deviation
+from run_all import read_obj_vertices as read_obj
+from scale_ladder import load_records as stats
 
 
 def rms(a, b):
-    if len(a) != len(b) or not a:
-        raise ValueError("the runs wrote different vertex counts")
-    return math.sqrt(sum((p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2 + (p[2] - q[2]) ** 2 for p, q in zip(a, b)) / len(a))
-
-
-def stats(run_dir):
-    """Per-frame records of a run (stats.jsonl, else stats.json)."""
-    path = os.path.join(run_dir, "stats.jsonl")
-    if os.path.exists(path):
-        with open(path) as f:
-            return [json.loads(line) for line in f if line.strip()]
-    with open(os.path.join(run_dir, "stats.json")) as f:
-        return json.load(f)
+    """RMS over vertices of the distance between two runs' positions."""
+    return deviation(a, b)[0]
 
 
 def run(exe, scene, out, frames, threads, extra):

@@ -133,6 +133,10 @@ def test_scene_errors_carry_pce_sims_message(pce_sim, scenes, tmp_path):
         ({"tolerance": 0.0}, ValueError, "tolerance"),
         ({"tolerance": float("nan")}, ValueError, "tolerance"),
         ({"tolerance": "1e-3"}, TypeError, "tolerance"),
+        ({"mode": 1}, TypeError, "mode"),
+        ({"mode": "vbd"}, ValueError, "mode"),
+        ({"mode": "block_descent", "iterations": 0}, ValueError, "iterations"),
+        ({"iterations": 5}, ValueError, "iterations"),  # twist.json is a Newton scene
     ],
 )
 def test_bad_load_arguments(scenes, kwargs, error, name):
@@ -168,3 +172,15 @@ def test_pce_sim_resumes_a_run_python_checkpointed(pce_sim, scenes, tmp_path):
     subprocess.run([str(pce_sim), path, "--frames", "4", "--threads", "1", "--resume", str(resumed)], check=True,
                    capture_output=True)  # fmt: skip
     assert (resumed / "frame_0004.obj").read_bytes() == (straight / "frame_0004.obj").read_bytes()
+
+
+def test_block_descent_is_pce_sims(pce_sim, scenes, tmp_path):
+    """mode= and iterations= are pce-sim's --mode and --iterations: the same frames, bit for bit."""
+    path = str(scenes / "twist.json")
+    cli, py = tmp_path / "cli", tmp_path / "py"
+    subprocess.run([str(pce_sim), path, "--frames", "3", "--threads", "1", "--mode", "block_descent", "--iterations",
+                    "4", "--out", str(cli)], check=True, capture_output=True)  # fmt: skip
+    s = pce.sim.load(path, frames=3, threads=1, mode="block_descent", iterations=4)
+    s.run(out=py)
+    assert (py / "frame_0003.obj").read_bytes() == (cli / "frame_0003.obj").read_bytes()
+    assert s.last_record["stop"] == "block_descent" and s.last_record["newton_iterations"] == 4

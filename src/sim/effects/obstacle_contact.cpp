@@ -168,18 +168,7 @@ class ObstacleContact final : public ContactEffect {
   /// nine tenths of its distance when closer; one inside an obstacle is not limited).
   double safe_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) override {
     return contact::min_over_chunks(x.cols(), kChunk, 1.0, [&](std::size_t, long begin, long end, double& t) {
-      for (long i = begin; i < end; ++i) {
-        if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;  // inside a volume
-        const double step = dx.col(i).norm();
-        if (!(step > 0)) continue;
-        const Eigen::Vector3d p = x.col(i);
-        for (std::size_t k = 0; k < obstacles_.size(); ++k) {
-          const double lower = (p - poses_[k].translation()).norm() - radius_[k];  // d ≥ lower
-          if (lower > 0 && room(lower) >= step) continue;                          // t = 1 keeps the room
-          const double d = surface_distance(obstacles_[k], poses_[k], p).distance;
-          if (d > 0) t = std::min(t, room(d) / step);
-        }
-      }
+      for (long i = begin; i < end; ++i) t = std::min(t, move_limit(x, dx, i));
     });
   }
 
@@ -187,18 +176,7 @@ class ObstacleContact final : public ContactEffect {
   /// (safe_step's rule for one vertex).
   void limit_moves(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, Eigen::VectorXd& limit) override {
 #pragma omp parallel for schedule(dynamic, kChunk) if (x.cols() > kChunk)
-    for (Eigen::Index i = 0; i < x.cols(); ++i) {
-      if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) continue;
-      const double step = dx.col(i).norm();
-      if (!(step > 0)) continue;
-      const Eigen::Vector3d p = x.col(i);
-      for (std::size_t k = 0; k < obstacles_.size(); ++k) {
-        const double lower = (p - poses_[k].translation()).norm() - radius_[k];
-        if (lower > 0 && room(lower) >= step) continue;
-        const double d = surface_distance(obstacles_[k], poses_[k], p).distance;
-        if (d > 0) limit[i] = std::min(limit[i], room(d) / step);
-      }
-    }
+    for (Eigen::Index i = 0; i < x.cols(); ++i) limit[i] = std::min(limit[i], move_limit(x, dx, i));
   }
 
   /// Block descent: vertex i may move 0.9 (d − F) towards obstacle k's surface, d its
@@ -344,6 +322,23 @@ class ObstacleContact final : public ContactEffect {
   /// How far a vertex at distance d > 0 from a surface may move towards it (block descent,
   /// safe_step): to its floor less a tenth of the way, or by 0.09 d below the floor.
   double room(double d) const { return 0.9 * (d > floor_ ? d - floor_ : 0.1 * d); }
+
+  /// The largest fraction (≤ 1) of vertex i's move dxᵢ from x that keeps its room(d) to
+  /// every obstacle (1 inside a volume, or inside an obstacle: nothing to keep).
+  double move_limit(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, Eigen::Index i) const {
+    if (!surface_.empty() && !surface_[static_cast<std::size_t>(i)]) return 1.0;  // inside a volume
+    const double step = dx.col(i).norm();
+    if (!(step > 0)) return 1.0;
+    const Eigen::Vector3d p = x.col(i);
+    double t = 1.0;
+    for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+      const double lower = (p - poses_[k].translation()).norm() - radius_[k];  // d ≥ lower
+      if (lower > 0 && room(lower) >= step) continue;                          // the whole move keeps the room
+      const double d = surface_distance(obstacles_[k], poses_[k], p).distance;
+      if (d > 0) t = std::min(t, room(d) / step);
+    }
+    return t;
+  }
 
   /// Whether pair j (i·K + k) may be at `distance` (below the floor): only when it was never
   /// held (its factor is 1), or was below the floor at the iterate (`below_`) and is no
