@@ -337,3 +337,34 @@ TEST(BlockDescent, TheLargeShippedSceneRunsReduced) {
   }
   EXPECT_GT(touching, 0);  // it landed
 }
+
+TEST(BlockDescent, ConvergesToNewtonsStepAsSweepsGrow) {
+  // A 13 × 13 sheet hanging from one edge (stretching, bending, damping, pins): after 10
+  // frames, block descent's positions approach Newton's (tolerance 10⁻⁶) as the sweeps per
+  // step grow, and at 2 000 sweeps lie within 5 mm; so its per-vertex terms are
+  // those of the potential Newton minimises, and only the sweeps stand between them.
+  const std::string scene = R"({"dt": 0.025, "frames": 10,
+    "meshes": [{"name": "sheet", "generator": {"type": "grid", "width": 0.3, "height": 0.3, "nx": 12, "ny": 12}}],
+    "effects": [{"type": "gravity"}, {"type": "stretching", "stiffness": 60}, {"type": "bending", "stiffness": 2e-5},
+      {"type": "damping", "coefficient": 0.2},
+      {"type": "pins", "stiffness": 1e4, "groups": [{"mesh": "sheet", "box": {"min": [-1, 0.14, -1], "max": [1, 1, 1]}}]}]})";
+  const auto run = [&](SceneOverrides o) {
+    auto s = load_scene_text(scene, "hang.json", PCE_TEST_TMP, o);
+    for (int f = 0; f < 10; ++f) s->simulation.step();
+    return Eigen::Matrix3Xd(s->simulation.x);
+  };
+  SceneOverrides newton;
+  newton.tolerance = 1e-6;
+  const Eigen::Matrix3Xd reference = run(newton);
+  double previous = std::numeric_limits<double>::infinity();
+  for (const int sweeps : {20, 200, 2000}) {
+    SceneOverrides o;
+    o.mode = SolverMode::block_descent;
+    o.iterations = sweeps;
+    const double error = (run(o) - reference).colwise().norm().maxCoeff();
+    EXPECT_LT(error, previous) << sweeps << " sweeps";
+    previous = error;
+  }
+  // (measured: 131 mm at 20 sweeps, 70 mm at 200, 3.1 mm at 2 000)
+  EXPECT_LT(previous, 5e-3);
+}
