@@ -655,10 +655,10 @@ def write_scale_section(A, scale, accuracy=None):
     A(scale_ladder.markdown(scale, title="", sub="###").lstrip("\n"))
     if scale.get("agreement"):
         A("### Block descent against Newton\n")
-        A("The frames block descent computes are not Newton's: its sweeps stop before the step's minimiser, and a "
-          "stiff sheet's bulk motion converges slowest under Gauss–Seidel, so the sheet drapes more slowly. RMS over "
-          "vertices of the distance between each run's last frame and Newton's (same level and frames), and the "
-          "lowest point of each:\n")
+        A("The frames block descent computes are not Newton's: its sweeps stop before each step's minimiser (a "
+          "stiff sheet's bulk motion converges slowest under Gauss–Seidel) and the difference carries from step to "
+          "step, so the sheet lands and folds elsewhere. RMS over vertices of the distance between each run's last "
+          "frame and Newton's (same level and frames), and the lowest point of each:\n")
         A("| level | mode | threads | frame | RMS to Newton (mm) | lowest z (mm) | Newton's lowest z (mm) |")
         A("|---|---|---:|---:|---:|---:|---:|")
         for g in scale["agreement"]:
