@@ -183,4 +183,4 @@ def test_block_descent_is_pce_sims(pce_sim, scenes, tmp_path):
     s = pce.sim.load(path, frames=3, threads=1, mode="block_descent", iterations=4)
     s.run(out=py)
     assert (py / "frame_0003.obj").read_bytes() == (cli / "frame_0003.obj").read_bytes()
-    assert s.last_record["stop"] == "block_descent" and s.last_record["newton_iterations"] == 4
+    assert s.stats["stop"] == "block_descent" and s.stats["newton_iterations"] == 4
