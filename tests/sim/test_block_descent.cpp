@@ -299,6 +299,17 @@ TEST(BlockDescent, SceneKeysAreChecked) {
   EXPECT_NE(error_of(R"({"iterations": 7})").find("solver.iterations"), std::string::npos);
   EXPECT_NE(error_of(R"({"mode": "block_descent", "iterations": 0})").find("solver.iterations"), std::string::npos);
   EXPECT_NE(error_of(R"({"mode": "vbd"})").find("block_descent"), std::string::npos);
+  // --iterations (an override) on a Newton scene names the key it would replace
+  SceneOverrides o;
+  o.iterations = 5;
+  try {
+    load_scene_text(R"({"dt": 0.01, "frames": 1, "meshes": [{"name": "a", "generator": {"type": "grid", "width": 0.1,
+      "height": 0.1, "nx": 2, "ny": 2}}], "effects": [{"type": "gravity"}]})",
+                    "s.json", PCE_TEST_TMP, o);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("solver.iterations: a number of sweeps"), std::string::npos) << e.what();
+  }
 }
 
 TEST(BlockDescent, TheLargeShippedSceneRunsReduced) {

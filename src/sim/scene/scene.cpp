@@ -244,12 +244,13 @@ BroadPhaseKind parse_settings(const Params& root, const SceneOverrides& override
   if (overrides.threads) sim.solver.threads = *overrides.threads;
   if (overrides.single_solve && *overrides.single_solve) sim.solver.mode = SolverMode::single_solve;
   if (overrides.mode) sim.solver.mode = *overrides.mode;
-  if (overrides.iterations) {
+  if (overrides.iterations) {  // an override (--iterations): named at the key it replaces
     if (sim.solver.mode != SolverMode::block_descent)
-      throw ArgumentError("iterations",
-                          "only the block_descent mode takes a number of sweeps (Newton's cap is the "
-                          "scene's solver.max_iterations)");
-    if (*overrides.iterations < 1) throw ArgumentError("iterations", "expected at least 1");
+      root.fail("solver.iterations",
+                "a number of sweeps (--iterations) needs the block_descent mode, and this "
+                "scene's is " +
+                    std::string(name_of(sim.solver.mode)) + " (--mode block_descent selects it)");
+    if (*overrides.iterations < 1) root.fail("solver.iterations", "expected an integer >= 1 (--iterations)");
     sim.solver.iterations = *overrides.iterations;
   }
   if (overrides.tolerance) sim.solver.tolerance = *overrides.tolerance;
