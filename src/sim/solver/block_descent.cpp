@@ -30,8 +30,6 @@
 #include <Eigen/Cholesky>
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -107,12 +105,6 @@ void Simulation::block_descent(StepState& s) {
     }
     b.anchor = s.y;
     st.counters[Counter::detections] += 1;
-    if (std::getenv("DBGB")) {
-      Eigen::VectorXd c = b.bound;
-      std::sort(c.data(), c.data() + c.size());
-      std::fprintf(stderr, "bounds min %g q01 %g q10 %g med %g max %g\n", c[0], c[c.size() / 100], c[c.size() / 10],
-                   c[c.size() / 2], c[c.size() - 1]);
-    }
   };
   measure_bounds();
 
@@ -187,19 +179,6 @@ void Simulation::block_descent(StepState& s) {
     record.alpha = 1;
     st.iterations.push_back(record);
     st.counters[Counter::bound_clamps] += static_cast<double>(cut);
-    if (std::getenv("DBGB")) {
-      int nc = 0;
-      double bmin = 1e9, bmax = 0;
-      for (const auto& colour : b.colouring.colours()) (void)colour;
-      for (int i = 0; i < n; ++i)
-        if ((s.y.col(i) - b.anchor.col(i)).norm() >= b.bound[i] * (1 - 1e-9)) {
-          ++nc;
-          bmin = std::min(bmin, b.bound[i]);
-          bmax = std::max(bmax, b.bound[i]);
-        }
-      std::fprintf(stderr, "sweep %d cut %ld at-bound %d bound range %g %g largest %g\n", sweep, cut, nc, bmin, bmax,
-                   largest);
-    }
     bool stale = cut > 0;
     for (const auto& [k, c] : s.contacts) stale = !c->still_valid(s.y) || stale;
     if (stale && sweep + 1 < solver.iterations) measure_bounds();
