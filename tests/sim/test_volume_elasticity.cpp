@@ -16,8 +16,10 @@
 #include <pce/sim/obj.hpp>
 #include <pce/sim/scene.hpp>
 #include <pce/sim/simulation.hpp>
+#include <pce/volumes/stable_neo_hookean.hpp>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -306,4 +308,52 @@ TEST(VolumeContact, InteriorVerticesTouchNoObstacle) {
     e->report(c);
     EXPECT_EQ(c.at(Counter::obstacle_contacts), 0.0) << weighted;
   }
+  // Positive control: the same sphere as near a surface vertex (a corner, outside the box)
+  // is in contact, weighted or not.
+  sphere.position = m.rest.col(0) + 0.015 * (m.rest.col(0) - m.rest.col(13)).normalized();
+  for (bool weighted : {false, true}) {
+    settings.area_weighted = weighted;
+    auto e = make_obstacle_contact(m, {sphere}, settings);
+    EXPECT_GT(e->evaluate(m.rest, nullptr, nullptr), 0.0) << weighted;
+    EffectCounters c;
+    e->report(c);
+    EXPECT_EQ(c.at(Counter::obstacle_contacts), 1.0) << weighted;
+  }
+}
+
+TEST(VolumeElasticity, YoungAndPoissonGiveTheTextbookLameParameters) {
+  // μ = E/(2(1 + ν)), λ_Lamé = Eν/((1 + ν)(1 − 2ν)), worked by hand for E = 10⁴ Pa, ν = 0.4:
+  // μ = 10⁴/2.8 = 3 571.428 571…, λ_Lamé = 4 000/0.28 = 14 285.714 285…; the stable
+  // Neo-Hookean λ is λ_Lamé + μ = 17 857.142 857… (Smith et al. 2018, Eq. 16).
+  const pce::StableNeoHookean m = pce::StableNeoHookean::from_young_poisson(1e4, 0.4);
+  EXPECT_NEAR(m.mu, 3571.4285714285714, 1e-9);
+  EXPECT_NEAR(m.lambda, 17857.142857142857, 1e-9);
+  // ν = 0: no lateral coupling, λ_Lamé = 0 and λ = μ = E/2.
+  const pce::StableNeoHookean z = pce::StableNeoHookean::from_young_poisson(2e3, 0.0);
+  EXPECT_NEAR(z.mu, 1000.0, 1e-12);
+  EXPECT_NEAR(z.lambda, 1000.0, 1e-12);
+}
+
+TEST(VolumeElasticity, EnergiesOfUniformDeformationsMatchClosedForms) {
+  // The 0.2 × 0.3 × 0.4 m box (rest volume 0.024 m³) of elasticity() (E = 10⁴, ν = 0.4: μ and λ
+  // above), deformed uniformly, so every tetrahedron has the same F and E = V Ψ(F):
+  //   scaled by s:   F = s I,            Ψ = μ/2 (3s² − 3) − μ (s³ − 1) + λ/2 (s³ − 1)²
+  //   sheared by γ:  F = I + γ e_x e_yᵀ, Ψ = μ γ²/2 (J = 1)
+  //   rotated:       F = R,              Ψ = 0
+  const Model model = box_model();
+  auto e = elasticity(model);
+  const double V = 0.2 * 0.3 * 0.4, mu = 3571.4285714285714, lambda = 17857.142857142857;
+  for (const double s : {0.8, 1.0, 1.1, 1.5}) {
+    const double J = s * s * s;
+    const double psi = mu / 2 * (3 * s * s - 3) - mu * (J - 1) + lambda / 2 * (J - 1) * (J - 1);
+    EXPECT_NEAR(e->evaluate(s * model.rest, nullptr, nullptr), V * psi, 1e-10 * std::max(1.0, std::abs(V * psi)))
+        << "scaled by " << s;
+  }
+  for (const double gamma : {0.05, 0.3}) {
+    Matrix3Xd x = model.rest;
+    x.row(0) += gamma * model.rest.row(1);
+    EXPECT_NEAR(e->evaluate(x, nullptr, nullptr), V * mu * gamma * gamma / 2, 1e-10) << "sheared by " << gamma;
+  }
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  EXPECT_NEAR(e->evaluate(R * model.rest, nullptr, nullptr), 0.0, 1e-9);
 }
