@@ -328,6 +328,25 @@ TEST(PceSim, ResumedRunEndsBitForBitWhereTheUninterruptedRunEnds) {
   EXPECT_GT(edge_edge, 0);
 }
 
+TEST(PceSim, ResumedBlockDescentRunEndsBitForBitWhereTheUninterruptedRunEnds) {
+  // crumple.json under block descent (10 sweeps a step): contact from frame 9; the resume from
+  // the checkpoint of frame 10 ends frame 15 where the uninterrupted run does (each step
+  // colours its vertices afresh, so nothing but the checkpoint carries over).
+  json scene = read_json(kScenes / "crumple.json");
+  scene["solver"]["mode"] = "block_descent";
+  scene["solver"]["iterations"] = 10;
+  scene["solver"].erase("max_iterations");
+  scene["solver"].erase("tolerance");
+  const fs::path file = fs::path(PCE_TEST_TMP) / "crumple_block_descent.json";
+  std::ofstream(file) << scene.dump();
+  const std::vector<json> a = resume_matches(file, "resume_bd", 15, 13, 10);
+  ASSERT_EQ(a.size(), 15u);
+  long contacts = 0;
+  for (const auto& r : a) contacts += r["contacts"]["vertex_face"].get<long>() + r["contacts"]["edge_edge"].get<long>();
+  EXPECT_GT(contacts, 0);
+  EXPECT_EQ(a.back()["stop"], "block_descent");
+}
+
 TEST(PceSim, CheckpointOfAnotherSceneOrCorruptIsRefused) {
   const fs::path out = fs::path(PCE_TEST_TMP) / "refuse_ckpt";
   fs::remove_all(out);

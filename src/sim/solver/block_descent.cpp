@@ -94,6 +94,7 @@ void Simulation::block_descent(StepState& s) {
     for (const auto& e : effects)
       if (!as_contact(e.get())) e->declare(elements);
     b.colouring.set_static(n, elements.pairs());
+    b.colouring.restart();
   }
 
   // (2) The bounds.

@@ -25,6 +25,10 @@ class Colouring {
   /// and keeps the colours, when the static couplings did not change since the last call and
   /// the current colours already keep every pair of `declared` apart.
   bool colour(const std::vector<std::uint64_t>& declared);
+  /// Forgets the colours (the next `colour` computes them afresh): a time step starts from
+  /// its own couplings, not from what earlier steps left, so a resumed run colours as the
+  /// uninterrupted one does.
+  void restart() { coloured_ = false; }
   /// The colours, each a list of ascending vertex indices.
   const std::vector<std::vector<int>>& colours() const { return colours_; }
 
