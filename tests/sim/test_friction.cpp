@@ -4,9 +4,11 @@
 // or with g sin θ; the same on a pinned sheet through self contact; both again at the
 // default settings (dt 0.025 s, tolerance 0.01), starting inside and above the contact
 // distance, with μ = 0 … 0.3 sliding and 0.5 sticking; a moving box drags a
-// sheet to its own velocity; area weighting makes the resting penetration independent of
-// the mesh resolution; nothing of friction is built or reported without the key; more
-// lagged iterations solve again.
+// sheet to its own velocity; a rod across two rails (edge-edge friction) sticks or slides
+// as the block does; area weighting makes the resting penetration independent of the mesh
+// resolution (obstacle contact) and rests each vertex of a sheet on a triangle (self contact)
+// at the depth worked out by hand; nothing of friction is built or reported without the key;
+// more lagged iterations solve again.
 #include <pce/sim/scene.hpp>
 
 #include <gtest/gtest.h>
@@ -324,7 +326,7 @@ TEST(Friction, AMovingBoxDragsASheetToItsVelocity) {
 TEST(Friction, AreaWeightedContactRestsAtTheSameDepthAtEveryResolution) {
   // Sheets of 4 × 4 and 8 × 8 quads resting on a flat box: weighted, each vertex carries
   // 2 k A (ε − d) = ρ A g, so ε − d = ρ g/(2k) at every resolution; unweighted 2k(ε − d) = ρ A g
-  // shrinks 4× when the quads do.
+  // shrinks with the vertices' areas.
   const auto depth = [](int n, bool weighted) {
     json scene = incline_on_box(json());
     scene["meshes"][0] = sheet("sheet", 0.2, n, {0, 0, 0.05 + 0.01}, 0.0);
@@ -342,7 +344,11 @@ TEST(Friction, AreaWeightedContactRestsAtTheSameDepthAtEveryResolution) {
   std::printf("resting depth: weighted %.4e / %.4e m, unweighted %.4e / %.4e m (4x4 / 8x8)\n", w4, w8, u4, u8);
   EXPECT_NEAR(w4, 0.1 * kG / 2000, 0.05 * 0.1 * kG / 2000);
   EXPECT_NEAR(w8 / w4, 1.0, 0.05);
-  EXPECT_GT(u4 / u8, 2.0);  // unweighted: the finer sheet rests ~4× shallower
+  // Unweighted, each vertex carries its own weight, 2k(ε − d) = ρ A_i g: the mean depth is
+  // ρ g/(2k) × (sheet area / vertex count), 81/25 times shallower on the finer sheet.
+  const double unweighted = 0.1 * kG / (2 * 80.0) * 0.04;
+  EXPECT_NEAR(u4, unweighted / 25, 0.01 * unweighted / 25);
+  EXPECT_NEAR(u8, unweighted / 81, 0.01 * unweighted / 81);
 }
 
 TEST(Friction, NothingOfFrictionWithoutTheKeyAndCountersWithIt) {
@@ -403,4 +409,148 @@ TEST(Friction, FrictionlessScenesAreBitForBitUnchanged) {
   EXPECT_EQ(std::memcmp(plain.data(), zero.data(), sizeof(double) * static_cast<std::size_t>(plain.size())), 0)
       << "largest difference " << (plain - zero).cwiseAbs().maxCoeff() << " m";
   EXPECT_GT((plain - with).cwiseAbs().maxCoeff(), 1e-6);
+}
+
+namespace {
+
+/// A rod on two rails (edge-edge friction, docs/simulation.md §4.7): two pinned 1.4 m
+/// segments 0.1 m apart along the 20° slope ("rails", one segment each, so the rod never
+/// crosses a joint) and a 0.2 m rod of five segments (0.05 kg/m) across them, 0.5 m uphill
+/// of their middle, starting at the height where each crossing carries half its weight:
+/// 2k(d − L) = m g cos θ/2. Self edge-edge contact by closest features with `friction`.
+/// The rod crosses each rail on the interior of one of its segments, so each contact is one
+/// edge-edge pair whose normal is the slope's: the rod slides like a block on the incline.
+json rod_on_rails(const json& contact_friction) {
+  constexpr double k = 100.0, d = 0.005, rod_mass = 0.05 * 0.2;
+  const double rest = d - rod_mass * kG * std::cos(kRad) / (4 * k);
+  const std::string dir = PCE_TEST_TMP;
+  std::ofstream rails(dir + "/rails.obj");
+  rails.precision(17);
+  for (const double y : {-0.05, 0.05})
+    for (const double s : {-0.7, 0.7}) {
+      const std::vector<double> p = on_slope(s, 0.0);
+      rails << "v " << p[0] << ' ' << y << ' ' << p[2] << '\n';
+    }
+  rails << "l 1 2\nl 3 4\n";
+  rails.close();
+  std::ofstream rod(dir + "/rod.obj");
+  rod.precision(17);
+  for (int j = 0; j <= 5; ++j) {
+    const std::vector<double> p = on_slope(-0.5, rest);
+    rod << "v " << p[0] << ' ' << -0.1 + 0.04 * j << ' ' << p[2] << '\n';
+  }
+  rod << "l 1 2 3 4 5 6\n";
+  rod.close();
+  json ee = {{"type", "self_edge_edge"},
+             {"penalty", {{"type", "quadratic"}, {"stiffness", k}, {"distance", d}}},
+             {"closest_features", true}};
+  if (!contact_friction.is_null()) ee["friction"] = contact_friction;
+  return {
+      {"dt", 0.01},
+      {"frames", 50},
+      {"solver", {{"tolerance", 1e-4}, {"max_iterations", 50}, {"threads", 1}}},
+      {"meshes",
+       {{{"name", "rails"}, {"file", "rails.obj"}}, {{"name", "rod"}, {"file", "rod.obj"}, {"linear_density", 0.05}}}},
+      {"effects",
+       {{{"type", "gravity"}},
+        {{"type", "strand_stretching"}, {"stiffness", 100.0}},
+        {{"type", "strand_bending"}, {"stiffness", 1e-3}},
+        {{"type", "pins"}, {"groups", {{{"mesh", "rails"}, {"box", {{"min", {-5, -5, -5}}, {"max", {5, 5, 5}}}}}}}},
+        ee}}};
+}
+
+}  // namespace
+
+TEST(Friction, ARodOnTwoRailsSticksOrSlidesAsCoulombSays) {
+  // The rod's six vertices follow the rails' four. Backward Euler from rest under a constant
+  // acceleration a₀ moves a₀ h² n(n + 1)/2 in n steps: 2 x/T² = a₀ (1 + h/T), h = 0.01 s,
+  // T = 0.5 s.
+  const double T = 0.5, lag = 1 + 0.01 / T;
+  // μ = 0: g sin θ, to 0.3 % (μ = 0.01 would be 2.7 % slower).
+  {
+    const Trajectory r = simulate(rod_on_rails(friction(0.0)), 4, 6);
+    const double a = 2 * downhill(r, 50) / (T * T);
+    std::printf("rod, mu 0: a = %.4f m/s^2 (g sin theta = %.4f)\n", a, kG * std::sin(kRad));
+    EXPECT_NEAR(a, lag * kG * std::sin(kRad), 0.003 * kG * std::sin(kRad));
+  }
+  // μ = 0.2 < tan θ: g (sin θ − μ cos θ), to 1 %.
+  {
+    const Trajectory r = simulate(rod_on_rails(friction(0.2)), 4, 6);
+    const double expected = kG * (std::sin(kRad) - 0.2 * std::cos(kRad));
+    const double a = 2 * downhill(r, 50) / (T * T);
+    std::printf("rod, mu 0.2: a = %.4f m/s^2 (expected %.4f)\n", a, expected);
+    EXPECT_NEAR(a, lag * expected, 0.01 * expected);
+    EXPECT_EQ(r.stats.back().counters.at("edge_edge_friction_contacts"), 2);  // one per crossing
+  }
+  // μ = 0.6 > tan θ: sticking, up to the creep of the mollified static friction.
+  {
+    const Trajectory r = simulate(rod_on_rails(friction(0.6)), 4, 6);
+    const double creep = creep_speed(0.6, 1e-3);
+    std::printf("rod, mu 0.6: %.3e m in %.1f s (%.3e m by frame 5), %.4e m/s over the last 0.25 s (creep %.4e m/s)\n",
+                downhill(r, 50), T, downhill(r, 5), (downhill(r, 50) - downhill(r, 25)) / 0.25, creep);
+    // The first steps load the static spring (the rod starts at rest, 65 µm); from frame 5
+    // on it creeps, at the derived speed.
+    EXPECT_LT(downhill(r, 50) - downhill(r, 5), 1.05 * creep * (T - 0.05));
+    EXPECT_GT(downhill(r, 50), 0.0);
+    EXPECT_NEAR((downhill(r, 50) - downhill(r, 25)) / 0.25, creep, 0.02 * creep);
+  }
+}
+
+TEST(Friction, AreaWeightedSelfContactRestsEachVertexAtItsDepthByHand) {
+  // A 0.1 m sheet of two triangles (0.1 kg/m², no bending) resting through area-weighted
+  // vertex-face self contact (plane mode, k = 20 J/m⁴, d = 10 mm) on one pinned triangle of
+  // legs 0.3 m (A_T = 0.045 m²) that lies under all of it: each sheet vertex i is in one pair,
+  // weighted w_i = A_T + A_i (the face's rest area plus the vertex's lumped area A_i, a third
+  // of each triangle at it: 2A/3 at the diagonal's ends, A/3 at the other corners), and
+  // carries its own weight ρ A_i g with 2 k w_i (d − L_i), so it rests at
+  //     d − L_i = ρ A_i g / (2 k (A_T + A_i)).
+  // The vertex's share of w is 7 % (3.6 %) of it: leaving it or the face's area out, or
+  // weighting nothing, misses by more than the 1 % allowed.
+  constexpr double k = 20.0, d = 0.01, rho = 0.1;
+  const std::string dir = PCE_TEST_TMP;
+  std::ofstream(dir + "/weighted_floor.obj") << "v -0.15 -0.15 0\nv 0.15 -0.15 0\nv -0.15 0.15 0\nf 1 2 3\n";
+  const json scene = {{"dt", 0.01},
+                      {"frames", 100},
+                      {"solver", {{"tolerance", 1e-5}, {"max_iterations", 50}, {"threads", 1}}},
+                      {"meshes",
+                       {{{"name", "floor"}, {"file", "weighted_floor.obj"}},
+                        {{"name", "sheet"},
+                         {"generator", {{"type", "grid"}, {"width", 0.1}, {"height", 0.1}, {"nx", 1}, {"ny", 1}}},
+                         {"transform", {{"translation", {-0.06, -0.06, 0.99 * d}}}},
+                         {"density", rho}}}},
+                      {"effects",
+                       {{{"type", "gravity"}},
+                        {{"type", "stretching"}, {"stiffness", 60.0}},
+                        {{"type", "damping"}, {"coefficient", 20.0}},
+                        {{"type", "pins"}, {"groups", {{{"mesh", "floor"}, {"vertices", {0, 1, 2}}}}}},
+                        {{"type", "self_vertex_face"},
+                         {"area_weighted", true},
+                         {"penalty", {{"type", "quadratic"}, {"stiffness", k}, {"distance", d}}}}}}};
+  auto s = load_scene_text(scene.dump(), "weighted_rest.json", dir);
+  Simulation& sim = s->simulation;
+  const Model& model = sim.model;
+  // Lumped areas by hand from the sheet's two triangles.
+  std::vector<double> area(static_cast<std::size_t>(model.vertex_count()), 0.0);
+  double triangles = 0;
+  for (Eigen::Index t = 1; t < model.triangles.cols(); ++t) {  // triangle 0 is the floor
+    const Eigen::Vector3i f = model.triangles.col(t);
+    const double a =
+        0.5 * (model.rest.col(f[1]) - model.rest.col(f[0])).cross(model.rest.col(f[2]) - model.rest.col(f[0])).norm();
+    for (int j = 0; j < 3; ++j) area[static_cast<std::size_t>(f[j])] += a / 3;
+    ++triangles;
+  }
+  ASSERT_EQ(triangles, 2);
+  const double floor_area = 0.5 * 0.3 * 0.3;
+  for (int f = 0; f < 100; ++f) sim.step();
+  const Eigen::Vector3d a = sim.x.col(0), b = sim.x.col(1), c = sim.x.col(2);
+  const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+  for (Eigen::Index i = 3; i < 7; ++i) {
+    const double Ai = area[static_cast<std::size_t>(i)];
+    const double expected = rho * Ai * kG / (2 * k * (floor_area + Ai));
+    const double depth = d - n.dot(sim.x.col(i) - a);
+    std::printf("vertex %ld (lumped area %.5f m^2): rests %.4e m deep (by hand %.4e; unweighted %.4e)\n",
+                static_cast<long>(i), Ai, depth, expected, rho * Ai * kG / (2 * k));
+    EXPECT_NEAR(depth, expected, 0.01 * expected) << "vertex " << i;
+  }
+  EXPECT_LT(sim.v.cwiseAbs().maxCoeff(), 1e-6);  // at rest, not passing through
 }
