@@ -7,6 +7,8 @@
 // bit where the uninterrupted one ends, and a checkpoint of another scene is refused.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <pce/sim/obstacle.hpp>
+#include <pce/sim/scene.hpp>
 
 #include <fcntl.h>
 #include <signal.h>
@@ -20,6 +22,7 @@
 #include <fstream>
 #include <chrono>
 #include <set>
+#include <string>
 #include <thread>
 #include <vector>
 #include <sstream>
@@ -345,6 +348,184 @@ TEST(PceSim, ResumedBlockDescentRunEndsBitForBitWhereTheUninterruptedRunEnds) {
   for (const auto& r : a) contacts += r["contacts"]["vertex_face"].get<long>() + r["contacts"]["edge_edge"].get<long>();
   EXPECT_GT(contacts, 0);
   EXPECT_EQ(a.back()["stop"], "block_descent");
+}
+
+/// Writes `scene` to PCE_TEST_TMP/`name`.json and returns the path.
+fs::path write_scene(const json& scene, const std::string& name) {
+  const fs::path file = fs::path(PCE_TEST_TMP) / (name + ".json");
+  std::ofstream(file) << scene.dump();
+  return file;
+}
+
+/// The counter `key` of the stats record `r`.
+double counter(const json& r, const char* key) { return r["counters"][key].get<double>(); }
+
+/// Two sheets on a box tilted by 20° about y: the lower one (`under` quads a side) starts
+/// 1 mm above its contact distance and lands at once, the upper one (`over` quads a side)
+/// starts 3 cm above it and lands on it around frame 7. Every contact has Coulomb friction
+/// μ = 0.3, below tan 20° ≈ 0.36, so the lower sheet slides down the box under kinetic
+/// friction; self vertex-face contact solves each step twice (`lagged_iterations` 2).
+json slope_scene(int under, int over) {
+  const double tilt = 20.0 * M_PI / 180.0;
+  const auto along_normal = [&](double d) { return json::array({d * std::sin(tilt), 0.0, d * std::cos(tilt)}); };
+  const json rotation = {{"axis", {0, 1, 0}}, {"degrees", 20}};
+  const json friction = {{"coefficient", 0.3}};
+  const json penalty = {{"type", "quadratic"}, {"stiffness", 20}, {"distance", 0.005}};
+  json lagged = friction;
+  lagged["lagged_iterations"] = 2;
+  json over_at = along_normal(0.03);
+  over_at[1] = 0.01;
+  return {{"dt", 0.01},
+          {"frames", 15},
+          {"solver", {{"tolerance", 0.01}, {"max_iterations", 30}}},
+          {"obstacles",
+           {{{"name", "slope"},
+             {"shape", "box"},
+             {"half_extents", {0.3, 0.3, 0.05}},
+             {"position", along_normal(-0.05)},
+             {"rotation", rotation}}}},
+          {"meshes",
+           {{{"name", "under"},
+             {"generator", {{"type", "grid"}, {"width", 0.2}, {"height", 0.2}, {"nx", under}, {"ny", under}}},
+             {"transform", {{"rotation", rotation}, {"translation", along_normal(0.006)}}}},
+            {{"name", "over"},
+             {"generator", {{"type", "grid"}, {"width", 0.12}, {"height", 0.12}, {"nx", over}, {"ny", over}}},
+             {"transform", {{"rotation", rotation}, {"translation", over_at}}}}}},
+          {"effects",
+           {{{"type", "gravity"}},
+            {{"type", "stretching"}, {"stiffness", 20}},
+            {{"type", "bending"}, {"stiffness", 1e-5}},
+            {{"type", "obstacle_contact"}, {"penalty", penalty}, {"friction", friction}},
+            {{"type", "self_vertex_face"}, {"penalty", penalty}, {"friction", lagged}},
+            {{"type", "self_edge_edge"}, {"penalty", penalty}, {"friction", friction}}}}};
+}
+
+TEST(PceSim, ResumedRunWithFrictionEndsBitForBit) {
+  // slope_scene: at the checkpoint of frame 10 (and in every frame after it) the upper sheet
+  // lies on the lower one and the lower one slides on the box, every kind of contact frozen
+  // with friction and counted; the resumed run ends frame 15 where the uninterrupted one
+  // does. It fails if a step's friction depends on anything the checkpoint does not carry
+  // (the frozen normal forces and bases are rebuilt from the saved xⁿ, the slip from xⁿ and
+  // the saved vⁿ).
+  const std::vector<json> a =
+      resume_matches(write_scene(slope_scene(8, 6), "resume_friction"), "resume_friction", 15, 13, 10);
+  ASSERT_EQ(a.size(), 15u);
+  for (std::size_t k = 9; k < a.size(); ++k) {
+    SCOPED_TRACE("frame " + std::to_string(k + 1));
+    EXPECT_GT(counter(a[k], "vertex_face_friction_contacts"), 0.0);
+    EXPECT_GT(counter(a[k], "edge_edge_friction_contacts"), 0.0);
+    EXPECT_GT(counter(a[k], "obstacle_friction_contacts"), 0.0);
+  }
+  // the lower sheet slides at the checkpoint: not every frozen obstacle contact sticks
+  EXPECT_LT(counter(a[9], "obstacle_friction_sticking"), counter(a[9], "obstacle_friction_contacts"));
+}
+
+TEST(PceSim, ResumedRunOfAVolumeEndsBitForBit) {
+  // A tilted block of 162 tetrahedra (volume_elasticity) dropped from 3 cm onto a box lands
+  // on an edge around frame 4 and is squashed and turned by the contact: at the checkpoint
+  // of frame 10 it touches the box and its volume is below its rest volume, and the set of
+  // touching vertices changes after it. The resumed run ends frame 15 where the
+  // uninterrupted one does; it fails if anything the volume's step reads is not in the
+  // checkpoint.
+  const json scene = {
+      {"dt", 0.01},
+      {"frames", 15},
+      {"solver", {{"tolerance", 0.01}, {"max_iterations", 30}}},
+      {"obstacles",
+       {{{"name", "floor"}, {"shape", "box"}, {"half_extents", {0.2, 0.2, 0.05}}, {"position", {0, 0, -0.05}}}}},
+      {"meshes",
+       {{{"name", "block"},
+         {"generator", {{"type", "tet_box"}, {"size", {0.06, 0.06, 0.06}}, {"n", {3, 3, 3}}}},
+         {"transform", {{"rotation", {{"axis", {1, 1, 0}}, {"degrees", 30}}}, {"translation", {0, 0, 0.06}}}},
+         {"density", 500}}}},
+      {"effects",
+       {{{"type", "gravity"}},
+        {{"type", "volume_elasticity"}, {"young_modulus", 5000}, {"poisson_ratio", 0.4}},
+        {{"type", "damping"}, {"coefficient", 0.1}},
+        {{"type", "obstacle_contact"}, {"penalty", {{"type", "quadratic"}, {"stiffness", 2000}, {"distance", 0.004}}}},
+        {{"type", "self_vertex_face"}, {"penalty", {{"type", "quadratic"}, {"stiffness", 200}, {"distance", 0.004}}}},
+        {{"type", "self_edge_edge"}, {"penalty", {{"type", "quadratic"}, {"stiffness", 200}, {"distance", 0.004}}}}}}};
+  const std::vector<json> a = resume_matches(write_scene(scene, "resume_volume"), "resume_volume", 15, 13, 10);
+  ASSERT_EQ(a.size(), 15u);
+  EXPECT_GT(counter(a[9], "tetrahedra"), 0.0);
+  EXPECT_GT(a[9]["contacts"]["obstacle"].get<long>(), 0);  // the volume touches the box at the checkpoint
+  EXPECT_LT(counter(a[9], "volume_ratio"), 1.0);           // and is squashed
+  std::set<long> touching;
+  for (std::size_t k = 9; k < a.size(); ++k) touching.insert(a[k]["contacts"]["obstacle"].get<long>());
+  EXPECT_GT(touching.size(), 1u);  // the contact changes after the checkpoint
+}
+
+TEST(PceSim, ResumedRunWithMovingObstacleAndPinsEndsBitForBit) {
+  // A sheet lying on a box that moves and turns from t = 0.05 s to 0.13 s (frames 6–13)
+  // while a pin group along one edge pulls it up and turns it (its targets move from t = 0
+  // on) until it is released at frame 12. The checkpoint of frame 10 comes while both move:
+  // the obstacle keeps moving after it and stops within the run, the group is released
+  // after it; the resumed run ends frame 15 where the uninterrupted one does. It fails if
+  // the obstacle's pose, the pins' targets or the release read anything but the restored
+  // frame and time.
+  const json scene = {
+      {"dt", 0.01},
+      {"frames", 15},
+      {"solver", {{"tolerance", 0.01}, {"max_iterations", 30}}},
+      {"obstacles",
+       {{{"name", "table"},
+         {"shape", "box"},
+         {"half_extents", {0.15, 0.15, 0.05}},
+         {"position", {0, 0, -0.05}},
+         {"motion",
+          {{"velocity", {0.3, 0, 0.1}}, {"angular_velocity", {1.5, 0, 2}}, {"start", 0.05}, {"stop", 0.13}}}}}},
+      {"meshes",
+       {{{"name", "cloth"},
+         {"generator", {{"type", "grid"}, {"width", 0.2}, {"height", 0.2}, {"nx", 8}, {"ny", 8}}},
+         {"transform", {{"translation", {0, 0, 0.006}}}}}}},
+      {"effects",
+       {{{"type", "gravity"}},
+        {{"type", "stretching"}, {"stiffness", 20}},
+        {{"type", "bending"}, {"stiffness", 1e-5}},
+        {{"type", "pins"},
+         {"stiffness", 100},
+         {"groups",
+          {{{"mesh", "cloth"},
+            {"box", {{"min", {0.09, -1, -1}}, {"max", {1, 1, 1}}}},
+            {"motion", {{"velocity", {0, 0, 0.3}}, {"angular_velocity", {2, 0, 0}}}},
+            {"release_frame", 12}}}}},
+        {{"type", "obstacle_contact"},
+         {"penalty", {{"type", "quadratic"}, {"stiffness", 20}, {"distance", 0.005}}},
+         {"friction", {{"coefficient", 0.3}}}},
+        {{"type", "self_vertex_face"}, {"penalty", {{"type", "quadratic"}, {"stiffness", 20}, {"distance", 0.005}}}}}}};
+  const fs::path file = write_scene(scene, "resume_moving");
+  const std::vector<json> a = resume_matches(file, "resume_moving", 15, 13, 10);
+  ASSERT_EQ(a.size(), 15u);
+  for (std::size_t k = 9; k < 13; ++k) EXPECT_GT(a[k]["contacts"]["obstacle"].get<long>(), 0) << "frame " << k + 1;
+  EXPECT_GT(counter(a[9], "pinned_vertices"), 0.0);   // pinned at the checkpoint
+  EXPECT_GT(counter(a[10], "pinned_vertices"), 0.0);  // and in frame 11
+  EXPECT_EQ(counter(a[11], "pinned_vertices"), 0.0);  // released in frame 12
+  // The obstacle rests before its start, moves between the checkpoint (t = 0.1 s) and the
+  // end (t = 0.15 s) and stands still after its stop.
+  const auto scene_in_cpp = pce::sim::load_scene(file);
+  const pce::sim::Obstacle& table = scene_in_cpp->simulation.obstacles.at(0);
+  const auto moved = [&](double t0, double t1) { return !table.pose(t0).isApprox(table.pose(t1), 1e-12); };
+  EXPECT_FALSE(moved(0.0, 0.04));
+  EXPECT_TRUE(moved(0.10, 0.15));
+  EXPECT_FALSE(moved(0.135, 0.15));
+}
+
+TEST(PceSim, ResumedRunWithTwoThreadsEndsBitForBit) {
+  // slope_scene at 17² + 11² vertices with "threads": 2 in the scene, so the interrupted, the
+  // resumed and the uninterrupted run all use two threads: at the checkpoint of frame 10
+  // every kind of contact is active with friction, and the candidate lists are longer than
+  // one chunk of the contact passes (2048 pairs), so both threads share them. The resumed
+  // run ends frame 15 where the uninterrupted one does; it fails if a checkpointed state
+  // depended on which thread produced which part of it.
+  json scene = slope_scene(16, 10);
+  scene["solver"]["threads"] = 2;
+  const std::vector<json> a = resume_matches(write_scene(scene, "resume_threads"), "resume_threads", 15, 13, 10);
+  ASSERT_EQ(a.size(), 15u);
+  EXPECT_GT(counter(a[9], "vertex_face_friction_contacts"), 0.0);
+  EXPECT_GT(counter(a[9], "edge_edge_friction_contacts"), 0.0);
+  EXPECT_GT(counter(a[9], "obstacle_friction_contacts"), 0.0);
+  EXPECT_GT(counter(a[9], "vertex_face_candidates"), 2048.0);
+  EXPECT_GT(counter(a[9], "edge_edge_candidates"), 2048.0);
 }
 
 TEST(PceSim, CheckpointOfAnotherSceneOrCorruptIsRefused) {
