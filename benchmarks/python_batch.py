@@ -10,7 +10,9 @@ figure. Rounds alternate the two (C++ first), so both see the same machine state
 reports its best round. Also timed: every output at once, two threads, float32, and the
 same call into arrays reused from the previous call (`out=`), the pairs in blocks of
 1 024 into one reused set of arrays (results that stay in the cache), and, last (it is
-process-wide), fresh arrays once `pce.keep_freed_memory()` has been called.
+process-wide), fresh arrays once `pce.keep_freed_memory()` has been called. Every case's
+results are compared with the plain call's (`largest_difference_to_plain_call`: 0 for the
+float64 cases, whose rows do not depend on threads, arrays or blocks).
 
     python3 benchmarks/python_batch.py --pce-bench build/benchmarks/pce-bench \
         --json benchmarks/results/python_batch.json
@@ -84,6 +86,42 @@ def python_blocks_ns_per_pair(X, block, **kwargs):
     return 1e9 * seconds / (len(X) // block * block)
 
 
+def agreement(X64, X32, block):
+    """What every timed case computes, against the plain float64 call: the largest absolute
+    difference of value, gradient and projected Hessian per case. A row's result depends
+    neither on the thread count nor on the arrays or the block it is written into, so the
+    float64 cases must agree to the bit (0.0); float32 carries float32 rounding."""
+    penalty = pce.LogBarrier(1.0, DHAT)
+    lean = dict(length="signed", penalty=penalty, projection="analytic", outputs=("value", "gradient", "projected"))
+    names = ("value", "gradient", "projected")
+
+    def copy(r):
+        return {k: np.array(getattr(r, k), dtype=np.float64) for k in names}
+
+    ref = copy(pce.evaluate("vertex_face", X64, **lean))
+    first = pce.evaluate("vertex_face", X64, **lean)
+    variants = {
+        "out=": copy(pce.evaluate("vertex_face", X64, out=first, **lean)),
+        "2 threads": copy(pce.evaluate("vertex_face", X64, threads=2, **lean)),
+        "every output": copy(pce.evaluate("vertex_face", X64, length="signed", penalty=penalty, projection="analytic")),
+    }
+    n = len(X64) // block * block
+    r = pce.evaluate("vertex_face", X64[:block], **lean)
+    parts = []
+    for start in range(0, n, block):
+        r = pce.evaluate("vertex_face", X64[start : start + block], out=r, **lean)
+        parts.append(copy(r))
+    variants["blocks"] = {k: np.concatenate([p[k] for p in parts]) for k in names}
+    variants["float32"] = copy(pce.evaluate("vertex_face", X32, **lean))
+    out = {}
+    for case, v in variants.items():
+        rows = slice(0, n) if case == "blocks" else slice(None)
+        out[case] = max(float(np.max(np.abs(v[k] - ref[k][rows]))) for k in names)
+    # the float32 scale: the largest float64 magnitude of each output
+    out["float64 magnitude"] = max(float(np.max(np.abs(ref[k]))) for k in names)
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--pce-bench", default="build/benchmarks/pce-bench")
@@ -128,6 +166,7 @@ def main():
         ns, r = python_ns_per_pair(X[np.float64], **lean)
         del r
         best[name] = min(best[name], ns)
+    agree = agreement(X[np.float64], X[np.float32], 1024)
     rows = []
     print(f"{args.pairs} vertex-face pairs, best of {args.rounds} rounds; C++: pce-bench, ns per pair")
     print(f"  C++ vertex_face/analytic/double: {cpp['double']:8.1f} ns/pair")
@@ -136,6 +175,7 @@ def main():
         ref = cpp["double" if dtype == np.float64 else "float"]
         rows.append({"case": name.strip(), "ns_per_pair": best[name], "ratio_to_cpp": best[name] / ref})
         print(f"  {name:<64} {best[name]:8.1f} ns/pair  {best[name] / ref:5.2f}x C++")
+    print("largest difference to the plain float64 call: " + ", ".join(f"{k} {v:.3g}" for k, v in agree.items()))
     if args.json:
         with open(args.json, "w") as f:
             json.dump(
@@ -144,6 +184,7 @@ def main():
                     "rounds": args.rounds,
                     "cpp_ns_per_pair": cpp,
                     "python": rows,
+                    "largest_difference_to_plain_call": agree,
                     "machine": {"cpus": os.cpu_count(), "platform": platform.platform(), "python": sys.version.split()[0]},
                     "pce_version": pce.__version__,
                     "numpy_version": np.__version__,

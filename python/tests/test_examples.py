@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MIT
-"""The Python example and the timing script run (few pairs, so in seconds) and write what
-they promise."""
+"""The Python example and the timing script run (few pairs, so in seconds), write what they
+promise, and what they compare differs where it should and agrees where it must."""
 
 import json
 import subprocess
@@ -38,3 +38,9 @@ def test_python_batch_timing_script_runs(pce_bench, tmp_path):
     result = json.loads(out.read_text())
     assert result["pairs"] == 3000 and len(result["python"]) == 7
     assert all(row["ns_per_pair"] > 0 for row in result["python"])
+    # What the timed cases compute: the float64 variants (out=, two threads, every output,
+    # blocks of 1 024) exactly the plain call's; float32 its own rounding (3000 pairs, seed
+    # 2023: 2e-4 of the largest magnitude), so the float32 case is not float64 by mistake.
+    diff = result["largest_difference_to_plain_call"]
+    assert [diff[case] for case in ("out=", "2 threads", "every output", "blocks")] == [0.0] * 4
+    assert 0.0 < diff["float32"] < 1e-3 * diff["float64 magnitude"]
