@@ -29,6 +29,7 @@ using nlohmann::json;
 namespace {
 
 using fixtures::contact_of;
+using fixtures::dense_hessian;
 using fixtures::two_sheets;
 
 json contact(const char* type, const char* length, const char* hessian, bool closest,
@@ -58,18 +59,6 @@ double queries_of(const Effect& e) {
   EffectCounters c;
   e.report(c);
   return c.at("broad_phase_queries");
-}
-
-Eigen::MatrixXd dense_hessian(ContactEffect& e, const Eigen::Matrix3Xd& x) {
-  e.update_pattern(x);  // the pairs active at x join the pattern
-  Pattern p;
-  e.declare(p);
-  BlockHessian H;
-  H.set_pattern(static_cast<int>(x.cols()), p);
-  Eigen::Matrix3Xd g = Eigen::Matrix3Xd::Zero(3, x.cols());
-  e.evaluate(x, &g, &H);
-  const Eigen::SparseMatrix<double> full = H.matrix().selfadjointView<Eigen::Upper>();
-  return Eigen::MatrixXd(full);
 }
 
 /// Two copies of the same one-effect scene, each past begin(), and a state with a little

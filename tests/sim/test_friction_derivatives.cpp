@@ -36,6 +36,7 @@ namespace {
 
 using fixtures::begin_at;
 using fixtures::contact_of;
+using fixtures::dense_hessian;
 using fixtures::two_sheets;
 
 constexpr double kH = 1e-7;             // central-difference step (m)
@@ -53,19 +54,6 @@ Eigen::Matrix3Xd gradient_at(ContactEffect& e, const Eigen::Matrix3Xd& x) {
   Eigen::Matrix3Xd g = Eigen::Matrix3Xd::Zero(3, x.cols());
   e.evaluate(x, &g, nullptr);
   return g;
-}
-
-/// The effect's assembled Hessian at x, dense and symmetric.
-Eigen::MatrixXd dense_hessian(ContactEffect& e, const Eigen::Matrix3Xd& x) {
-  e.update_pattern(x);  // the pairs active at x join the pattern
-  Pattern p;
-  e.declare(p);
-  BlockHessian H;
-  H.set_pattern(static_cast<int>(x.cols()), p);
-  Eigen::Matrix3Xd g = Eigen::Matrix3Xd::Zero(3, x.cols());
-  e.evaluate(x, &g, &H);
-  const Eigen::SparseMatrix<double> full = H.matrix().selfadjointView<Eigen::Upper>();
-  return Eigen::MatrixXd(full);
 }
 
 /// Largest |central difference of E − g| over every coordinate, relative to max |g|.

@@ -1,11 +1,15 @@
 // SPDX-License-Identifier: MIT
-// The contact tests' fixture (test_contact.cpp, test_separation_floor.cpp): two small sheets
-// with one contact effect, and the start of a step that queries its pairs.
+// The contact tests' fixture (test_contact.cpp, test_separation_floor.cpp,
+// test_friction_derivatives.cpp): two small sheets with one contact effect, the start of a
+// step that queries its pairs, and an effect's Hessian as a dense matrix.
 #pragma once
 
+#include <pce/sim/block_hessian.hpp>
 #include <pce/sim/contact_effect.hpp>
 #include <pce/sim/scene.hpp>
 
+#include <Eigen/Dense>
+#include <Eigen/SparseCore>
 #include <nlohmann/json.hpp>
 
 #include <memory>
@@ -30,6 +34,20 @@ inline std::unique_ptr<Scene> two_sheets(const nlohmann::json& contact, double g
   j["meshes"][1]["transform"]["translation"] = {0.003, -0.002, gap};
   j["effects"].push_back(contact);
   return load_scene_text(j.dump(), "contact.json", PCE_TEST_TMP);
+}
+
+/// The effect's assembled Hessian at x, dense and symmetric (the pairs active at x join the
+/// pattern first).
+inline Eigen::MatrixXd dense_hessian(ContactEffect& e, const Eigen::Matrix3Xd& x) {
+  e.update_pattern(x);
+  Pattern p;
+  e.declare(p);
+  BlockHessian H;
+  H.set_pattern(static_cast<int>(x.cols()), p);
+  Eigen::Matrix3Xd g = Eigen::Matrix3Xd::Zero(3, x.cols());
+  e.evaluate(x, &g, &H);
+  const Eigen::SparseMatrix<double> full = H.matrix().selfadjointView<Eigen::Upper>();
+  return Eigen::MatrixXd(full);
 }
 
 /// Starts a step at `at` (zero velocity) for every effect of `s`, so contact effects query
