@@ -7,7 +7,8 @@
 // §2. A key the loader accepts that the table lacks fails, and so does a key the table
 // documents that the loader refuses. The mapping from JSON object to table is `kObjects`
 // below; a test also checks that the objects reached cover every `only({...})` list in the
-// loader's sources, so a new object (or a new key) cannot escape the comparison.
+// loader's sources, so a new object (or a new key) cannot escape the comparison. The effect
+// names of §2.5 and of §6.3's unknown-effect example are the registry's, in its order.
 #include "scene/registry.hpp"
 
 #include <pce/sim/input_error.hpp>
@@ -422,6 +423,23 @@ TEST(SceneKeys, TheRegistryEffectsAreEachProbed) {
   for (const SceneObject& o : objects()) names.insert(o.name);
   for (const auto& r : pce::sim::effect_registry())
     EXPECT_TRUE(names.count(r.name)) << "effect \"" << r.name << "\" has no entry in objects()";
+}
+
+TEST(SceneKeys, TheDocsListTheRegistrysEffectsInItsOrder) {
+  // §2.5's list of effect names and §6.3's example of an unknown effect's error, against the
+  // registry the loader looks names up in (white space collapsed: the docs wrap lines).
+  std::string doc;
+  for (const char c : docs())
+    if (!(c == ' ' || c == '\n') || doc.empty() || doc.back() != ' ') doc += c == '\n' ? ' ' : c;
+  std::string prose, message;
+  for (const auto& r : pce::sim::effect_registry()) {
+    prose += (prose.empty() ? "`" : ", `") + std::string(r.name) + "`";
+    message += (message.empty() ? "" : ", ") + std::string(r.name);
+  }
+  EXPECT_NE(doc.find("The names, in the registry's order (`scene/registry.cpp`): " + prose + "."), std::string::npos)
+      << "docs/simulation.md §2.5 should list the effects as the registry does: " << prose;
+  EXPECT_NE(doc.find("unknown effect \"stretchin\" (expected one of: " + message + ")"), std::string::npos)
+      << "docs/simulation.md §6.3's unknown-effect example should list the registry's effects: " << message;
 }
 
 TEST(SceneKeys, DocsTablesListExactlyTheKeysTheLoaderAccepts) {
