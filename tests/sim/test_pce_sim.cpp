@@ -421,12 +421,12 @@ TEST(PceSim, ResumedRunWithFrictionEndsBitForBit) {
 }
 
 TEST(PceSim, ResumedRunOfAVolumeEndsBitForBit) {
-  // A tilted block of 162 tetrahedra (volume_elasticity) dropped from 3 cm onto a box lands
-  // on an edge around frame 4 and is squashed and turned by the contact: at the checkpoint
-  // of frame 10 it touches the box and its volume is below its rest volume, and the set of
-  // touching vertices changes after it. The resumed run ends frame 15 where the
-  // uninterrupted one does; it fails if anything the volume's step reads is not in the
-  // checkpoint.
+  // A block of 162 tetrahedra (volume_elasticity), turned by 30° so that a corner points
+  // down 1.3 cm above a box, falls onto it from frame 4 on and is squashed and tipped by the
+  // contact: at the checkpoint of frame 10 it touches the box with its volume below its
+  // rest volume, and the set of touching vertices changes after it. The resumed run ends
+  // frame 15 where the uninterrupted one does; it fails if anything the volume's step reads
+  // is not in the checkpoint.
   const json scene = {
       {"dt", 0.01},
       {"frames", 15},
