@@ -191,7 +191,8 @@ void read_checkpoint(const std::filesystem::path& path, Simulation& sim, std::ui
   } catch (const std::invalid_argument&) {
     refuse("truncated");
   }
-  // Every effect checks its state before any is changed; then the simulation is restored.
+  // The effects take their states one by one; when one refuses its state, those restored
+  // before it get their previous state back and the simulation is left unchanged.
   std::vector<std::string> previous;
   for (const auto& e : sim.effects) previous.push_back(state_of(*e));
   std::size_t k = 0;
