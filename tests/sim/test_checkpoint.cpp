@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Checkpoint files (src/sim/output/checkpoint.cpp), in process: a checkpoint read into a
 // simulation of the same scene writes back the same bytes and continues bit for bit as the
-// simulation it was written from; a checkpoint of another fingerprint is refused; and when
+// simulation it was written from; a checkpoint of another fingerprint is refused, and the
+// fingerprint changes with the scene text and every part of the model; and when
 // one effect refuses its saved state after the effects before it took theirs, read_checkpoint
 // puts those back, so the simulation it throws from is the one it was given.
 #include <gtest/gtest.h>
@@ -9,6 +10,7 @@
 #include <pce/sim/checkpoint.hpp>
 #include <pce/sim/contact_effect.hpp>
 #include <pce/sim/counters.hpp>
+#include <pce/sim/generators.hpp>
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/scene.hpp>
 #include <pce/sim/simulation.hpp>
@@ -17,10 +19,12 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -251,4 +255,28 @@ TEST(Checkpoint, AnEffectRefusingItsStateRollsBackTheEffectsBeforeIt) {
   sb.step();
   EXPECT_EQ(sa.x, sb.x);
   EXPECT_EQ(sa.v, sb.v);
+}
+
+TEST(Checkpoint, TheFingerprintCoversTheSceneTextAndEveryPartOfTheModel) {
+  // A tet box: changing any one part of the model (or the text) changes the fingerprint,
+  // the connectivity of the tetrahedra too (two tetrahedra trade a vertex order that keeps
+  // the rest positions and masses).
+  Model model =
+      build_model({{"box", tet_box(Eigen::Vector3d(0.1, 0.1, 0.1), Eigen::Vector3i(1, 1, 1)), 1000.0, 0.005}});
+  const std::uint64_t base = simulation_fingerprint("scene", model);
+  EXPECT_EQ(simulation_fingerprint("scene", model), base);
+  EXPECT_NE(simulation_fingerprint("scene ", model), base);
+  const auto changed = [&](const std::function<void(Model&)>& change) {
+    Model m = model;
+    change(m);
+    return simulation_fingerprint("scene", m) != base;
+  };
+  EXPECT_TRUE(changed([](Model& m) { m.rest(0, 0) += 1e-12; }));
+  EXPECT_TRUE(changed([](Model& m) { m.mass[0] *= 1 + 1e-15; }));
+  EXPECT_TRUE(changed([](Model& m) { std::swap(m.triangles(0, 0), m.triangles(1, 0)); }));
+  EXPECT_TRUE(changed([](Model& m) { std::swap(m.tetrahedra(2, 0), m.tetrahedra(3, 0)); }));
+  Model strand = build_model({{"s", strands(1, 3, 0.1, 0.01, 0.0), 0.1, 0.005}});
+  const std::uint64_t s = simulation_fingerprint("scene", strand);
+  std::swap(strand.segments(0, 0), strand.segments(1, 0));
+  EXPECT_NE(simulation_fingerprint("scene", strand), s);
 }

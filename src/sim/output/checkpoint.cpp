@@ -82,6 +82,7 @@ std::uint64_t simulation_fingerprint(std::string_view scene, const Model& model)
   h = hash_matrix(model.rest, h);
   h = hash_matrix(model.triangles, h);
   h = hash_matrix(model.segments, h);
+  h = hash_matrix(model.tetrahedra, h);  // nothing for a model without volumes
   return hash_matrix(model.mass, h);
 }
 
@@ -164,7 +165,7 @@ void read_checkpoint(const std::filesystem::path& path, Simulation& sim, std::ui
     if (r.get<std::uint64_t>() != fingerprint)
       refuse(
           "written for another scene (the scene file, a mesh file or a physics option such as --hessian, "
-          "--broad-phase, --single-solve or --tolerance differs)");
+          "--broad-phase, --single-solve, --mode, --iterations or --tolerance differs)");
     frame = r.get<std::int32_t>();
     time = r.get<double>();
     const auto n = r.get<std::int64_t>();

@@ -36,7 +36,7 @@ std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t seed = 0xcbf29ce4842
 
 /// A fingerprint of what a simulation was built from: `scene` (the scene text and every
 /// setting that changes the physics, as the caller spells them) together with the model
-/// (rest positions, triangles, segments, masses). A checkpoint is only read into a
+/// (rest positions, triangles, segments, tetrahedra, masses). A checkpoint is only read into a
 /// simulation with the same fingerprint.
 std::uint64_t simulation_fingerprint(std::string_view scene, const Model& model);
 
