@@ -15,10 +15,14 @@
 
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/mesh.hpp>
+#include <pce/sim/obstacle.hpp>
 
 #include <Eigen/Core>
 
 #include <cmath>
+#include <cstddef>
+#include <cstdlib>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -30,6 +34,17 @@ inline std::string text(double v) {
   s.precision(17);
   s << v;
   return s.str();
+}
+
+/// `v` with the fewest significant digits (up to 17) that read back as `v` (0.4, not
+/// 0.40000000000000002).
+inline std::string shortest(double v) {
+  for (int digits = 1;; ++digits) {
+    std::ostringstream s;
+    s.precision(digits);
+    s << v;
+    if (digits >= 17 || std::strtod(s.str().c_str(), nullptr) == v) return s.str();
+  }
 }
 
 /// Largest stiffness, in the effect's own SI unit (N/m, N, N·m, N·m², J/m², J/m³): above any
@@ -111,6 +126,49 @@ inline const Eigen::Vector3d& finite(const std::string& field, const Eigen::Vect
     throw ArgumentError(
         field, "expected three finite numbers, got [" + text(v[0]) + ", " + text(v[1]) + ", " + text(v[2]) + "]");
   return v;
+}
+
+/// Throws unless `R` is a rotation matrix (finite, orthonormal to 1e-9, determinant 1).
+inline const Eigen::Matrix3d& rotation(const std::string& field, const Eigen::Matrix3d& R) {
+  if (!(R.allFinite() && (R.transpose() * R - Eigen::Matrix3d::Identity()).norm() < 1e-9 && R.determinant() > 0))
+    throw ArgumentError(field, "expected a rotation matrix (orthonormal, determinant 1)");
+  return R;
+}
+
+/// Checks a `Motion` whose fields are named `at`.velocity, `at`.keyframes[k].time, … (bare
+/// when `at` is empty). Constant velocity: speeds within `kMaxSpeed`, start ≥ 0, stop ≥ start.
+/// Keyframed: the constant-velocity fields at their defaults; times finite, ≥ 0 and strictly
+/// increasing; translations positions; rotations rotation matrices; a known interpolation.
+inline void motion(const std::string& at, const Motion& m) {
+  const auto field = [&](const std::string& key) { return at.empty() ? key : at + "." + key; };
+  if (m.keyframes.empty()) {
+    speed(field("velocity"), m.velocity);
+    speed(field("angular_velocity"), m.angular_velocity);
+    nonnegative(field("start"), m.start);
+    if (!(m.stop >= m.start)) throw ArgumentError(field("stop"), "expected stop >= start");
+    return;
+  }
+  const char* const both =
+      "a motion has either \"keyframes\" or a constant velocity (\"velocity\", \"angular_velocity\", \"start\", "
+      "\"stop\"), not both";
+  if (!(m.velocity.array() == 0).all()) throw ArgumentError(field("velocity"), both);
+  if (!(m.angular_velocity.array() == 0).all()) throw ArgumentError(field("angular_velocity"), both);
+  if (m.start != 0) throw ArgumentError(field("start"), both);
+  if (m.stop != std::numeric_limits<double>::infinity()) throw ArgumentError(field("stop"), both);
+  for (std::size_t k = 0; k < m.keyframes.size(); ++k) {
+    const Keyframe& key = m.keyframes[k];
+    const std::string name = "keyframes[" + std::to_string(k) + "]";
+    if (!(std::isfinite(key.time) && key.time >= 0))
+      throw ArgumentError(field(name + ".time"), "expected a finite time >= 0, got " + shortest(key.time));
+    if (k > 0 && !(key.time > m.keyframes[k - 1].time))
+      throw ArgumentError(field(name + ".time"), "expected a time greater than keyframes[" + std::to_string(k - 1) +
+                                                     "]'s (" + shortest(m.keyframes[k - 1].time) + "), got " +
+                                                     shortest(key.time));
+    position(field(name + ".translation"), key.translation);
+    rotation(field(name + ".rotation"), key.rotation);
+  }
+  if (m.interpolation != Interpolation::linear && m.interpolation != Interpolation::smooth)
+    throw ArgumentError(field("interpolation"), "expected linear or smooth");
 }
 
 }  // namespace pce::sim::args

@@ -558,13 +558,8 @@ void check_obstacle(const Obstacle& o, const std::string& at) {
       throw ArgumentError(at + ".kind", "expected sphere, box, capsule or mesh");
   }
   args::position(at + ".position", o.position);
-  if (!(o.rotation.allFinite() && (o.rotation.transpose() * o.rotation - Eigen::Matrix3d::Identity()).norm() < 1e-9 &&
-        o.rotation.determinant() > 0))
-    throw ArgumentError(at + ".rotation", "expected a rotation matrix (orthonormal, determinant 1)");
-  args::speed(at + ".motion.velocity", o.motion.velocity);
-  args::speed(at + ".motion.angular_velocity", o.motion.angular_velocity);
-  args::nonnegative(at + ".motion.start", o.motion.start);
-  if (!(o.motion.stop >= o.motion.start)) throw ArgumentError(at + ".motion.stop", "expected stop >= start");
+  args::rotation(at + ".rotation", o.rotation);
+  args::motion(at + ".motion", o.motion);
 }
 
 }  // namespace

@@ -2,9 +2,11 @@
 // Pins: stiff zero-length springs to target positions, E = ½ k Σ_{pinned i} |xᵢ − x̂ᵢ|²,
 // grouped so that a group can be released at a frame (the hammock drops its sheets that
 // way) or move rigidly. A group's target is its rest position x̄ᵢ, or with a `motion`
-// x̂ᵢ(t) = c + v τ + exp([ω]× τ)(x̄ᵢ − c) (pce/sim/obstacle.hpp, Motion) at the end of the
-// step, c the group's centre (the twist scene turns one end of a ribbon that way). A group
-// is active for frames < release_frame (always without one).
+// x̂ᵢ(t) = c + d(t) + R(t)(x̄ᵢ − c) (pce/sim/obstacle.hpp, Motion::apply) at the end of the
+// step, c the group's centre: d = v τ and R = exp([ω]× τ) for a constant velocity (the
+// twist scene turns one end of a ribbon that way), or the keyframes' interpolated
+// translation and rotation. A group is active for frames < release_frame (always without
+// one).
 #include "pins.hpp"
 
 #include "arguments.hpp"
@@ -148,12 +150,8 @@ std::unique_ptr<Effect> make_pins(const Model& model, std::vector<PinGroup> grou
     group.vertices = g.vertices;
     group.release_frame = g.release_frame;
     if (g.motion) {
-      const Motion& m = *g.motion;
-      args::speed(at + ".motion.velocity", m.velocity);
-      args::speed(at + ".motion.angular_velocity", m.angular_velocity);
-      args::nonnegative(at + ".motion.start", m.start);
-      if (!(m.stop >= m.start)) throw ArgumentError(at + ".motion.stop", "expected stop >= start");
-      group.motion = m;
+      args::motion(at + ".motion", *g.motion);
+      group.motion = *g.motion;
       group.moving = true;
       Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
       for (int i : group.vertices) centroid += model.rest.col(i);

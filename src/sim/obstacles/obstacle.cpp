@@ -12,23 +12,65 @@
 
 namespace pce::sim {
 
+namespace {
+
+/// Where time t falls among a keyframed motion's keyframes: keyframe k and the weight w of
+/// keyframe k + 1 (w = u or s(u) = 3u² − 2u³ with u = (t − t_k)/(t_{k+1} − t_k) ∈ [0, 1));
+/// w = 0 at and before the first keyframe and at and after the last, which then hold.
+struct Segment {
+  std::size_t k = 0;
+  double w = 0;
+};
+
+Segment segment_at(const Motion& m, double t) {
+  const std::vector<Keyframe>& f = m.keyframes;
+  // The first keyframe later than t (a NaN time is later than none: the last one holds).
+  const auto next =
+      std::upper_bound(f.begin(), f.end(), t, [](double time, const Keyframe& key) { return time < key.time; });
+  if (next == f.begin()) return {0, 0.0};
+  const auto k = static_cast<std::size_t>(next - f.begin()) - 1;
+  if (next == f.end()) return {k, 0.0};
+  const double u = (t - f[k].time) / (f[k + 1].time - f[k].time);
+  return {k, m.interpolation == Interpolation::smooth ? u * u * (3 - 2 * u) : u};
+}
+
+}  // namespace
+
 double Motion::elapsed(double t) const {
   // τ = clamp(t − start, 0, stop − start): at rest before `start`, frozen after `stop`.
   return std::clamp(t - start, 0.0, std::max(0.0, stop - start));
 }
 
+Eigen::Vector3d Motion::shift(double t) const {
+  if (keyframes.empty()) return velocity * elapsed(t);
+  // d_k + w (d_{k+1} − d_k).
+  const Segment s = segment_at(*this, t);
+  const Keyframe& a = keyframes[s.k];
+  if (s.w == 0) return a.translation;
+  return a.translation + s.w * (keyframes[s.k + 1].translation - a.translation);
+}
+
 Eigen::Matrix3d Motion::spin(double t) const {
-  // exp([ω]× τ): a constant angular velocity given in world axes (Rodrigues' formula
-  // through Eigen's AngleAxis).
-  const double angle = angular_velocity.norm() * elapsed(t);
-  if (!(angle > 0)) return Eigen::Matrix3d::Identity();
-  return Eigen::AngleAxisd(angle, angular_velocity.normalized()).toRotationMatrix();
+  if (keyframes.empty()) {
+    // exp([ω]× τ): a constant angular velocity given in world axes (Rodrigues' formula
+    // through Eigen's AngleAxis).
+    const double angle = angular_velocity.norm() * elapsed(t);
+    if (!(angle > 0)) return Eigen::Matrix3d::Identity();
+    return Eigen::AngleAxisd(angle, angular_velocity.normalized()).toRotationMatrix();
+  }
+  // R_k exp(w log(R_kᵀ R_{k+1})): the relative rotation as an axis and an angle in [0, π]
+  // (the shortest way round), the angle scaled by w.
+  const Segment s = segment_at(*this, t);
+  const Keyframe& a = keyframes[s.k];
+  if (s.w == 0) return a.rotation;
+  const Eigen::AngleAxisd relative(Eigen::Matrix3d(a.rotation.transpose() * keyframes[s.k + 1].rotation));
+  return a.rotation * Eigen::AngleAxisd(s.w * relative.angle(), relative.axis()).toRotationMatrix();
 }
 
 Eigen::Isometry3d Obstacle::pose(double t) const {
-  // R(τ) = exp([ω]× τ) R0 about the obstacle's centre, c(τ) = position + v τ.
+  // R(t) = spin(t) R0 about the obstacle's centre, c(t) = position + shift(t).
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.translation() = position + motion.velocity * motion.elapsed(t);
+  pose.translation() = position + motion.shift(t);
   pose.linear() = motion.spin(t) * rotation;
   return pose;
 }

@@ -162,7 +162,7 @@ std::unique_ptr<Effect> load_pins(const Params& params, const BuildContext& ctx)
     }
     if (g.has("motion")) {
       const Params m = g.object("motion");
-      m.only({"velocity", "angular_velocity", "center", "start", "stop"});
+      m.only({"velocity", "angular_velocity", "center", "start", "stop", "keyframes", "interpolation"});
       group.motion = parse_motion(m);
       if (m.has("center")) group.centre = m.vec3("center");  // checked by make_pins (motion.center)
     }

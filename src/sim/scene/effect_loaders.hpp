@@ -13,10 +13,10 @@
 /// - `{"type":"strand_bending", "stiffness": k > 0 (N·m²)}`
 /// - `{"type":"pins", "stiffness": k > 0 (N/m, default 1e5), "groups": [{"vertices":[i,…]
 ///   | "box":{"min":[…],"max":[…]}, "mesh":"name" (optional), "release_frame": N ≥ 1
-///   (optional), "motion":{"velocity", "angular_velocity", "center", "start", "stop"}
-///   (optional)}, …]}`; with "mesh", "vertices" are that mesh's local indices and a box
-///   selects only its vertices (rest positions inside the closed box); a group is pinned
-///   for frames < release_frame (always without one)
+///   (optional), "motion":{"velocity", "angular_velocity", "center", "start", "stop"} or
+///   {"keyframes", "interpolation", "center"} (optional)}, …]}`; with "mesh", "vertices" are that mesh's local indices
+///   and a box selects only its vertices (rest positions inside the closed box); a group is pinned for frames <
+///   release_frame (always without one)
 /// - `{"type":"damping", "coefficient": c ≥ 0 (1/s)}`
 /// - `{"type":"self_vertex_face" | "self_edge_edge", "penalty": {...}, "length": "unsigned"
 ///   (default) | "signed", "hessian": "analytic" (default) | "exact" | "numerical" |

@@ -28,8 +28,9 @@ struct BuildContext {
   int threads = 1;
 };
 
-/// Reads a `motion` object's `velocity`, `angular_velocity`, `start` and `stop` (the caller
-/// states which keys are allowed); defined in scene/scene.cpp, shared by obstacles and pins.
+/// Reads a `motion` object: `velocity`, `angular_velocity`, `start` and `stop`, or
+/// `keyframes` and `interpolation` (not both; the caller states which keys are allowed);
+/// defined in scene/scene.cpp, shared by obstacles and pins.
 Motion parse_motion(const Params& m);
 
 using EffectFactory = std::unique_ptr<Effect> (*)(const Params& params, const BuildContext& ctx);

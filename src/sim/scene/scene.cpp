@@ -63,6 +63,28 @@ Eigen::Matrix3d parse_rotation(const Params& p) {
 
 Motion parse_motion(const Params& m) {
   Motion motion;
+  if (m.has("keyframes")) {
+    for (const char* key : {"velocity", "angular_velocity", "start", "stop"})
+      if (m.has(key))
+        m.fail(key,
+               "a motion has either \"keyframes\" or a constant velocity (\"velocity\", \"angular_velocity\", "
+               "\"start\", \"stop\"), not both");
+    const std::size_t count = m.array("keyframes", true).size();
+    if (count == 0) m.fail("keyframes", "expected at least one keyframe");
+    for (std::size_t k = 0; k < count; ++k) {
+      const Params f = m.element("keyframes", k);
+      f.only({"time", "translation", "rotation"});
+      Keyframe key;
+      key.time = f.number("time");
+      key.translation = f.vec3("translation", Eigen::Vector3d::Zero());
+      if (f.has("rotation")) key.rotation = parse_rotation(f.object("rotation"));
+      motion.keyframes.push_back(key);
+    }
+    motion.interpolation = m.choice<Interpolation>("interpolation", Interpolation::linear);
+    m.build([&] { args::motion("", motion); });  // times, their order, translations: named by their path
+    return motion;
+  }
+  if (m.has("interpolation")) m.fail("interpolation", "an interpolation is between \"keyframes\": give them too");
   motion.velocity = checked_vec3(m, "velocity", args::speed, Eigen::Vector3d::Zero());
   motion.angular_velocity = checked_vec3(m, "angular_velocity", args::speed, Eigen::Vector3d::Zero());
   motion.start = m.nonnegative("start", 0.0);
@@ -203,7 +225,7 @@ Obstacle parse_obstacle(const Params& p, const std::filesystem::path& base) {
   if (p.has("rotation")) o.rotation = parse_rotation(p.object("rotation"));
   if (p.has("motion")) {
     const Params m = p.object("motion");
-    m.only({"velocity", "angular_velocity", "start", "stop"});
+    m.only({"velocity", "angular_velocity", "start", "stop", "keyframes", "interpolation"});
     o.motion = parse_motion(m);
   }
   return o;

@@ -13,6 +13,7 @@
 
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace pce::sim {
 
@@ -30,9 +31,43 @@ inline constexpr EnumNames<ShapeKind, 4> kShapeNames{{
 /// The table of `ShapeKind`'s names (for `pce::name_of` and `pce::parse`).
 constexpr const EnumNames<ShapeKind, 4>& enum_names(ShapeKind) { return kShapeNames; }
 
-/// A rigid path: from `start` to `stop` (s) a body translates with `velocity` (m/s) and
-/// rotates about its centre with `angular_velocity` (rad/s, axis × rate); it rests before
-/// `start` and after `stop`. Obstacles move by it, and so do pin groups' targets.
+/// How a keyframed `Motion` passes from one keyframe to the next (scene key
+/// `motion.interpolation`): with u ∈ [0, 1] the fraction of the segment's time gone,
+/// `linear` moves by u, `smooth` by smoothstep s(u) = 3u² − 2u³ (zero velocity at every
+/// keyframe).
+enum class Interpolation { linear, smooth };
+
+/// The interpolations' names (scene key `motion.interpolation`), in enumerator order.
+inline constexpr EnumNames<Interpolation, 2> kInterpolationNames{{
+    {Interpolation::linear, "linear"},
+    {Interpolation::smooth, "smooth"},
+}};
+
+/// The table of `Interpolation`'s names (for `pce::name_of` and `pce::parse`).
+constexpr const EnumNames<Interpolation, 2>& enum_names(Interpolation) { return kInterpolationNames; }
+
+/// One keyframe of a keyframed `Motion`: the body's rigid displacement from its rest pose
+/// at `time`, a rotation R about the body's centre c followed by a translation d, so that a
+/// point p at rest is at c + d + R (p − c).
+struct Keyframe {
+  /// Time (s): finite, ≥ 0, and greater than the previous keyframe's.
+  double time = 0;
+  /// Translation d (m), each coordinate within ±`kMaxCoordinate`.
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  /// Rotation R about the body's centre, in world axes (a rotation matrix).
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+};
+
+/// A rigid path, either a constant velocity or keyframes. Constant velocity (no keyframes):
+/// from `start` to `stop` (s) a body translates with `velocity` (m/s) and rotates about its
+/// centre with `angular_velocity` (rad/s, axis × rate); it rests before `start` and after
+/// `stop`. Keyframed (`keyframes` not empty; the four constant-velocity fields then keep
+/// their defaults): the body holds the first keyframe's displacement before its time and
+/// the last's after it, and between two keyframes k and k + 1 its translation is
+/// d_k + w (d_{k+1} − d_k) and its rotation R_k exp(w log(R_kᵀ R_{k+1})) (the shortest
+/// rotation between them, its angle scaled by w), with w = u (`linear`) or 3u² − 2u³
+/// (`smooth`), u = (t − t_k)/(t_{k+1} − t_k). Obstacles move by it, and so do pin groups'
+/// targets.
 struct Motion {
   /// Translation velocity v (m/s).
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
@@ -42,15 +77,22 @@ struct Motion {
   double start = 0;
   /// Time (s) the motion stops (never, by default).
   double stop = std::numeric_limits<double>::infinity();
+  /// The keyframes, in strictly increasing time; empty: the constant velocity above.
+  std::vector<Keyframe> keyframes{};
+  /// How a keyframed motion passes between its keyframes.
+  Interpolation interpolation = Interpolation::linear;
 
-  /// Time spent moving by time t: τ = clamp(t − start, 0, stop − start).
+  /// Time spent moving by time t: τ = clamp(t − start, 0, stop − start) (constant velocity).
   double elapsed(double t) const;
-  /// The rotation so far, exp([ω]× τ) (Rodrigues' formula).
+  /// The translation so far: v τ, or the keyframes' translation at time t.
+  Eigen::Vector3d shift(double t) const;
+  /// The rotation so far: exp([ω]× τ) (Rodrigues' formula), or the keyframes' rotation at
+  /// time t.
   Eigen::Matrix3d spin(double t) const;
   /// Where a point at `p` at rest is at time t, turning about `centre`:
-  /// centre + v τ + exp([ω]× τ)(p − centre).
+  /// centre + shift(t) + spin(t)(p − centre).
   Eigen::Vector3d apply(double t, const Eigen::Vector3d& centre, const Eigen::Vector3d& p) const {
-    return centre + velocity * elapsed(t) + spin(t) * (p - centre);
+    return centre + shift(t) + spin(t) * (p - centre);
   }
 };
 
