@@ -26,7 +26,7 @@ PUBLIC = {
     "effects": ["effect", "contact_effect", "effects"],
     "solver": ["simulation", "start_state", "allocator"],
     "scene": ["scene"],
-    "output": ["render", "frames", "checkpoint"],
+    "output": ["render", "frames", "checkpoint", "recording", "movie", "usd"],
     "run": ["run"],
 }
 

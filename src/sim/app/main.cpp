@@ -2,10 +2,11 @@
 // pce-sim: run a scene (docs/simulation.md §5).
 //   pce-sim SCENE.json [--out DIR] [--frames N] [--hessian S] [--broad-phase fcl|bullet|brute]
 //           [--threads T] [--single-solve] [--tolerance TOL] [--no-frames]
-//           [--checkpoint-every K] [--resume DIR]
+//           [--checkpoint-every K] [--resume DIR] [--video FILE] [--usd FILE]
 // Writes DIR/frame_NNNN.obj, DIR/stats.jsonl (one record per frame, appended and flushed as
 // each frame ends), DIR/last_frame.png, DIR/stats.json and DIR/summary.json (at the end),
-// and DIR/checkpoint_NNNN.pcecp (every K frames, and when stopped by a signal).
+// DIR/checkpoint_NNNN.pcecp (every K frames, and when stopped by a signal), and at the end
+// the movie (--video, encoded by ffmpeg) and the USD cache (--usd) of the output frames.
 // Exit codes: 0 done; 2 invalid input (one line naming file and field, or the command-line
 // option; nothing written); 3 the simulation failed (non-finite state or failed solve: the
 // frames and stats up to the failure and the last finite frame are kept, the message names
@@ -14,9 +15,12 @@
 #include <pce/sim/allocator.hpp>
 #include <pce/sim/checkpoint.hpp>
 #include <pce/sim/effects.hpp>
+#include <pce/sim/frames.hpp>
 #include <pce/sim/input_error.hpp>
+#include <pce/sim/movie.hpp>
 #include <pce/sim/run.hpp>
 #include <pce/sim/scene.hpp>
+#include <pce/sim/usd.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -48,7 +52,7 @@ template <class Values> std::vector<std::string> names(const Values& values) {
 
 /// The command line.
 struct Options {
-  std::string scene_file, out_dir, hessian, broad_phase, resume_dir, mode;
+  std::string scene_file, out_dir, hessian, broad_phase, resume_dir, mode, video, usd;
   int frames = 0, threads = -1, checkpoint_every = 0, iterations = 0;
   double tolerance = 0;
   bool single_solve = false, no_frames = false;
@@ -67,6 +71,17 @@ struct Options {
     return o;
   }
 };
+
+/// Throws `CLI::ValidationError` naming `option` if `file` (unless empty) cannot be written
+/// with one of `extensions` (`check_output_file`).
+void check_file(const char* option, const std::string& file, const std::vector<std::string>& extensions) {
+  if (file.empty()) return;
+  try {
+    check_output_file(file, extensions);
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError(option, e.what());
+  }
+}
 
 /// Parses the command line into `o`: −1 to go on, else the exit code (help: 0; an invalid
 /// command line: 2, after one line on stderr).
@@ -92,11 +107,19 @@ int parse_options(int argc, char** argv, Options& o) {
       ->check(CLI::Range(1, 10000000));
   app.add_option("--resume", o.resume_dir,
                  "continue the run in DIR from its latest checkpoint (DIR is the output directory)");
+  app.add_option("--video", o.video,
+                 "at the end, write a movie of the output frames to FILE (.mp4, .m4v, .mov, .mkv; needs ffmpeg)");
+  app.add_option("--usd", o.usd, "at the end, write the output frames as a USD cache to FILE (.usda, .usd; text)");
   try {
     app.parse(argc, argv);
     if (!o.resume_dir.empty() && !o.out_dir.empty() &&
         std::filesystem::weakly_canonical(o.resume_dir) != std::filesystem::weakly_canonical(o.out_dir))
       throw CLI::ValidationError("--out", "--resume DIR writes into DIR; leave --out out or give the same folder");
+    // The movie and the cache are written at the end: refused now if they cannot be.
+    check_file("--video", o.video, movie_extensions());
+    check_file("--usd", o.usd, usd_extensions());
+    if (!o.video.empty() && find_ffmpeg().empty())
+      throw CLI::ValidationError("--video", ffmpeg_missing() + ", or leave --video out");
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {  // one line, exit code 2, like every invalid input
@@ -186,6 +209,8 @@ Ending run_frames(const Options& o, Loaded& l, const std::filesystem::path& dir)
   output.checkpoint_every = o.checkpoint_every;
   output.fingerprint = l.fingerprint;
   output.resumed = !l.resumed_from.empty();
+  output.video = o.video;
+  output.usd = o.usd;
   run.open(output);
   std::cerr << "pce-sim: " << o.scene_file << ": " << sim.model.vertex_count() << " vertices, " << sim.effects.size()
             << " effects, " << sim.frames << " frames, dt = " << sim.solver.dt << " s";
@@ -206,6 +231,10 @@ Ending run_frames(const Options& o, Loaded& l, const std::filesystem::path& dir)
     end.stopped_by = g_stop_signal == SIGINT ? "SIGINT" : "SIGTERM";
     end.status = 128 + static_cast<int>(g_stop_signal);
   }
+  if (!o.usd.empty() || !o.video.empty())
+    std::cerr << "pce-sim: writing " << (o.usd.empty() ? "" : "the USD cache " + o.usd)
+              << (o.usd.empty() || o.video.empty() ? "" : " and ") << (o.video.empty() ? "" : "the movie " + o.video)
+              << "\n";
   run.close(end.failure, end.stopped_by);
   return end;
 }
@@ -247,7 +276,8 @@ int main(int argc, char** argv) {
     return end.status;
   }
   std::cerr << "pce-sim: wrote " << (dir / "stats.json").string() << ", " << (dir / "last_frame.png").string()
-            << " and the frames in " << dir.string() << "\n";
+            << (o.usd.empty() ? "" : ", " + o.usd) << (o.video.empty() ? "" : ", " + o.video) << " and the frames in "
+            << dir.string() << "\n";
   std::cout << dir.string() << "\n";
   return 0;
 }

@@ -19,59 +19,17 @@ namespace {
 constexpr double pi = 3.14159265358979323846;
 constexpr double field_of_view = 30.0 * pi / 180.0;
 
-/// A pinhole camera: screen x = cx + focal · (right · d) / z, screen y = cy − focal ·
-/// (up · d) / z, depth z = forward · d, with d = p − eye.
-struct Camera {
-  Eigen::Vector3d eye, right, up, forward;
-  double focal = 1, cx = 0, cy = 0;
-
-  /// (screen x, screen y, 1 / z); 1/z ≤ 0 for a point not in front of the camera.
-  Eigen::Vector3d project(const Eigen::Vector3d& p) const {
-    const Eigen::Vector3d d = p - eye;
-    const double z = forward.dot(d);
-    if (!(z > 0)) return Eigen::Vector3d(0, 0, -1);
-    return Eigen::Vector3d(cx + focal * right.dot(d) / z, cy - focal * up.dot(d) / z, 1.0 / z);
-  }
-};
+/// The projection of a view: (screen x, screen y, 1 / z); 1/z ≤ 0 for a point not in front
+/// of the camera.
+Eigen::Vector3d project(const RenderView& cam, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d d = p - cam.eye;
+  const double z = cam.forward.dot(d);
+  if (!(z > 0)) return Eigen::Vector3d(0, 0, -1);
+  return Eigen::Vector3d(cam.cx + cam.focal * cam.right.dot(d) / z, cam.cy - cam.focal * cam.up.dot(d) / z, 1.0 / z);
+}
 
 bool usable(const RenderMesh& m, int vertex) {
   return vertex >= 0 && vertex < m.positions.cols() && m.positions.col(vertex).allFinite();
-}
-
-/// The camera whose picture of every usable vertex fills a `w` × `h` image but for `margin`.
-/// False if there is no usable vertex.
-bool fit_camera(const std::vector<RenderMesh>& meshes, const RenderOptions& opts, int w, int h, Camera& cam) {
-  Eigen::AlignedBox3d box;
-  for (const RenderMesh& m : meshes)
-    for (Eigen::Index i = 0; i < m.positions.cols(); ++i)
-      if (m.positions.col(i).allFinite()) box.extend(m.positions.col(i));
-  if (box.isEmpty()) return false;
-
-  Eigen::Vector3d forward = opts.view_direction;
-  if (!forward.allFinite() || forward.norm() == 0) forward = RenderOptions().view_direction;
-  forward.normalize();
-  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
-  if (std::abs(forward.dot(up)) > 0.999) up = Eigen::Vector3d::UnitY();
-  cam.forward = forward;
-  cam.right = forward.cross(up).normalized();
-  cam.up = cam.right.cross(forward);
-  const double radius = std::max(0.5 * box.diagonal().norm(), 1e-9 * (1 + box.center().norm()));
-  cam.eye = box.center() - forward * (1.05 * radius / std::sin(0.5 * field_of_view));
-
-  // Unit focal length first, then zoom and shift so that the projected box fits.
-  cam.focal = 1, cam.cx = 0, cam.cy = 0;
-  Eigen::AlignedBox2d screen;
-  for (const RenderMesh& m : meshes)
-    for (Eigen::Index i = 0; i < m.positions.cols(); ++i)
-      if (m.positions.col(i).allFinite()) screen.extend(cam.project(m.positions.col(i)).head<2>());
-  const double margin = std::clamp(opts.margin, 0.0, 0.45);
-  const Eigen::Vector2d extent = screen.sizes().cwiseMax(1e-12);
-  const double focal_x = (1 - 2 * margin) * w / extent.x(), focal_y = (1 - 2 * margin) * h / extent.y();
-  cam.focal = std::min(focal_x, focal_y);
-  if (screen.sizes().x() < 1e-12 && screen.sizes().y() < 1e-12) cam.focal = 1;  // a single point
-  cam.cx = 0.5 * w - cam.focal * screen.center().x();
-  cam.cy = 0.5 * h - cam.focal * screen.center().y();  // project() already flips y
-  return true;
 }
 
 /// The supersampled image: colour and inverse depth (0 = nothing drawn, larger = nearer).
@@ -106,7 +64,7 @@ Eigen::Matrix3Xd vertex_normals(const RenderMesh& m, const std::vector<bool>& tr
   return n;
 }
 
-void draw_triangles(const RenderMesh& m, const Camera& cam, const Lights& lights, Canvas& canvas) {
+void draw_triangles(const RenderMesh& m, const RenderView& cam, const Lights& lights, Canvas& canvas) {
   const Eigen::Index nt = m.triangles.cols();
   std::vector<bool> ok(static_cast<std::size_t>(nt), false);
   for (Eigen::Index t = 0; t < nt; ++t) {
@@ -122,7 +80,7 @@ void draw_triangles(const RenderMesh& m, const Camera& cam, const Lights& lights
     Eigen::Vector3d p[3], s[3], n[3];
     for (int k = 0; k < 3; ++k) {
       p[k] = m.positions.col(i[k]);
-      s[k] = cam.project(p[k]);
+      s[k] = project(cam, p[k]);
       n[k] = normals.col(i[k]);
     }
     if (!(s[0].z() > 0 && s[1].z() > 0 && s[2].z() > 0)) continue;
@@ -168,14 +126,14 @@ void draw_triangles(const RenderMesh& m, const Camera& cam, const Lights& lights
   }
 }
 
-void draw_segments(const RenderMesh& m, const Camera& cam, const Lights& lights, double width, Canvas& canvas) {
+void draw_segments(const RenderMesh& m, const RenderView& cam, const Lights& lights, double width, Canvas& canvas) {
   const Eigen::Vector3d base = m.color.cast<double>().cwiseMax(0.0).cwiseMin(1.0);
   const double half = 0.5 * std::max(width, 1.0);
   for (Eigen::Index e = 0; e < m.segments.cols(); ++e) {
     const auto i = m.segments.col(e);
     if (!usable(m, i[0]) || !usable(m, i[1])) continue;
     const Eigen::Vector3d pa = m.positions.col(i[0]), pb = m.positions.col(i[1]);
-    const Eigen::Vector3d sa = cam.project(pa), sb = cam.project(pb);
+    const Eigen::Vector3d sa = project(cam, pa), sb = project(cam, pb);
     if (!(sa.z() > 0 && sb.z() > 0)) continue;
     const Eigen::Vector2d a = sa.head<2>(), ab = sb.head<2>() - a;
     const double length2 = ab.squaredNorm();
@@ -207,19 +165,88 @@ void draw_segments(const RenderMesh& m, const Camera& cam, const Lights& lights,
 
 }  // namespace
 
-void render_png(const std::string& path, const std::vector<RenderMesh>& meshes, const RenderOptions& opts) {
+ViewFit::ViewFit(const RenderOptions& opts) : opts_(opts) {}
+
+void ViewFit::include(const Eigen::Matrix3Xd& points) {
+  if (placed_) throw std::logic_error("pce::sim::ViewFit::include: called after cover (the first pass is over)");
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (points.col(i).allFinite()) box_.extend(points.col(i));
+}
+
+void ViewFit::cover(const Eigen::Matrix3Xd& points) {
+  if (!placed_) {
+    // The camera's place: looking along the view direction at the box's centre, from far
+    // enough for the box's bounding sphere to be in the field of view. Focal length 1 and no
+    // shift until the projections are known (view()).
+    placed_ = true;
+    view_.width = opts_.width * std::clamp(opts_.supersampling, 1, 4);
+    view_.height = opts_.height * std::clamp(opts_.supersampling, 1, 4);
+    view_.supersampling = std::clamp(opts_.supersampling, 1, 4);
+    view_.valid = !box_.isEmpty();
+    if (!view_.valid) return;
+    Eigen::Vector3d forward = opts_.view_direction;
+    if (!forward.allFinite() || forward.norm() == 0) forward = RenderOptions().view_direction;
+    forward.normalize();
+    Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+    if (std::abs(forward.dot(up)) > 0.999) up = Eigen::Vector3d::UnitY();
+    view_.forward = forward;
+    view_.right = forward.cross(up).normalized();
+    view_.up = view_.right.cross(forward);
+    const double radius = std::max(0.5 * box_.diagonal().norm(), 1e-9 * (1 + box_.center().norm()));
+    view_.eye = box_.center() - forward * (1.05 * radius / std::sin(0.5 * field_of_view));
+    view_.focal = 1, view_.cx = 0, view_.cy = 0;
+  }
+  if (!view_.valid) return;
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (points.col(i).allFinite()) screen_.extend(project(view_, points.col(i)).head<2>());
+}
+
+RenderView ViewFit::view() const {
+  if (!placed_) {  // no second pass: nothing was covered
+    ViewFit copy = *this;
+    copy.cover(Eigen::Matrix3Xd(3, 0));
+    return copy.view();
+  }
+  RenderView cam = view_;
+  if (!cam.valid || screen_.isEmpty()) {
+    cam.valid = false;
+    return cam;
+  }
+  // Zoom and shift so that the projected points fit.
+  const double w = cam.width, h = cam.height;
+  const double margin = std::clamp(opts_.margin, 0.0, 0.45);
+  const Eigen::Vector2d extent = screen_.sizes().cwiseMax(1e-12);
+  const double focal_x = (1 - 2 * margin) * w / extent.x(), focal_y = (1 - 2 * margin) * h / extent.y();
+  cam.focal = std::min(focal_x, focal_y);
+  if (screen_.sizes().x() < 1e-12 && screen_.sizes().y() < 1e-12) cam.focal = 1;  // a single point
+  cam.cx = 0.5 * w - cam.focal * screen_.center().x();
+  cam.cy = 0.5 * h - cam.focal * screen_.center().y();  // project() already flips y
+  return cam;
+}
+
+namespace {
+
+void check_size(const RenderOptions& opts) {
   if (opts.width <= 0 || opts.height <= 0 || opts.width > 16384 || opts.height > 16384)
     throw std::invalid_argument("render_png: image size " + std::to_string(opts.width) + " x " +
                                 std::to_string(opts.height) + " is not in 1..16384");
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> render_rgb(const std::vector<RenderMesh>& meshes, const RenderOptions& opts,
+                                     const RenderView& view) {
+  check_size(opts);
   const int ss = std::clamp(opts.supersampling, 1, 4);
+  if (view.width != opts.width * ss || view.height != opts.height * ss || view.supersampling != ss)
+    throw std::invalid_argument("render_rgb: the view was fitted for another image size or supersampling");
   const Eigen::Vector3f background = opts.background.cwiseMax(0.0f).cwiseMin(1.0f);
   Canvas canvas(opts.width * ss, opts.height * ss, background);
 
-  Camera cam;
-  if (fit_camera(meshes, opts, canvas.w, canvas.h, cam)) {
-    const Lights lights{(-0.5 * cam.right + 0.8 * cam.up - 0.4 * cam.forward).normalized()};
-    for (const RenderMesh& m : meshes) draw_triangles(m, cam, lights, canvas);
-    for (const RenderMesh& m : meshes) draw_segments(m, cam, lights, opts.line_width * ss, canvas);
+  if (view.valid) {
+    const Lights lights{(-0.5 * view.right + 0.8 * view.up - 0.4 * view.forward).normalized()};
+    for (const RenderMesh& m : meshes) draw_triangles(m, view, lights, canvas);
+    for (const RenderMesh& m : meshes) draw_segments(m, view, lights, opts.line_width * ss, canvas);
   }
 
   std::vector<std::uint8_t> pixels(static_cast<std::size_t>(opts.width) * opts.height * 3);
@@ -233,6 +260,15 @@ void render_png(const std::string& path, const std::vector<RenderMesh>& meshes, 
         pixels[(static_cast<std::size_t>(y) * opts.width + x) * 3 + k] =
             static_cast<std::uint8_t>(std::clamp(c[k], 0.0f, 1.0f) * 255.0f + 0.5f);
     }
+  return pixels;
+}
+
+void render_png(const std::string& path, const std::vector<RenderMesh>& meshes, const RenderOptions& opts) {
+  check_size(opts);
+  ViewFit fit(opts);
+  for (const RenderMesh& m : meshes) fit.include(m.positions);
+  for (const RenderMesh& m : meshes) fit.cover(m.positions);
+  const std::vector<std::uint8_t> pixels = render_rgb(meshes, opts, fit.view());
   if (stbi_write_png(path.c_str(), opts.width, opts.height, 3, pixels.data(), opts.width * 3) == 0)
     throw std::runtime_error(path + ": cannot write PNG");
 }

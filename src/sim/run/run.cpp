@@ -3,9 +3,12 @@
 #include <pce/sim/frames.hpp>
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/intersections.hpp>
+#include <pce/sim/movie.hpp>
+#include <pce/sim/recording.hpp>
 #include <pce/sim/render.hpp>
 #include <pce/sim/run.hpp>
 #include <pce/sim/start_state.hpp>
+#include <pce/sim/usd.hpp>
 
 #include "../scene/scene_names.hpp"
 
@@ -76,31 +79,6 @@ void write_json(const std::filesystem::path& path, const json& j) {
   if (!out) throw std::runtime_error(path.string() + ": cannot write");
 }
 
-std::vector<RenderMesh> scene_meshes(const Scene& scene) {
-  const Simulation& sim = scene.simulation;
-  std::vector<RenderMesh> meshes;
-  const Eigen::Vector3f palette[] = {{0.85f, 0.35f, 0.25f}, {0.25f, 0.55f, 0.85f}, {0.35f, 0.70f, 0.35f},
-                                     {0.90f, 0.70f, 0.20f}, {0.60f, 0.40f, 0.75f}, {0.30f, 0.70f, 0.70f}};
-  int k = 0;
-  for (const MeshRange& r : sim.model.meshes) {
-    RenderMesh m;
-    m.positions = sim.x.middleCols(r.first_vertex, r.vertex_count);
-    m.triangles = sim.model.triangles.middleCols(r.first_triangle, r.triangle_count).array() - r.first_vertex;
-    m.segments = sim.model.segments.middleCols(r.first_segment, r.segment_count).array() - r.first_vertex;
-    m.color = palette[k++ % 6];
-    meshes.push_back(std::move(m));
-  }
-  for (const Obstacle& o : sim.obstacles) {
-    const Mesh s = surface_mesh(o, o.pose(sim.time));
-    RenderMesh m;
-    m.positions = s.positions;
-    m.triangles = s.triangles;
-    m.color = Eigen::Vector3f(0.62f, 0.62f, 0.66f);
-    meshes.push_back(std::move(m));
-  }
-  return meshes;
-}
-
 double peak_memory_mib() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
@@ -166,6 +144,8 @@ std::string physics_key(const std::filesystem::path& scene_file, const SceneOver
   return key;
 }
 
+double movie_frame_rate(const Scene& scene) { return 1.0 / (scene.simulation.solver.dt * scene.output_every); }
+
 std::vector<std::string> accept_start_state(Scene& scene, const std::string& scene_file) {
   const StartStateReport start = check_start_state(scene.simulation);
   if (!start.refusals.empty() && !scene.allow_initial_intersections) {
@@ -192,6 +172,8 @@ struct Run::State {
   json records = json::array();
   int last_written = -1;
   std::chrono::steady_clock::time_point started;
+  // The frames of the movie and the USD cache (null: neither asked for).
+  std::unique_ptr<FrameRecording> recording;
 
   State(Scene& s, std::string file) : scene(s), scene_file(std::move(file)) {}
 };
@@ -213,6 +195,11 @@ void Run::open(const RunOutput& output) {
   if (is_open()) throw std::logic_error("pce::sim::Run::open: an output directory is open already");
   if (output.dir.empty()) throw std::invalid_argument("pce::sim::Run::open: no output directory");
   const Simulation& sim = st.scene.simulation;
+  // The movie and the cache are written when the run ends: refused now if they cannot be.
+  if (!output.video.empty()) check_output_file(output.video, movie_extensions());
+  if (!output.usd.empty()) check_output_file(output.usd, usd_extensions());
+  if (!output.video.empty() && find_ffmpeg().empty())
+    throw std::runtime_error(output.video.string() + ": " + ffmpeg_missing());
   st.started = std::chrono::steady_clock::now();
   ensure_directory(output.dir.string());
   // Records of the frames done: kept from the interrupted run up to its checkpoint, then
@@ -226,6 +213,11 @@ void Run::open(const RunOutput& output) {
   if (output.write_frames && !output.resumed) {
     write_frame(output.dir.string(), sim.frame, sim.x, sim.model.triangles, sim.model.segments);
     st.last_written = sim.frame;
+  }
+  st.recording.reset();
+  if (!output.video.empty() || !output.usd.empty()) {
+    st.recording = std::make_unique<FrameRecording>(output.dir / "pce-sim-frames.tmp", sim.model.vertex_count());
+    st.recording->append(sim.frame, sim.time, sim.x);
   }
   st.output = output;
 }
@@ -247,10 +239,12 @@ FrameReport Run::step() {
   st.jsonl << report.record << "\n";
   st.jsonl.flush();
   const RunOutput& out = st.output;
-  if (out.write_frames && (f % st.scene.output_every == 0 || f == sim.frames)) {
+  const bool output_frame = f % st.scene.output_every == 0 || f == sim.frames;
+  if (out.write_frames && output_frame) {
     write_frame(out.dir.string(), f, sim.x, sim.model.triangles, sim.model.segments);
     st.last_written = f;
   }
+  if (st.recording && output_frame) st.recording->append(f, sim.time, sim.x);
   if (out.checkpoint_every > 0 && f % out.checkpoint_every == 0)
     write_checkpoint(checkpoint_path(out.dir.string(), f), sim, out.fingerprint);
   return report;
@@ -270,10 +264,26 @@ void Run::close(const std::string& failure, const char* stopped_by) {
     write_frame(out.dir.string(), sim.frame, sim.x, sim.model.triangles, sim.model.segments);
   RenderOptions ro;
   ro.view_direction = st.scene.view_direction;
-  render_png((out.dir / "last_frame.png").string(), scene_meshes(st.scene), ro);
+  const std::unique_ptr<FrameRecording> recording = std::move(st.recording);  // removed at the end, whatever happens
+  render_png((out.dir / "last_frame.png").string(), scene_picture(st.scene, sim.x, sim.time), ro);
   write_json(out.dir / "stats.json", st.records);
   const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - st.started).count();
   write_json(out.dir / "summary.json", summary_of(sim, st.scene_file, st.records, total_s, failure, stopped_by));
+  if (!recording) return;
+  // The frame the run ends at (stopped, failed or not a multiple of output_every) is the last one.
+  if (recording->frames().back() != sim.frame) recording->append(sim.frame, sim.time, sim.x);
+  std::string errors;
+  const auto attempt = [&](auto&& write) {
+    try {
+      write();
+    } catch (const std::exception& e) {
+      errors += (errors.empty() ? "" : "; ") + std::string(e.what());
+    }
+  };
+  if (!out.usd.empty()) attempt([&] { write_usda(out.usd, st.scene, *recording); });
+  if (!out.video.empty())
+    attempt([&] { write_movie(out.video, st.scene, *recording, movie_frame_rate(st.scene), ro); });
+  if (!errors.empty()) throw std::runtime_error(errors);
 }
 
 }  // namespace pce::sim

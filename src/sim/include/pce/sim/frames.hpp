@@ -7,7 +7,9 @@
 
 #include <Eigen/Core>
 
+#include <filesystem>
 #include <string>
+#include <vector>
 
 namespace pce::sim {
 
@@ -23,5 +25,12 @@ void write_frame(const std::string& dir, int frame, const Eigen::Matrix3Xd& x, c
 /// Creates `dir` and its missing parents (nothing to do if it is a directory already).
 /// Throws `std::runtime_error("<dir>: cannot create directory (<reason>)")` otherwise.
 void ensure_directory(const std::string& dir);
+
+/// Checks, before a run, that a file the run writes when it ends (a movie, a USD cache) can
+/// be written at `path`: its name ends in one of `extensions` (".mp4", compared without
+/// case), it is not a directory, it is writable if it exists, and its nearest existing
+/// ancestor is a writable directory (the missing ones are created when the file is
+/// written). Throws `std::invalid_argument("<path>: <what is wrong>")`; writes nothing.
+void check_output_file(const std::filesystem::path& path, const std::vector<std::string>& extensions);
 
 }  // namespace pce::sim

@@ -4,8 +4,9 @@
 /// frame (the line `stats.jsonl` gets) and, when an output directory is open, every file
 /// `pce-sim` writes there (`docs/simulation.md` §5): `frame_NNNN.obj`, `stats.jsonl`
 /// (appended and flushed as each frame ends), `last_frame.png`, `stats.json`,
-/// `summary.json`, and checkpoints. `pce-sim` and the Python module (`pce.sim`) both run
-/// scenes through this, so they write the same files.
+/// `summary.json`, checkpoints, and on request a movie and a USD cache of the run.
+/// `pce-sim` and the Python module (`pce.sim`) both run scenes through this, so they write
+/// the same files.
 #pragma once
 
 #include <pce/sim/scene.hpp>
@@ -35,7 +36,15 @@ struct RunOutput {
   int checkpoint_every = 0;       ///< a checkpoint every k frames (0: none; one on a stop always)
   std::uint64_t fingerprint = 0;  ///< the checkpoints' scene fingerprint
   bool resumed = false;           ///< the simulation was read from a checkpoint in `dir`
+  /// The movie to write when the run ends (empty: none; `pce/sim/movie.hpp`): every
+  /// recorded frame, at 1/(dt · `output_every`) frames per second.
+  std::filesystem::path video;
+  /// The USD cache to write when the run ends (empty: none; `pce/sim/usd.hpp`).
+  std::filesystem::path usd;
 };
+
+/// The frame rate of a run's movie: 1/(dt · `output_every`), so that it plays in real time.
+double movie_frame_rate(const Scene& scene);
 
 /// What one frame gave.
 struct FrameReport {
@@ -57,7 +66,12 @@ class Run {
 
   /// Starts writing into `output.dir`: `stats.jsonl` (for a resumed run, the records up to
   /// the checkpoint's frame kept) and, unless resumed or `write_frames` is false, the current
-  /// frame's OBJ. Throws `std::runtime_error` naming the file it cannot write.
+  /// frame's OBJ. With a `video` or `usd` file, the frames are recorded for them
+  /// (`pce/sim/recording.hpp`, in `dir/pce-sim-frames.tmp` until the run ends): the current
+  /// frame, then those `step` records. Throws `std::invalid_argument` naming the video or
+  /// USD file if it cannot be written there (`check_output_file`) and `std::runtime_error`
+  /// if there is a `video` but no ffmpeg on `PATH` (both before anything is written), and
+  /// `std::runtime_error` naming the file it cannot write.
   void open(const RunOutput& output);
   /// Whether an output directory is open.
   bool is_open() const;
@@ -65,14 +79,18 @@ class Run {
   const std::filesystem::path& dir() const;
 
   /// One frame: `Simulation::step`, then its record and, when open, its `stats.jsonl` line,
-  /// its OBJ (every `output_every` frames and the last) and a due checkpoint. A
-  /// `SimulationError` propagates and nothing of that frame is recorded.
+  /// its OBJ (every `output_every` frames and the last; not with `write_frames` false), the
+  /// same frames for the movie and the USD cache (with `write_frames` false too) and a due
+  /// checkpoint. A `SimulationError` propagates and nothing of that frame is recorded.
   FrameReport step();
 
   /// Ends the output (nothing to do when none is open): with `stopped_by` ("SIGINT",
   /// "SIGTERM") a checkpoint first; then the current frame's OBJ if not written yet, the
   /// picture `last_frame.png`, `stats.json` (every record since `open`, with a resumed run's
-  /// earlier ones) and `summary.json` (with `failure` and `stopped_by`).
+  /// earlier ones) and `summary.json` (with `failure` and `stopped_by`); then, with a `usd`
+  /// file, the USD cache and, with a `video`, the movie, of the recorded frames and the
+  /// current one. Throws `std::runtime_error` if a file cannot be written (the USD cache and
+  /// the movie are both attempted; the message names each that failed).
   void close(const std::string& failure = {}, const char* stopped_by = nullptr);
 
  private:
