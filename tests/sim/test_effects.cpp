@@ -4,13 +4,15 @@
 // the gradient where it is exact, the Hessian's positive semi-definiteness everywhere
 // (random, compressed, degenerate states), the declared pattern covering every block the
 // effect adds (BlockHessian throws otherwise), and one InputError per kind of bad parameter
-// naming its JSON path. DISABLED_Timing is the microbenchmark (run with
+// naming its JSON path; pins' targets by a constant velocity and by keyframes, and a
+// keyframed pinned edge lifting a hanging sheet that follows. DISABLED_Timing is the microbenchmark (run with
 // --gtest_also_run_disabled_tests --gtest_filter=*Timing*).
 #include "scene/effect_loaders.hpp"
 
 #include <pce/sim/generators.hpp>
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/mesh.hpp>
+#include <pce/sim/scene.hpp>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -503,6 +505,124 @@ TEST(Pins, MovingGroupFollowsItsMotionAtTheEndOfTheStep) {
   Matrix3Xd g = Matrix3Xd::Zero(3, m.rest.cols());
   c->evaluate(m.rest, &g, nullptr);
   EXPECT_LT((m.rest.col(0) - g.col(0) / 100.0 - Eigen::Vector3d(0.5, 0.5, 0)).norm(), 1e-12);
+}
+
+TEST(Pins, KeyframedGroupFollowsItsKeyframesAtTheEndOfTheStep) {
+  // Vertices 0 and 3 (the bottom corners, (−0.5, −0.5, 0) and (0.5, −0.5, 0)) are at rest
+  // until t = 1 s and by t = 3 s have turned a quarter turn about +y about their midpoint
+  // c = (0, −0.5, 0) and moved 0.4 m up; vertex 12 is pinned in place.
+  const Model m = cloth(3, 3);
+  const std::string keys = R"("keyframes":[{"time":1},
+      {"time":3,"translation":[0,0,0.4],"rotation":{"axis":[0,1,0],"degrees":90}}])";
+  for (const char* how : {"linear", "smooth"}) {
+    SCOPED_TRACE(how);
+    auto e = build(load_pins,
+                   R"({"type":"pins","stiffness":100,"groups":[{"vertices":[12]},
+                       {"vertices":[0,3],"motion":{"interpolation":")" +
+                       std::string(how) + "\"," + keys + "}}]}",
+                   m);
+    StepContext step;
+    const auto targets = [&](double t) {
+      step.time = t;
+      e->begin_step(step);
+      Matrix3Xd g = Matrix3Xd::Zero(3, m.rest.cols());
+      e->evaluate(m.rest, &g, nullptr);      // at the rest shape, ∇ᵢE = k (x̄ᵢ − x̂ᵢ)
+      return Matrix3Xd(m.rest - g / 100.0);  // x̂ for pinned vertices
+    };
+    // The targets at time t after a fraction w of the segment: x̂ = c + w (0, 0, 0.4) +
+    // Ry(w 90°)(x̄ − c), with x̄ − c = (∓0.5, 0, 0) and Ry(θ)(x, 0, 0) = (x cos θ, 0, −x sin θ).
+    const auto expect_at = [&](double t, double w) {
+      const Matrix3Xd x_hat = targets(t);
+      const double a = w * M_PI / 2, z = 0.4 * w;
+      EXPECT_LT((x_hat.col(0) - Eigen::Vector3d(-0.5 * std::cos(a), -0.5, z + 0.5 * std::sin(a))).norm(), 1e-12)
+          << "t " << t;
+      EXPECT_LT((x_hat.col(3) - Eigen::Vector3d(0.5 * std::cos(a), -0.5, z - 0.5 * std::sin(a))).norm(), 1e-12)
+          << "t " << t;
+      EXPECT_LT((x_hat.col(12) - m.rest.col(12)).norm(), 1e-15);
+    };
+    const bool linear = std::string(how) == "linear";
+    expect_at(0.5, 0);  // before the first keyframe: its pose, the rest pose
+    expect_at(1.0, 0);
+    expect_at(1.5, linear ? 0.25 : 0.15625);  // s(¼) = 3/16 − 2/64
+    expect_at(2.0, 0.5);
+    expect_at(2.5, linear ? 0.75 : 0.84375);
+    expect_at(3.0, 1);
+    expect_at(10.0, 1);  // after the last: it holds
+    const Matrix3Xd x = perturbed(m.rest, 0.1, 5);
+    expect_gradient_matches(*e, x);
+    expect_hessian_matches(*e, x);
+  }
+  // An explicit centre: vertex 0 turns a quarter turn about z through the origin in 1 s,
+  // smoothly; half way it has turned 45°: (−0.5, −0.5) → (0, −√½).
+  auto c = build(load_pins, R"({"type":"pins","stiffness":100,"groups":[{"vertices":[0],
+                     "motion":{"center":[0,0,0],"interpolation":"smooth","keyframes":[{"time":0},
+                     {"time":1,"rotation":{"axis":[0,0,1],"degrees":90}}]}}]})",
+                 m);
+  StepContext step;
+  step.time = 0.5;
+  c->begin_step(step);
+  Matrix3Xd g = Matrix3Xd::Zero(3, m.rest.cols());
+  c->evaluate(m.rest, &g, nullptr);
+  EXPECT_LT((m.rest.col(0) - g.col(0) / 100.0 - Eigen::Vector3d(0, -std::sqrt(0.5), 0)).norm(), 1e-12);
+}
+
+TEST(Pins, KeyframedEdgeLiftsAHangingSheetThatFollows) {
+  // A 0.4 m square sheet under gravity, pinned along its edge x = −0.2 (9 vertices) by a
+  // group that is grabbed and lifted: by t = 0.5 s its targets have risen 0.2 m and turned
+  // 20° about x through the edge's centre c = (−0.2, 0, 0) (smooth, from rest at t = 0), then
+  // they hold. The same run with the group left in place is the reference.
+  nlohmann::json scene = nlohmann::json::parse(R"({
+    "dt": 0.02, "frames": 75,
+    "meshes": [{"name": "sheet", "generator": {"type": "grid", "width": 0.4, "height": 0.4, "nx": 8, "ny": 8}}],
+    "effects": [{"type": "gravity"}, {"type": "stretching", "stiffness": 50}, {"type": "bending", "stiffness": 1e-4},
+                {"type": "damping", "coefficient": 2},
+                {"type": "pins", "stiffness": 1e4, "groups": [{"box": {"min": [-1, -1, -1], "max": [-0.19, 1, 1]},
+                  "motion": {"interpolation": "smooth", "keyframes": [{"time": 0},
+                    {"time": 0.5, "translation": [0, 0, 0.2], "rotation": {"axis": [1, 0, 0], "degrees": 20}}]}}]}]
+  })");
+  const Eigen::Vector3d c(-0.2, 0, 0);
+  const auto target = [&](const Eigen::Vector3d& rest, double t) {
+    const double u = std::min(t / 0.5, 1.0), w = u * u * (3 - 2 * u);
+    return Eigen::Vector3d(c + Eigen::Vector3d(0, 0, 0.2 * w) +
+                           Eigen::AngleAxisd(w * 20 * M_PI / 180, Eigen::Vector3d::UnitX()) * (rest - c));
+  };
+  auto lifted = load_scene_text(scene.dump(), "lift.json", PCE_TEST_TMP);
+  scene["effects"][4]["groups"][0].erase("motion");
+  auto still = load_scene_text(scene.dump(), "still.json", PCE_TEST_TMP);
+  Simulation& a = lifted->simulation;
+  Simulation& b = still->simulation;
+  const Model& model = a.model;
+  std::vector<int> pinned, free;
+  for (int i = 0; i < model.vertex_count(); ++i) (model.rest(0, i) < -0.19 ? pinned : free).push_back(i);
+  ASSERT_EQ(pinned.size(), 9u);
+  // The pins' give: a pinned vertex is off its target by its force over k; no pin carries
+  // more than the whole sheet's weight once the lift has stopped.
+  const double weight = model.mass.sum() * 9.81, k = 1e4;
+  for (int f = 1; f <= 75; ++f) {
+    a.step();
+    b.step();
+    if (f != 12 && f != 25 && f != 75) continue;
+    double off = 0;
+    for (int i : pinned) off = std::max(off, (a.x.col(i) - target(model.rest.col(i), a.time)).norm());
+    std::printf("frame %d (t = %.2f s): pinned vertices at most %.3g m off their targets\n", f, a.time, off);
+    EXPECT_LT(off, (f == 75 ? 1 : 4) * weight / k) << "frame " << f;
+  }
+  ASSERT_TRUE(a.x.allFinite());
+  // The sheet follows: every free vertex ends higher than in the reference run, by 0.2 m on
+  // average (the edge's centre rose 0.2 m and the sheet hangs from it), and the sheet hangs
+  // below its lifted edge.
+  double rise = 0, least = 1;
+  for (int i : free) {
+    const double dz = a.x(2, i) - b.x(2, i);
+    rise += dz / static_cast<double>(free.size());
+    least = std::min(least, dz);
+    EXPECT_LT(a.x(2, i), 0.2 + 0.2 * std::sin(20 * M_PI / 180)) << "vertex " << i;
+  }
+  std::printf("free vertices rose %.4f m on average, at least %.4f m\n", rise, least);
+  EXPECT_NEAR(rise, 0.2, 0.03);
+  EXPECT_GT(least, 0.1);
+  // The reference's edge stayed where it was pinned.
+  for (int i : pinned) EXPECT_LT((b.x.col(i) - model.rest.col(i)).norm(), weight / k);
 }
 
 TEST(Pins, MeshLocalIndicesAndDefaultStiffness) {

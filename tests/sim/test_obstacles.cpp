@@ -3,8 +3,11 @@
 // the closed-form distances agree with FCL's GJK (libccd) at random points OUTSIDE the
 // shapes (inside, FCL reports penetration by another algorithm, so inside points are
 // checked by finite differences and by the mesh distance instead); normals are unit, point
-// from the surface to the point and are the distance's gradient; prescribed poses; surface
-// meshes lie on the surface and face outward; the obstacle_contact effect's gradient
+// from the surface to the point and are the distance's gradient; prescribed poses, by a
+// constant velocity and by keyframes (linear and smooth, against poses worked by hand; the
+// smooth path C¹ and at rest at every keyframe, the linear one piecewise constant in
+// velocity; a keyframed ball pushes a sheet); surface meshes lie on the surface and face
+// outward; the obstacle_contact effect's gradient
 // matches finite differences, its Hessian is PSD, the barrier's domain is kept; bad scene
 // input names its JSON path.
 #include "scene/effect_loaders.hpp"
@@ -12,6 +15,7 @@
 #include <pce/sim/contact_effect.hpp>
 #include <pce/sim/fcl_distance.hpp>
 #include <pce/sim/obstacle.hpp>
+#include <pce/sim/scene.hpp>
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
@@ -212,6 +216,222 @@ TEST(ObstacleMotion, PoseFollowsThePrescribedPath) {
   // No motion: the rest pose at every time.
   const Obstacle still = sphere(1);
   EXPECT_TRUE(still.pose(5.0).matrix().isApprox(Eigen::Isometry3d::Identity().matrix()));
+}
+
+// --- keyframed motion ------------------------------------------------------------------
+
+using pce::sim::Interpolation;
+using pce::sim::Keyframe;
+using pce::sim::Motion;
+
+Eigen::Matrix3d rot(double degrees, const Eigen::Vector3d& axis) {
+  return Eigen::AngleAxisd(degrees * M_PI / 180, axis.normalized()).toRotationMatrix();
+}
+
+Motion keyframed(std::vector<Keyframe> keys, Interpolation interpolation = Interpolation::linear) {
+  Motion m;
+  m.keyframes = std::move(keys);
+  m.interpolation = interpolation;
+  return m;
+}
+
+/// s(u) = 3u² − 2u³ at u = 1/4: 3/16 − 2/64.
+constexpr double kSmoothQuarter = 0.15625;
+
+TEST(ObstacleMotion, KeyframedTranslationAtAndBetweenKeyframes) {
+  // From t = 1 s to 3 s the body moves from its rest pose by (2, 0, −1); it holds the first
+  // keyframe before 1 s and the last after 3 s.
+  Obstacle o = box(Eigen::Vector3d(1, 1, 1));
+  o.position = Eigen::Vector3d(1, 2, 3);
+  o.rotation = rot(17, Eigen::Vector3d::UnitX());
+  for (const Interpolation how : {Interpolation::linear, Interpolation::smooth}) {
+    SCOPED_TRACE(how == Interpolation::linear ? "linear" : "smooth");
+    o.motion = keyframed({Keyframe{1.0, {0, 0, 0}}, Keyframe{3.0, {2, 0, -1}}}, how);
+    const double quarter = how == Interpolation::linear ? 0.25 : kSmoothQuarter;
+    const struct {
+      double t, w;  // time and the fraction of (2, 0, −1) moved by then
+    } cases[] = {{-1.0, 0}, {0.0, 0}, {1.0, 0}, {1.5, quarter}, {2.0, 0.5}, {2.5, 1 - quarter}, {3.0, 1}, {9.0, 1}};
+    for (const auto& c : cases) {
+      const Eigen::Isometry3d pose = o.pose(c.t);
+      EXPECT_LT((pose.translation() - Eigen::Vector3d(1 + 2 * c.w, 2, 3 - c.w)).norm(), 1e-14) << "t " << c.t;
+      EXPECT_EQ(pose.linear(), o.rotation) << "t " << c.t;  // no rotation keyframed: exactly R₀
+    }
+    // At a keyframe the pose is the keyframe's exactly.
+    EXPECT_EQ(o.pose(3.0).translation(), Eigen::Vector3d(3, 2, 2));
+    EXPECT_EQ(o.pose(1.0).translation(), o.position);
+  }
+}
+
+TEST(ObstacleMotion, KeyframedRotationAboutTheCentre) {
+  // A quarter turn about z from t = 0 to 1 s, about the obstacle's own centre (1, 2, 3),
+  // after its orientation at rest R₀.
+  Obstacle o = box(Eigen::Vector3d(1, 1, 1));
+  o.position = Eigen::Vector3d(1, 2, 3);
+  o.rotation = rot(30, Eigen::Vector3d::UnitX());
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+  for (const Interpolation how : {Interpolation::linear, Interpolation::smooth}) {
+    SCOPED_TRACE(how == Interpolation::linear ? "linear" : "smooth");
+    o.motion = keyframed({Keyframe{0.0}, Keyframe{1.0, {0, 0, 0}, rot(90, z)}}, how);
+    const double quarter = how == Interpolation::linear ? 0.25 : kSmoothQuarter;
+    const struct {
+      double t, degrees;
+    } cases[] = {{0.0, 0}, {0.25, 90 * quarter}, {0.5, 45}, {0.75, 90 * (1 - quarter)}, {1.0, 90}, {4.0, 90}};
+    for (const auto& c : cases) {
+      const Eigen::Isometry3d pose = o.pose(c.t);
+      EXPECT_EQ(pose.translation(), o.position) << "t " << c.t;
+      EXPECT_LT((pose.linear() - rot(c.degrees, z) * o.rotation).norm(), 1e-14) << "t " << c.t;
+    }
+    // The local point (1, 0, 0) of an unrotated body at the half turn: (cos 45°, sin 45°, 0)
+    // from the centre.
+    const Eigen::Vector3d p = o.motion.apply(0.5, o.position, o.position + Eigen::Vector3d(1, 0, 0));
+    EXPECT_LT((p - o.position - Eigen::Vector3d(std::sqrt(0.5), std::sqrt(0.5), 0)).norm(), 1e-14);
+  }
+}
+
+TEST(ObstacleMotion, KeyframedTranslationAndRotationCombined) {
+  // Three keyframes: at rest at t = 0, then by t = 2 s a quarter turn about z and 1 m along
+  // y, then by t = 4 s a half turn and 2 m further along x. A point 1 m along x from the
+  // centre c is at c + d(t) + R(t)(1, 0, 0).
+  const Eigen::Vector3d c(0.5, -1, 2), z = Eigen::Vector3d::UnitZ();
+  Motion m = keyframed({Keyframe{0.0}, Keyframe{2.0, {0, 1, 0}, rot(90, z)}, Keyframe{4.0, {2, 1, 0}, rot(180, z)}});
+  const Eigen::Vector3d p = c + Eigen::Vector3d(1, 0, 0);
+  const double h = std::sqrt(0.5);
+  const struct {
+    double t;
+    Eigen::Vector3d at;                    // p's position less c, by hand
+  } linear[] = {{0.0, {1, 0, 0}},          // rest
+                {1.0, {h, 0.5 + h, 0}},    // d = (0, ½, 0), R = Rz(45°)
+                {2.0, {0, 2, 0}},          // d = (0, 1, 0), R = Rz(90°)
+                {3.0, {1 - h, 1 + h, 0}},  // d = (1, 1, 0), R = Rz(135°)
+                {4.0, {1, 1, 0}},          // d = (2, 1, 0), R = Rz(180°)
+                {5.0, {1, 1, 0}}};         // holds
+  for (const auto& k : linear) EXPECT_LT((m.apply(k.t, c, p) - c - k.at).norm(), 1e-14) << "t " << k.t;
+  m.interpolation = Interpolation::smooth;
+  // A quarter of the second segment's time: s = 5/32 of the way, 90° + 14.0625° turned.
+  const double a = (90 + 90 * kSmoothQuarter) * M_PI / 180;
+  const Eigen::Vector3d smooth_at = Eigen::Vector3d(2 * kSmoothQuarter + std::cos(a), 1 + std::sin(a), 0);
+  EXPECT_LT((m.apply(2.5, c, p) - c - smooth_at).norm(), 1e-14);
+  EXPECT_LT((m.apply(2.0, c, p) - c - Eigen::Vector3d(0, 2, 0)).norm(), 1e-14);
+}
+
+TEST(ObstacleMotion, KeyframedRotationTakesTheShortWay) {
+  // 0° then 270° about z: the relative rotation is −90°, so half way the body has turned −45°.
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+  const Motion m = keyframed({Keyframe{0.0}, Keyframe{1.0, {0, 0, 0}, rot(270, z)}});
+  EXPECT_LT((m.spin(0.5) - rot(-45, z)).norm(), 1e-14);
+  // Keyframes that differ about two axes: R(t) = R₀ exp(u log(R₀ᵀ R₁)), by hand half way:
+  // R₀ = Rx(90°), R₁ = Rx(90°) Rz(90°), so Rx(90°) Rz(45°).
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  const Motion turn =
+      keyframed({Keyframe{0.0, {0, 0, 0}, rot(90, x)}, Keyframe{2.0, {0, 0, 0}, rot(90, x) * rot(90, z)}});
+  EXPECT_LT((turn.spin(1.0) - rot(90, x) * rot(45, z)).norm(), 1e-14);
+  EXPECT_EQ(turn.spin(-1.0), rot(90, x));  // before the first keyframe: the first, exactly
+}
+
+/// Central difference of `m.apply` of point `p` about `c` at time t.
+Eigen::Vector3d velocity(const Motion& m, const Eigen::Vector3d& c, const Eigen::Vector3d& p, double t,
+                         double h = 1e-6) {
+  return (m.apply(t + h, c, p) - m.apply(t - h, c, p)) / (2 * h);
+}
+
+TEST(ObstacleMotion, SmoothKeyframesAreC1AndStopAtEveryKeyframeLinearOnesArePiecewiseConstant) {
+  // Three keyframes: 1 m along x and a quarter turn about z by t = 1 s, then 1 m along y
+  // and a quarter turn back by t = 2 s. A point off the centre both translates and turns.
+  const Eigen::Vector3d c(0, 0, 0), p(0.3, 0.2, 0.1), z = Eigen::Vector3d::UnitZ();
+  Motion m =
+      keyframed({Keyframe{0.0}, Keyframe{1.0, {1, 0, 0}, rot(90, z)}, Keyframe{2.0, {1, 1, 0}}}, Interpolation::smooth);
+  // Zero velocity at every keyframe (and before and after them).
+  for (double t : {-0.5, 0.0, 1.0, 2.0, 3.0}) EXPECT_LT(velocity(m, c, p, t).norm(), 1e-5) << "t " << t;
+  // Continuous across the middle keyframe: the velocity just before and just after it
+  // approaches zero from both sides, linearly in the distance d: |s′(u)| = 6u(1 − u) ≤ 6d,
+  // times the point's speed per unit of s, at most 1 m (translation) + π/2 |p − c|
+  // (turning).
+  const double reach = 1 + M_PI / 2 * (p - c).norm();
+  for (double d : {1e-2, 1e-3, 1e-4}) {
+    EXPECT_LT(velocity(m, c, p, 1 - d).norm(), 6 * d * reach) << "before, d " << d;
+    EXPECT_LT(velocity(m, c, p, 1 + d).norm(), 6 * d * reach) << "after, d " << d;
+  }
+  // Continuous everywhere: velocities 10⁻³ s apart differ by at most 10⁻³ s times the
+  // largest acceleration, |s″| reach + (1.5 π/2)² |p − c| ≤ 12 m/s² (1.5 the largest s′).
+  double largest = 0;
+  for (double t = 0.01; t < 2; t += 0.01) {
+    largest = std::max(largest, velocity(m, c, p, t).norm());
+    EXPECT_LT((velocity(m, c, p, t + 1e-3) - velocity(m, c, p, t)).norm(), 1e-3 * 12) << "t " << t;
+  }
+  EXPECT_GT(largest, 1.0);  // it does move: 1.5 m/s peak along x alone
+  // Linear: the translation's velocity is constant within a segment and jumps at the keyframe.
+  m.interpolation = Interpolation::linear;
+  const Eigen::Vector3d o(0, 0, 0);  // the centre itself only translates
+  for (double t : {0.1, 0.5, 0.9}) EXPECT_LT((velocity(m, o, o, t) - Eigen::Vector3d(1, 0, 0)).norm(), 1e-8);
+  for (double t : {1.1, 1.5, 1.9}) EXPECT_LT((velocity(m, o, o, t) - Eigen::Vector3d(0, 1, 0)).norm(), 1e-8);
+  // The point off the centre turns at a constant rate: its speed about c is constant.
+  const double r = Eigen::Vector2d(p.x(), p.y()).norm(), rate = M_PI / 2;  // rad/s
+  for (double t : {0.1, 0.5, 0.9})
+    EXPECT_NEAR((velocity(m, c, p, t) - Eigen::Vector3d(1, 0, 0)).norm(), rate * r, 1e-8) << "t " << t;
+}
+
+TEST(ObstacleMotion, OneKeyframeHoldsItsPoseAtEveryTime) {
+  Obstacle o = sphere(0.5);
+  o.motion = keyframed({Keyframe{2.0, {0, 0, 1}, rot(90, Eigen::Vector3d::UnitY())}});
+  for (double t : {0.0, 2.0, 5.0}) {
+    EXPECT_EQ(o.pose(t).translation(), Eigen::Vector3d(0, 0, 1));
+    EXPECT_EQ(o.pose(t).linear(), o.motion.keyframes[0].rotation);
+  }
+}
+
+TEST(ObstacleMotion, AKeyframedBallPushesASheetUpAndHolds) {
+  // A sheet 0.6 m square, pinned along two opposite edges, no gravity; a ball of radius
+  // 0.1 m 0.3 m below its centre rises 0.25 m between t = 0.05 s and 0.25 s (smooth) and then
+  // holds, its top 5 cm above the sheet's rest plane: the sheet's centre is pushed up onto
+  // it and stays there.
+  const nlohmann::json scene = nlohmann::json::parse(R"({
+    "dt": 0.01, "frames": 50,
+    "meshes": [{"name": "sheet", "generator": {"type": "grid", "width": 0.6, "height": 0.6, "nx": 12, "ny": 12}}],
+    "obstacles": [{"name": "ball", "shape": "sphere", "radius": 0.1, "position": [0, 0, -0.3],
+                   "motion": {"interpolation": "smooth", "keyframes": [
+                     {"time": 0.05}, {"time": 0.25, "translation": [0, 0, 0.25]}]}}],
+    "effects": [{"type": "stretching", "stiffness": 100}, {"type": "bending", "stiffness": 1e-4},
+                {"type": "damping", "coefficient": 2},
+                {"type": "pins", "stiffness": 1e4, "groups": [{"box": {"min": [-1, -1, -1], "max": [-0.29, 1, 1]}},
+                                                              {"box": {"min": [0.29, -1, -1], "max": [1, 1, 1]}}]},
+                {"type": "obstacle_contact", "penalty": {"type": "quadratic", "stiffness": 1e4, "distance": 0.005}}]
+  })");
+  auto loaded = pce::sim::load_scene_text(scene.dump(), "push.json", PCE_TEST_TMP);
+  pce::sim::Simulation& sim = loaded->simulation;
+  const pce::sim::Obstacle& ball = sim.obstacles.at(0);
+  int centre = 0;  // the vertex at the sheet's centre
+  (sim.model.rest.colwise().norm()).minCoeff(&centre);
+  ASSERT_LT(sim.model.rest.col(centre).norm(), 1e-12);
+  double contacts_before = 0, contacts_after = 0;
+  for (int f = 1; f <= 50; ++f) {
+    const pce::sim::FrameStats st = sim.step();
+    const double z = sim.x(2, centre);
+    if (f <= 15) {
+      // The ball's top is below the sheet until t = 0.15 s: the sheet lies still.
+      EXPECT_LT(std::abs(z), 1e-9) << "frame " << f;
+      contacts_before += st.counters.at("obstacle_contacts");
+    } else {
+      contacts_after += st.counters.at("obstacle_contacts");
+    }
+    // Never pushed into the ball beyond the penalty's give.
+    EXPECT_GT(pce::sim::surface_distance(ball, ball.pose(sim.time), sim.x.col(centre)).distance, -1e-3)
+        << "frame " << f;
+  }
+  EXPECT_EQ(contacts_before, 0);
+  EXPECT_GT(contacts_after, 0);
+  // At the end (t = 0.5 s) the ball holds its last keyframe, top at z = 0.05, and the sheet's
+  // centre rests on it, within the activation distance.
+  EXPECT_LT((ball.pose(0.5).translation() - Eigen::Vector3d(0, 0, -0.05)).norm(), 1e-15);
+  EXPECT_EQ(ball.pose(0.3).translation(), ball.pose(0.5).translation());
+  const double gap = pce::sim::surface_distance(ball, ball.pose(sim.time), sim.x.col(centre)).distance;
+  EXPECT_GT(gap, -1e-3);
+  EXPECT_LT(gap, 0.005);
+  EXPECT_GT(sim.x(2, centre), 0.045);
+  // The pinned edges stay put.
+  for (Eigen::Index i = 0; i < sim.x.cols(); ++i)
+    if (std::abs(sim.model.rest(0, i)) > 0.29) {
+      EXPECT_LT(std::abs(sim.x(2, i)), 1e-3) << "vertex " << i;
+    }
 }
 
 // --- the obstacle_contact effect -------------------------------------------------------
