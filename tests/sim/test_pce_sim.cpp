@@ -4,11 +4,19 @@
 // exits with code 2, one line naming file and field, and writes nothing. Run control:
 // stats.jsonl holds every completed frame, SIGINT and SIGTERM end a run after the current
 // frame with everything written, SIGKILL loses no completed frame, a resumed run ends bit for
-// bit where the uninterrupted one ends, and a checkpoint of another scene is refused.
+// bit where the uninterrupted one ends, and a checkpoint of another scene is refused. The
+// movie and the USD cache: --usd holds every output frame as its OBJ has it (also with
+// --no-frames, after a stop signal, and from a resumed run's checkpoint on); --video
+// without ffmpeg exits 2 before anything is written, and with it the movie has one frame
+// per output frame.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <pce/sim/movie.hpp>
+#include <pce/sim/obj.hpp>
 #include <pce/sim/obstacle.hpp>
 #include <pce/sim/scene.hpp>
+
+#include "usda_reader.hpp"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -21,6 +29,8 @@
 #include <filesystem>
 #include <fstream>
 #include <chrono>
+#include <map>
+#include <numeric>
 #include <set>
 #include <string>
 #include <thread>
@@ -37,11 +47,13 @@ const fs::path kScenes = fs::path(PCE_SOURCE_DIR) / "examples" / "scenes";
 /// Runs pce-sim with `args`; returns the exit code and the captured stderr. The capture
 /// file is this process's own: ctest runs the tests of this file as separate processes in
 /// parallel, and one file for all of them let a test read another's output.
-int run(const std::string& args, std::string* err = nullptr) {
+/// `environment` (e.g. "PATH=/x") is put before the command.
+int run(const std::string& args, std::string* err = nullptr, const std::string& environment = "") {
   static int calls = 0;
   const fs::path log =
       fs::path(PCE_TEST_TMP) / ("pce_sim_stderr_" + std::to_string(getpid()) + "_" + std::to_string(calls++) + ".txt");
-  const std::string cmd = std::string(PCE_SIM_EXE) + " " + args + " 2> " + log.string() + " > /dev/null";
+  const std::string cmd =
+      environment + " " + std::string(PCE_SIM_EXE) + " " + args + " 2> " + log.string() + " > /dev/null";
   const int status = std::system(cmd.c_str());
   if (err) {
     std::ifstream in(log);
@@ -566,4 +578,211 @@ TEST(PceSim, IntersectingStartIsRefusedUnlessAllowed) {
   EXPECT_EQ(run(file.string() + " --frames 1 --no-frames --out " + out.string(), &err), 0) << err;
   EXPECT_NE(err.find("pce-sim: warning: "), std::string::npos) << err;
   EXPECT_NE(err.find("(allowed by allow_initial_intersections)"), std::string::npos) << err;
+}
+
+namespace {
+
+/// A cloth and two strands falling, a box sliding below them: dt 0.01 s, frames 5, every
+/// second frame written (frames 0, 2, 4 and 5).
+fs::path small_scene() {
+  return write_scene(json::parse(R"({"dt": 0.01, "frames": 5, "output_every": 2,
+    "meshes": [
+      {"name": "cloth", "generator": {"type": "grid", "width": 0.5, "height": 0.5, "nx": 6, "ny": 6}},
+      {"name": "hair", "generator": {"type": "strands", "count": 2, "segments": 4, "length": 0.3, "spacing": 0.2},
+       "transform": {"translation": [1, 0, 0.5]}}],
+    "obstacles": [{"name": "slider", "shape": "box", "half_extents": [0.2, 0.2, 0.05], "position": [0, 0, -0.3],
+                   "motion": {"velocity": [0.5, 0, 0]}}],
+    "effects": [{"type": "gravity"}, {"type": "stretching", "stiffness": 20},
+                {"type": "strand_stretching", "stiffness": 20}]})"),
+                     "small_movie");
+}
+
+/// The frame numbers of `dir`'s frame_NNNN.obj files, in order.
+std::vector<int> obj_frames(const fs::path& dir) {
+  std::set<int> frames;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("frame_", 0) == 0 && e.path().extension() == ".obj") frames.insert(std::stoi(name.substr(6)));
+  }
+  return {frames.begin(), frames.end()};
+}
+
+/// Checks the USD cache `usda` of a run of `scene` against the OBJ frames in `objs` (every
+/// time code's points are the OBJ's vertices rounded to float; the topology once) and
+/// returns its time codes.
+std::vector<int> cache_matches_frames(const fs::path& usda_file, const fs::path& scene, const fs::path& objs) {
+  namespace usda = pce::sim::usda;
+  const usda::Layer layer = usda::read(usda_file.string());
+  const auto model = pce::sim::load_scene(scene)->simulation.model;
+  const double dt = read_json(scene)["dt"].get<double>();
+  EXPECT_EQ(layer.metadata.at("timeCodesPerSecond").x, 1 / dt);
+  EXPECT_EQ(layer.metadata.at("upAxis").text, "Z");
+  EXPECT_EQ(layer.metadata.at("metersPerUnit").x, 1.0);
+  std::vector<int> codes;
+  for (const pce::sim::MeshRange& r : model.meshes) {
+    SCOPED_TRACE(r.name);
+    const usda::Prim* p = layer.at("/World/" + r.name);
+    if (!p) {
+      ADD_FAILURE() << "no prim /World/" << r.name;
+      continue;
+    }
+    EXPECT_EQ(p->type, r.triangle_count > 0 ? "Mesh" : "BasisCurves");
+    if (r.triangle_count > 0) {
+      EXPECT_EQ(usda::ints(p->attributes.at("faceVertexCounts").value).size(),
+                static_cast<std::size_t>(r.triangle_count));
+      EXPECT_EQ(usda::ints(p->attributes.at("faceVertexIndices").value).size(), 3u * r.triangle_count);
+    } else {
+      const std::vector<int> counts = usda::ints(p->attributes.at("curveVertexCounts").value);
+      EXPECT_EQ(std::accumulate(counts.begin(), counts.end(), 0), r.vertex_count);
+      EXPECT_EQ(static_cast<int>(counts.size()), r.vertex_count - r.segment_count);  // one curve per strand
+    }
+    std::vector<int> here;
+    for (const auto& [time, points] : p->attributes.at("points").samples) {
+      here.push_back(static_cast<int>(time));
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%04d.obj", static_cast<int>(time));
+      if (!fs::exists(objs / name)) continue;  // checked by the caller against the OBJ files there are
+      const pce::sim::Mesh obj = pce::sim::read_obj(objs / name);
+      const Eigen::Matrix3Xf want = obj.positions.middleCols(r.first_vertex, r.vertex_count).cast<float>();
+      EXPECT_EQ(usda::floats(points), std::vector<float>(want.data(), want.data() + want.size())) << name;
+    }
+    if (codes.empty()) codes = here;
+    EXPECT_EQ(here, codes);  // every prim has the same time codes
+  }
+  if (!codes.empty()) {
+    EXPECT_EQ(layer.metadata.at("startTimeCode").x, codes.front());
+    EXPECT_EQ(layer.metadata.at("endTimeCode").x, codes.back());
+  }
+  return codes;
+}
+
+/// `key=value` lines of ffprobe about `file`'s video stream, frames counted.
+std::map<std::string, std::string> probe(const fs::path& file) {
+  const std::string command =
+      "ffprobe -v error -count_frames -select_streams v:0 -show_entries "
+      "stream=codec_name,pix_fmt,width,height,r_frame_rate,nb_read_frames -of default=nw=1 '" +
+      file.string() + "'";
+  std::map<std::string, std::string> out;
+  std::FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return out;
+  char line[256];
+  while (std::fgets(line, sizeof line, pipe)) {
+    std::string s(line);
+    while (!s.empty() && (s.back() == '\n' || s.back() == '\r')) s.pop_back();
+    const std::size_t eq = s.find('=');
+    if (eq != std::string::npos) out[s.substr(0, eq)] = s.substr(eq + 1);
+  }
+  pclose(pipe);
+  return out;
+}
+
+bool have_ffmpeg_and_ffprobe() {
+  return !pce::sim::find_ffmpeg().empty() && std::system("command -v ffprobe > /dev/null 2>&1") == 0;
+}
+
+}  // namespace
+
+TEST(PceSim, UsdCacheHoldsEveryOutputFrameAsItsObj) {
+  const fs::path scene = small_scene(), out = fs::path(PCE_TEST_TMP) / "usd_run";
+  fs::remove_all(out);
+  std::string err;
+  ASSERT_EQ(run(scene.string() + " --out " + out.string() + " --usd " + (out / "cache.usda").string(), &err), 0) << err;
+  EXPECT_EQ(obj_frames(out), (std::vector<int>{0, 2, 4, 5}));
+  EXPECT_EQ(cache_matches_frames(out / "cache.usda", scene, out), (std::vector<int>{0, 2, 4, 5}));
+  EXPECT_FALSE(fs::exists(out / "pce-sim-frames.tmp"));
+  // The box slides: its transform has a sample at every time code.
+  const auto layer = pce::sim::usda::read((out / "cache.usda").string());
+  EXPECT_EQ(layer.at("/World/obstacles/slider")->attributes.at("xformOp:transform").samples.size(), 4u);
+  // --no-frames: the same cache, without the OBJ files.
+  const fs::path bare = fs::path(PCE_TEST_TMP) / "usd_run_no_frames";
+  fs::remove_all(bare);
+  ASSERT_EQ(
+      run(scene.string() + " --no-frames --out " + bare.string() + " --usd " + (bare / "cache.usda").string(), &err), 0)
+      << err;
+  EXPECT_EQ(obj_frames(bare), (std::vector<int>{5}));
+  EXPECT_EQ(read_text(bare / "cache.usda"), read_text(out / "cache.usda"));
+}
+
+TEST(PceSim, VideoWithoutFfmpegExitsTwoAndWritesNothing) {
+  const fs::path empty = fs::path(PCE_TEST_TMP) / "empty_path", out = fs::path(PCE_TEST_TMP) / "video_no_ffmpeg";
+  fs::create_directories(empty);
+  fs::remove_all(out);
+  std::string err;
+  EXPECT_EQ(run(small_scene().string() + " --out " + out.string() + " --video " + (out / "m.mp4").string(), &err,
+                "PATH=" + empty.string()),
+            2);
+  EXPECT_EQ(err,
+            "pce-sim: command line: --video: ffmpeg not found on PATH; install it (Debian, Ubuntu: apt-get install "
+            "ffmpeg), or leave --video out (see pce-sim --help)\n");
+  EXPECT_FALSE(fs::exists(out));
+  // A movie or cache that could not be written is refused the same way, before the run.
+  EXPECT_EQ(run(small_scene().string() + " --out " + out.string() + " --usd " + (out / "c.txt").string(), &err), 2);
+  EXPECT_EQ(err, "pce-sim: command line: --usd: " + (out / "c.txt").string() +
+                     ": expected a file name ending in .usda or .usd (see pce-sim --help)\n");
+  EXPECT_EQ(run(small_scene().string() + " --out " + out.string() + " --usd " + PCE_TEST_TMP + "/x.usda", &err, ""), 0)
+      << err;  // a control: the same command with a good file runs
+  fs::remove_all(out);
+  EXPECT_EQ(run(small_scene().string() + " --out " + out.string() + " --video " + PCE_TEST_TMP, &err), 2);
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(PceSim, VideoHasOneFramePerOutputFrame) {
+  if (!have_ffmpeg_and_ffprobe()) GTEST_SKIP() << "ffmpeg or ffprobe is not installed (Debian: apt-get install ffmpeg)";
+  const fs::path out = fs::path(PCE_TEST_TMP) / "video_run", movie = out / "movie.mp4";
+  fs::remove_all(out);
+  std::string err;
+  // --no-frames: the movie still has every output frame (0, 2, 4, 5), at 1/(0.01 · 2) = 50 fps.
+  ASSERT_EQ(run(small_scene().string() + " --no-frames --out " + out.string() + " --video " + movie.string(), &err), 0)
+      << err;
+  const auto p = probe(movie);
+  EXPECT_EQ(p.count("nb_read_frames") ? p.at("nb_read_frames") : "", "4");
+  EXPECT_EQ(p.count("r_frame_rate") ? p.at("r_frame_rate") : "", "50/1");
+  EXPECT_EQ(p.count("codec_name") ? p.at("codec_name") : "", "h264");
+  EXPECT_EQ(p.count("pix_fmt") ? p.at("pix_fmt") : "", "yuv420p");
+  EXPECT_EQ(p.count("width") ? p.at("width") : "", "960");
+  EXPECT_EQ(p.count("height") ? p.at("height") : "", "720");
+  EXPECT_FALSE(fs::exists(out / "pce-sim-frames.tmp"));
+  EXPECT_FALSE(fs::exists(movie.string() + ".ffmpeg-log"));
+}
+
+TEST(PceSim, StoppedRunWritesTheMovieAndCacheOfItsFramesAndAResumedRunFromItsCheckpoint) {
+  // The long twist (output_every 4) stopped by SIGINT: the cache and the movie hold frame 0,
+  // every fourth frame done and the frame it stopped at; a resumed run's start at the
+  // checkpoint's frame.
+  const bool movie = have_ffmpeg_and_ffprobe();
+  const fs::path out = fs::path(PCE_TEST_TMP) / "stopped_usd";
+  fs::remove_all(out);
+  std::vector<std::string> args = long_twist(out);
+  args.insert(args.end(), {"--usd", (out / "cache.usda").string()});
+  if (movie) args.insert(args.end(), {"--video", (out / "movie.mp4").string()});
+  const pid_t pid = spawn(args, out.string() + ".err");
+  ASSERT_TRUE(wait_for_lines(pid, out / "stats.jsonl", 5));
+  kill(pid, SIGINT);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << read_text(out.string() + ".err");
+  EXPECT_EQ(WEXITSTATUS(status), 130) << read_text(out.string() + ".err");
+  const int done = read_json(out / "summary.json")["frames_done"].get<int>();
+  std::vector<int> expected;
+  for (int f = 0; f <= done; f += 4) expected.push_back(f);
+  if (expected.back() != done) expected.push_back(done);
+  const fs::path twist = kScenes / "twist.json";
+  EXPECT_EQ(cache_matches_frames(out / "cache.usda", twist, out), expected);
+  EXPECT_EQ(obj_frames(out), expected);  // every time code's OBJ was there to compare with
+  if (movie) {
+    const auto p = probe(out / "movie.mp4");
+    EXPECT_EQ(p.count("nb_read_frames") ? p.at("nb_read_frames") : "", std::to_string(expected.size()));
+  }
+  // Resumed to three frames more: the new cache starts at the checkpoint's frame.
+  std::string err;
+  ASSERT_EQ(run(twist.string() + " --threads 1 --frames " + std::to_string(done + 3) + " --resume " + out.string() +
+                    " --usd " + (out / "resumed.usda").string(),
+                &err),
+            0)
+      << err;
+  std::vector<int> resumed{done};
+  for (int f = done + 1; f <= done + 3; ++f)
+    if (f % 4 == 0 || f == done + 3) resumed.push_back(f);
+  EXPECT_EQ(cache_matches_frames(out / "resumed.usda", twist, out), resumed);
 }
