@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Scene files: every kind of invalid input is one InputError naming the file, the JSON
-// path and what was expected; only declared effects are built; the shipped scenes load.
+// path and what was expected (keyframed motions' too); only declared effects are built;
+// the shipped scenes load.
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/scene.hpp>
 
@@ -236,6 +237,74 @@ TEST(Scene, AbsurdNumbersAreRefusedWithTheirPath) {
     EXPECT_EQ(error_path(j, &msg), c.path) << c.pointer << " = " << c.value.dump() << ": " << msg;
     EXPECT_EQ(msg.rfind(std::string("scene.json: ") + c.path + ": ", 0), 0u) << msg;
     EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+}
+
+TEST(Scene, KeyframedMotionsLoadAndEveryBadKeyframeNamesItsPath) {
+  // One keyframed obstacle and one keyframed pin group; each bad input gives one error naming
+  // its JSON path, with the same message for an obstacle's and a pin group's motion.
+  json base = minimal();
+  base["obstacles"] = json::parse(R"([{"name": "paddle", "shape": "box", "half_extents": [0.3, 0.05, 0.02],
+      "position": [0, 0, 0.6], "motion": {"interpolation": "smooth", "keyframes": [
+        {"time": 0},
+        {"time": 0.5, "translation": [0, 0, -0.3]},
+        {"time": 1.5, "translation": [0, 0, -0.3], "rotation": {"axis": [0, 0, 1], "degrees": 90}},
+        {"time": 2.0, "rotation": {"axis": [0, 0, 1], "degrees": 90}}]}}])");
+  base["effects"].push_back(json::parse(R"({"type": "pins", "groups": [{"vertices": [0],
+      "motion": {"center": [0, 0, 0], "keyframes": [{"time": 0}, {"time": 0.5, "translation": [0, 0, 0.2]}]}}]})"));
+  const auto loaded = load_scene_text(base.dump(), "scene.json", PCE_TEST_TMP);
+  const Motion& paddle = loaded->simulation.obstacles.at(0).motion;
+  ASSERT_EQ(paddle.keyframes.size(), 4u);
+  EXPECT_EQ(paddle.interpolation, Interpolation::smooth);
+  EXPECT_EQ(paddle.keyframes[0].translation, Eigen::Vector3d::Zero());
+  EXPECT_EQ(paddle.keyframes[0].rotation, Eigen::Matrix3d::Identity());
+  EXPECT_EQ(paddle.keyframes[1].time, 0.5);
+  EXPECT_EQ(paddle.keyframes[1].translation, Eigen::Vector3d(0, 0, -0.3));
+  EXPECT_LT((paddle.keyframes[3].rotation * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY()).norm(), 1e-15);
+  EXPECT_EQ(loaded->simulation.obstacles.at(0).pose(1.0).translation(), Eigen::Vector3d(0, 0, 0.3));
+
+  const struct {
+    const char* pointer;  // JSON pointer of the field to set, below the motion
+    json value;
+    const char* path;     // the error's JSON path, below the motion
+    const char* message;  // a part of the error's message
+  } cases[] = {
+      {"/keyframes/2/time", 0.4, "keyframes[2].time", "expected a time greater than keyframes[1]'s (0.5), got 0.4"},
+      {"/keyframes/1/time", 0.0, "keyframes[1].time", "expected a time greater than keyframes[0]'s (0), got 0"},
+      {"/keyframes/0/time", -1.0, "keyframes[0].time", "expected a finite time >= 0, got -1"},
+      {"/keyframes/0/time", "soon", "keyframes[0].time", "expected a number"},
+      {"/keyframes/0/translation", json::array({1e300, 0, 0}), "keyframes[0].translation", "|value| <= 1e+06"},
+      {"/keyframes/0/translation", json::array({0, 0}), "keyframes[0].translation", ""},
+      {"/keyframes/0/rotation", json::parse(R"({"axis": [0, 0, 0], "degrees": 30})"), "keyframes[0].rotation.axis",
+       "expected a non-zero axis"},
+      {"/keyframes/0/rotation", json::parse(R"({"degrees": 30})"), "keyframes[0].rotation.axis", "missing"},
+      {"/keyframes/0/spin", 1, "keyframes[0].spin", "unknown field (expected one of: time, translation, rotation)"},
+      {"/keyframes/0", json::parse(R"({"translation": [0, 0, 1]})"), "keyframes[0].time", "missing"},
+      {"/keyframes/0", 3, "keyframes[0]", ""},
+      {"/keyframes", json::array(), "keyframes", "expected at least one keyframe"},
+      {"/keyframes", json::parse(R"({"time": 0})"), "keyframes", ""},
+      {"/velocity", json::array({0, 0, 1}), "velocity", "either \"keyframes\" or a constant velocity"},
+      {"/angular_velocity", json::array({0, 0, 1}), "angular_velocity", "not both"},
+      {"/start", 0.0, "start", "not both"},
+      {"/stop", 1.0, "stop", "not both"},
+      {"/interpolation", "cubic", "interpolation", "expected one of \"linear\", \"smooth\", got \"cubic\""},
+  };
+  for (const char* owner : {"/obstacles/0/motion", "/effects/2/groups/0/motion"}) {
+    const std::string at =
+        std::string(owner) == "/obstacles/0/motion" ? "obstacles[0].motion." : "effects[2].groups[0].motion.";
+    for (const auto& c : cases) {
+      json j = base;
+      j[json::json_pointer(owner + std::string(c.pointer))] = c.value;
+      std::string msg;
+      EXPECT_EQ(error_path(j, &msg), at + c.path) << owner << c.pointer << " = " << c.value.dump() << ": " << msg;
+      EXPECT_NE(msg.find(c.message), std::string::npos) << msg;
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    }
+    // An interpolation without keyframes.
+    json j = base;
+    j[json::json_pointer(owner)] = json::parse(R"({"velocity": [0, 0, 1], "interpolation": "linear"})");
+    std::string msg;
+    EXPECT_EQ(error_path(j, &msg), at + "interpolation") << msg;
   }
 }
 
