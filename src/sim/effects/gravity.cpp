@@ -24,10 +24,11 @@ class Gravity final : public Effect {
     for (std::size_t j = 0; j < vertices.size(); ++j)
       terms.gradient.col(static_cast<Eigen::Index>(j)) -= model_->mass[vertices[j]] * g_;
   }
-  /// A uniform field: every vertex is accelerated by g.
-  bool uniform_acceleration(Eigen::Vector3d& a) const override {
-    a = g_;
-    return true;
+  /// The field: g at every vertex it acts on (every vertex of positive mass in its model).
+  void add_acceleration(Eigen::Matrix3Xd& a) const override {
+    const Eigen::VectorXd& m = model_->mass;
+    for (Eigen::Index i = 0; i < a.cols(); ++i)
+      if (m[i] > 0) a.col(i) += g_;
   }
 
  private:

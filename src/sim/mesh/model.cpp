@@ -110,6 +110,65 @@ Model build_model(const std::vector<ModelMesh>& meshes) {
   return m;
 }
 
+Model restrict_to_meshes(const Model& model, const std::vector<std::string>& meshes) {
+  if (meshes.empty()) throw ArgumentError("meshes", "expected at least one mesh name");
+  std::vector<char> keep(model.meshes.size(), 0);
+  std::string known;
+  for (const MeshRange& r : model.meshes) known += (known.empty() ? "" : ", ") + r.name;
+  for (const std::string& name : meshes) {
+    std::size_t k = 0;
+    while (k < model.meshes.size() && model.meshes[k].name != name) ++k;
+    if (k == model.meshes.size())
+      throw ArgumentError("meshes", "unknown mesh \"" + name + "\" (the model's meshes: " + known + ")");
+    if (keep[k]) throw ArgumentError("meshes", "mesh \"" + name + "\" is named twice");
+    keep[k] = 1;
+  }
+  Model v;
+  v.rest = model.rest;
+  v.mass = model.mass;
+  v.surface_vertex = model.surface_vertex;
+  if (v.surface_vertex.empty()) v.surface_vertex.assign(static_cast<std::size_t>(model.vertex_count()), 1);
+  int nt = 0, ns = 0, nT = 0;
+  for (std::size_t k = 0; k < model.meshes.size(); ++k)
+    if (keep[k]) {
+      nt += model.meshes[k].triangle_count;
+      ns += model.meshes[k].segment_count;
+      nT += model.meshes[k].tetrahedron_count;
+    }
+  v.triangles.resize(3, nt);
+  v.segments.resize(2, ns);
+  v.tetrahedra.resize(4, nT);
+  const bool boundary = !model.boundary_triangle.empty();
+  int t0 = 0, s0 = 0, T0 = 0;
+  for (std::size_t k = 0; k < model.meshes.size(); ++k) {
+    MeshRange r = model.meshes[k];
+    if (keep[k]) {
+      v.triangles.middleCols(t0, r.triangle_count) = model.triangles.middleCols(r.first_triangle, r.triangle_count);
+      v.segments.middleCols(s0, r.segment_count) = model.segments.middleCols(r.first_segment, r.segment_count);
+      v.tetrahedra.middleCols(T0, r.tetrahedron_count) =
+          model.tetrahedra.middleCols(r.first_tetrahedron, r.tetrahedron_count);
+      if (boundary)
+        v.boundary_triangle.insert(v.boundary_triangle.end(), model.boundary_triangle.begin() + r.first_triangle,
+                                   model.boundary_triangle.begin() + r.first_triangle + r.triangle_count);
+    } else {
+      r.triangle_count = r.segment_count = r.tetrahedron_count = 0;
+      v.mass.segment(r.first_vertex, r.vertex_count).setZero();
+      std::fill_n(v.surface_vertex.begin() + r.first_vertex, r.vertex_count, char{0});
+    }
+    r.first_triangle = t0;
+    r.first_segment = s0;
+    r.first_tetrahedron = T0;
+    t0 += r.triangle_count;
+    s0 += r.segment_count;
+    T0 += r.tetrahedron_count;
+    v.meshes.push_back(r);
+  }
+  const Eigen::Matrix2Xi tri_edges = unique_edges(v.triangles);
+  v.edges.resize(2, tri_edges.cols() + v.segments.cols());
+  v.edges << tri_edges, v.segments;
+  return v;
+}
+
 RestAreas rest_areas(const Model& model) {
   RestAreas a;
   const auto nt = model.triangles.cols();

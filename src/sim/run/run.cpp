@@ -57,7 +57,8 @@ json frame_record(const FrameStats& s, long intersections) {
   r["min_distance"] = std::isfinite(min_distance) ? json(min_distance) : json(nullptr);
   r["intersecting_triangle_pairs"] = intersections;
   json effects = json::object();
-  for (const auto& [name, ms] : s.effect_ms) effects[name] = ms;
+  for (const auto& [name, ms] : s.effect_ms)
+    effects[name] = effects.value(name, 0.0) + ms;  // entries of one type: summed
   r["effects"] = effects;
   json counters = json::object();
   for (const auto& [k, v] : s.counters.entries()) counters[k] = std::isfinite(v) ? json(v) : json(nullptr);

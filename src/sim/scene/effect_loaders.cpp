@@ -51,8 +51,8 @@ ContactSettings parse_contact(const Params& p, const BuildContext& ctx) {
     p.fail("exclude_rest_neighbours",
            "this option was removed: pairs of one mesh closer than 2d at rest are left out of the energy and "
            "kept in the step bound, so a sheet cannot fold through itself (delete the key)");
-  p.only({"type", "penalty", "length", "hessian", "closest_features", "ccd", "area_weighted", "min_separation",
-          "friction"});
+  p.only({"type", "meshes", "penalty", "length", "hessian", "closest_features", "ccd", "area_weighted",
+          "min_separation", "friction"});
   ContactSettings s;
   s.penalty = parse_penalty(p.object("penalty"));
   s.signed_length = p.choice<LengthKind>("length", LengthKind::unsigned_length) == LengthKind::signed_length;
@@ -63,26 +63,27 @@ ContactSettings parse_contact(const Params& p, const BuildContext& ctx) {
   s.area_weighted = p.boolean("area_weighted", false);
   s.min_separation = p.number("min_separation", kDefaultMinSeparation, 0.0, kMaxMinSeparation);
   if (p.has("friction")) s.friction = parse_friction(p.object("friction"));
+  s.mesh_pairs = ctx.mesh_pairs;
   return s;
 }
 
 }  // namespace
 
 std::unique_ptr<Effect> load_gravity(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "acceleration"});
+  params.only({"type", "meshes", "acceleration"});
   const Eigen::Vector3d g = params.vec3("acceleration", Eigen::Vector3d(0, 0, -9.81));
   return params.build([&] { return make_gravity(*ctx.model, g); });
 }
 
 std::unique_ptr<Effect> load_stretching(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "model", "stiffness"});
+  params.only({"type", "meshes", "model", "stiffness"});
   params.choice<StretchingModel>("model", StretchingModel::arap);
   const double mu = params.positive("stiffness");
   return params.build([&] { return make_stretching(*ctx.model, mu); });
 }
 
 std::unique_ptr<Effect> load_volume_elasticity(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "model", "young_modulus", "poisson_ratio", "mu", "lambda", "hessian"});
+  params.only({"type", "meshes", "model", "young_modulus", "poisson_ratio", "mu", "lambda", "hessian"});
   params.choice<VolumeModel>("model", VolumeModel::stable_neo_hookean);
   const bool young = params.has("young_modulus") || params.has("poisson_ratio");
   const bool lame = params.has("mu") || params.has("lambda");
@@ -110,19 +111,19 @@ std::unique_ptr<Effect> load_volume_elasticity(const Params& params, const Build
 }
 
 std::unique_ptr<Effect> load_bending(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "stiffness"});
+  params.only({"type", "meshes", "stiffness"});
   const double k = params.positive("stiffness");
   return params.build([&] { return make_bending(*ctx.model, k); });
 }
 
 std::unique_ptr<Effect> load_strand_stretching(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "stiffness"});
+  params.only({"type", "meshes", "stiffness"});
   const double k = params.positive("stiffness");
   return params.build([&] { return make_strand_stretching(*ctx.model, k); });
 }
 
 std::unique_ptr<Effect> load_strand_bending(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "stiffness"});
+  params.only({"type", "meshes", "stiffness"});
   const double k = params.positive("stiffness");
   return params.build([&] { return make_strand_bending(*ctx.model, k); });
 }
@@ -172,7 +173,7 @@ std::unique_ptr<Effect> load_pins(const Params& params, const BuildContext& ctx)
 }
 
 std::unique_ptr<Effect> load_damping(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "coefficient"});
+  params.only({"type", "meshes", "coefficient"});
   const double c = params.nonnegative("coefficient");
   return params.build([&] { return make_damping(*ctx.model, c); });
 }
@@ -188,7 +189,7 @@ std::unique_ptr<Effect> load_self_edge_edge(const Params& params, const BuildCon
 }
 
 std::unique_ptr<Effect> load_obstacle_contact(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "penalty", "obstacles", "area_weighted", "min_separation", "friction"});
+  params.only({"type", "meshes", "penalty", "obstacles", "area_weighted", "min_separation", "friction"});
   ObstacleContactSettings spec;
   spec.penalty = parse_penalty(params.object("penalty"));
   spec.area_weighted = params.boolean("area_weighted", false);

@@ -14,8 +14,11 @@
 
 #include <Eigen/Geometry>
 
+#include <array>
 #include <cmath>
 #include <fstream>
+#include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 
@@ -302,19 +305,174 @@ void parse_bodies(const Params& root, const std::filesystem::path& base, Simulat
   }
 }
 
+/// An entry's `meshes`, read: the mesh indices it names (sorted), or its pairs (a ≤ b).
+struct MeshSelection {
+  bool given = false;                     ///< the entry has `meshes`
+  std::vector<int> meshes;                ///< named meshes (the union of its pairs when pairs)
+  std::vector<std::array<int, 2>> pairs;  ///< named pairs, when given as pairs
+};
+
+/// Reads entry `p`'s `meshes` (names, or for self contact pairs of names) against `model`.
+MeshSelection parse_meshes(const Params& p, const Model& model, Coverage coverage) {
+  MeshSelection s;
+  if (!p.has("meshes")) return s;
+  s.given = true;
+  const nlohmann::json& list = p.array("meshes");
+  if (list.empty()) p.fail("meshes", "expected at least one mesh name (leave the field out for every mesh)");
+  std::string known;
+  for (const MeshRange& r : model.meshes) known += (known.empty() ? "" : ", ") + ("\"" + r.name + "\"");
+  const auto index = [&](const nlohmann::json& name, const std::string& where) {
+    if (!name.is_string()) throw InputError(p.file(), where, "expected a mesh name (a string)");
+    for (std::size_t k = 0; k < model.meshes.size(); ++k)
+      if (model.meshes[k].name == name.get<std::string>()) return static_cast<int>(k);
+    throw InputError(p.file(), where,
+                     "unknown mesh \"" + name.get<std::string>() + "\" (the scene's meshes: " + known + ")");
+  };
+  const bool pairs = list[0].is_array();
+  if (pairs && coverage != Coverage::mesh_pairs)
+    throw InputError(p.file(), p.path_of("meshes") + "[0]", "expected a mesh name (pairs are for self contact)");
+  std::set<int> named;
+  std::set<std::array<int, 2>> seen;
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const std::string where = p.path_of("meshes") + "[" + std::to_string(k) + "]";
+    if (!pairs) {
+      const int m = index(list[k], where);
+      if (!named.insert(m).second)
+        throw InputError(p.file(), where,
+                         "mesh \"" + model.meshes[static_cast<std::size_t>(m)].name + "\" named twice");
+      continue;
+    }
+    if (!list[k].is_array() || list[k].size() != 2)
+      throw InputError(p.file(), where, "expected a pair of mesh names, [\"a\", \"b\"] (or every entry a name)");
+    const int a = index(list[k][0], where + "[0]"), b = index(list[k][1], where + "[1]");
+    const std::array<int, 2> pair{std::min(a, b), std::max(a, b)};
+    if (!seen.insert(pair).second) throw InputError(p.file(), where, "pair named twice");
+    s.pairs.push_back(pair);
+    named.insert(a);
+    named.insert(b);
+  }
+  s.meshes.assign(named.begin(), named.end());
+  return s;
+}
+
+/// What one effect entry covers (for the checks between entries of one type): its meshes, or
+/// mesh pairs a·M + b (a ≤ b), or (mesh, obstacle) pairs m·O + o.
+struct Covered {
+  std::size_t entry;
+  bool given;
+  std::vector<long> units;
+};
+
+/// A unit's name in messages.
+std::string unit_name(Coverage c, long u, const Model& model, const std::vector<Obstacle>& obstacles) {
+  const auto mesh = [&](long m) { return "\"" + model.meshes[static_cast<std::size_t>(m)].name + "\""; };
+  const long M = static_cast<long>(model.meshes.size()), O = static_cast<long>(obstacles.size());
+  switch (c) {
+    case Coverage::mesh_pairs:
+      return "the mesh pair [" + mesh(u / M) + ", " + mesh(u % M) + "]";
+    case Coverage::meshes_and_obstacles:
+      return "mesh " + mesh(u / O) + " against obstacle \"" + obstacles[static_cast<std::size_t>(u % O)].name + "\"";
+    default:
+      return "mesh " + mesh(u);
+  }
+}
+
+/// Entries of one type neither overlap (a unit in two) nor leave a gap (a mesh, or mesh
+/// pair, that has what the type acts on but no entry covers); entries with `meshes` name only
+/// units that have it. Errors name the entry and the other entry involved.
+void check_coverage(const RegisteredEffect& reg, const std::vector<Covered>& entries, const std::string& file,
+                    const Model& model, const std::vector<Obstacle>& obstacles) {
+  const long M = static_cast<long>(model.meshes.size()), O = static_cast<long>(obstacles.size());
+  const auto at = [&](const Covered& c) {
+    return "effects[" + std::to_string(c.entry) + "]" + (c.given ? ".meshes" : "");
+  };
+  const auto relevant = [&](long u) {
+    const MeshRange* a = nullptr;
+    const MeshRange* b = nullptr;
+    if (reg.coverage == Coverage::mesh_pairs) {
+      a = &model.meshes[static_cast<std::size_t>(u / M)];
+      b = &model.meshes[static_cast<std::size_t>(u % M)];
+    } else {
+      a = b = &model.meshes[static_cast<std::size_t>(reg.coverage == Coverage::meshes_and_obstacles ? u / O : u)];
+    }
+    return reg.has(*a, *b);
+  };
+  std::map<long, std::size_t> owner;  // unit → index into entries
+  for (std::size_t j = 0; j < entries.size(); ++j) {
+    const Covered& c = entries[j];
+    for (const long u : c.units) {
+      if (c.given && !relevant(u))
+        throw InputError(file, at(c),
+                         unit_name(reg.coverage, u, model, obstacles) + " has no " + reg.what + " for " + reg.name);
+      const auto [it, fresh] = owner.emplace(u, j);
+      if (!fresh) {
+        const Covered& other = entries[it->second];
+        throw InputError(file, at(c),
+                         unit_name(reg.coverage, u, model, obstacles) + " is also covered by effects[" +
+                             std::to_string(other.entry) + "] (" + reg.name + "): each takes one " + reg.name +
+                             " entry (name each entry's \"meshes\")");
+      }
+    }
+  }
+  // Gaps: every unit that has what the type acts on (for obstacle contact: every mesh that
+  // meets some obstacle in no entry at all).
+  std::vector<long> all;
+  if (reg.coverage == Coverage::mesh_pairs) {
+    for (long a = 0; a < M; ++a)
+      for (long b = a; b < M; ++b) all.push_back(a * M + b);
+  } else if (reg.coverage == Coverage::meshes) {
+    for (long a = 0; a < M; ++a) all.push_back(a);
+  }
+  for (const long u : all)
+    if (relevant(u) && !owner.count(u)) {
+      std::string list;
+      for (const Covered& c : entries)
+        list += (list.empty() ? "" : ", ") + ("effects[" + std::to_string(c.entry) + "]");
+      throw InputError(file, at(entries.front()),
+                       unit_name(reg.coverage, u, model, obstacles) + " (with " + reg.what + ") is in no " + reg.name +
+                           " entry (" + list + "): name it in one");
+    }
+  if (reg.coverage == Coverage::meshes_and_obstacles)
+    for (long m = 0; m < M; ++m) {
+      bool met = O == 0;
+      for (long o = 0; o < O && !met; ++o) met = owner.count(m * O + o) > 0;
+      if (!met)
+        throw InputError(
+            file, at(entries.front()),
+            unit_name(Coverage::meshes, m, model, obstacles) + " is in no obstacle_contact entry: name it in one");
+    }
+}
+
+/// The obstacles an obstacle_contact entry lists (indices; every obstacle without the key).
+/// The loader checks the names; unknown ones are skipped here.
+std::vector<long> listed_obstacles(const Params& p, const std::vector<Obstacle>& obstacles) {
+  std::vector<long> out;
+  if (!p.has("obstacles")) {
+    for (std::size_t o = 0; o < obstacles.size(); ++o) out.push_back(static_cast<long>(o));
+    return out;
+  }
+  for (const nlohmann::json& name : p.array("obstacles"))
+    for (std::size_t o = 0; o < obstacles.size(); ++o)
+      if (name.is_string() && obstacles[o].name == name.get<std::string>()) out.push_back(static_cast<long>(o));
+  return out;
+}
+
 /// The listed effects, each built by its registered loader (only the listed ones are built),
-/// into `sim`; a contact effect's `hessian` is the override's when there is one.
+/// into `scene`; an entry with `meshes` is built on the model restricted to them (kept in
+/// `Scene::effect_models`); a contact effect's `hessian` is the override's when there is one.
 void build_effects(const Params& root, const std::string& name, const SceneOverrides& overrides,
-                   BroadPhaseKind broad_phase, Simulation& sim) {
+                   BroadPhaseKind broad_phase, Scene& scene) {
+  Simulation& sim = scene.simulation;
   BuildContext ctx;
-  ctx.model = &sim.model;
   ctx.obstacles = &sim.obstacles;
   ctx.dt = sim.solver.dt;
   ctx.broad_phase = broad_phase;
   ctx.threads = sim.solver.threads;
   nlohmann::json effects = root.array("effects", true);  // a copy: overrides are applied to it
   if (effects.empty()) root.fail("effects", "expected at least one effect");
-  std::set<std::string> declared;
+  const long M = static_cast<long>(sim.model.meshes.size()), O = static_cast<long>(sim.obstacles.size());
+  std::map<const RegisteredEffect*, std::vector<Covered>> coverage;
+  std::vector<const RegisteredEffect*> order;
   for (std::size_t k = 0; k < effects.size(); ++k) {
     const Params p(effects[k], name, "effects[" + std::to_string(k) + "]");
     const std::string type = p.string("type");
@@ -325,11 +483,44 @@ void build_effects(const Params& root, const std::string& name, const SceneOverr
       known += (known.empty() ? "" : ", ") + std::string(r.name);
     }
     if (!reg) p.fail("type", "unknown effect \"" + type + "\" (expected one of: " + known + ")");
-    if (!declared.insert(type).second) p.fail("type", "effect \"" + type + "\" is declared twice");
     if (reg->pair_contact && overrides.hessian) effects[k]["hessian"] = std::string(name_of(*overrides.hessian));
     const Params q(effects[k], name, "effects[" + std::to_string(k) + "]");
+    const MeshSelection sel =
+        reg->coverage == Coverage::none ? MeshSelection{} : parse_meshes(q, sim.model, reg->coverage);
+    ctx.model = &sim.model;
+    ctx.mesh_pairs.clear();
+    if (sel.given) {
+      std::vector<std::string> names;
+      for (const int m : sel.meshes) names.push_back(sim.model.meshes[static_cast<std::size_t>(m)].name);
+      scene.effect_models.push_back(std::make_unique<Model>(restrict_to_meshes(sim.model, names)));
+      ctx.model = scene.effect_models.back().get();
+      for (const auto& [a, b] : sel.pairs)
+        ctx.mesh_pairs.push_back(
+            {sim.model.meshes[static_cast<std::size_t>(a)].name, sim.model.meshes[static_cast<std::size_t>(b)].name});
+    }
     sim.effects.push_back(reg->make(q, ctx));
+    if (reg->coverage == Coverage::none) continue;
+    Covered c{k, sel.given, {}};
+    std::vector<int> meshes = sel.meshes;
+    if (!sel.given)
+      for (int m = 0; m < M; ++m) meshes.push_back(m);
+    if (reg->coverage == Coverage::meshes) {
+      c.units.assign(meshes.begin(), meshes.end());
+    } else if (reg->coverage == Coverage::mesh_pairs) {
+      if (!sel.pairs.empty()) {
+        for (const auto& [a, b] : sel.pairs) c.units.push_back(a * M + b);
+      } else {
+        for (std::size_t i = 0; i < meshes.size(); ++i)
+          for (std::size_t j = i; j < meshes.size(); ++j) c.units.push_back(meshes[i] * M + meshes[j]);
+      }
+    } else {
+      for (const int m : meshes)
+        for (const long o : listed_obstacles(q, sim.obstacles)) c.units.push_back(m * O + o);
+    }
+    if (!coverage.count(reg)) order.push_back(reg);
+    coverage[reg].push_back(std::move(c));
   }
+  for (const RegisteredEffect* reg : order) check_coverage(*reg, coverage[reg], name, sim.model, sim.obstacles);
 }
 
 }  // namespace
@@ -348,7 +539,7 @@ std::unique_ptr<Scene> load_scene_text(const std::string& text, const std::strin
   auto scene = std::make_unique<Scene>();
   const BroadPhaseKind broad_phase = parse_settings(root, overrides, *scene);
   parse_bodies(root, base, scene->simulation);
-  build_effects(root, name, overrides, broad_phase, scene->simulation);
+  build_effects(root, name, overrides, broad_phase, *scene);
   scene->simulation.start_at_rest();
   return scene;
 }

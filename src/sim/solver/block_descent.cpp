@@ -46,8 +46,9 @@ struct Simulation::BlockState {
   Eigen::Matrix3Xd next;    ///< a colour's new positions
   std::vector<char> cut, bad;
   std::vector<double> motion;
-  Eigen::VectorXd moved;  ///< per vertex: its move in the last sweep
-  Eigen::VectorXd limit;  ///< per vertex: the fraction of the first move the one-vertex effects allow
+  Eigen::VectorXd moved;   ///< per vertex: its move in the last sweep
+  Eigen::VectorXd limit;   ///< per vertex: the fraction of the first move the one-vertex effects allow
+  Eigen::Matrix3Xd field;  ///< per vertex: the state-independent acceleration (gravity), a
 };
 
 /// A vertex's trust region in a sweep: this many times its move in the sweep before…
@@ -64,12 +65,9 @@ void Simulation::block_descent(StepState& s) {
   const double inf = std::numeric_limits<double>::infinity();
 
   // (1) The first move: inertia and the uniform fields (gravity), x̃ + h² a.
-  Eigen::Vector3d field = Eigen::Vector3d::Zero();
-  for (const auto& e : effects) {
-    Eigen::Vector3d a;
-    if (e->uniform_acceleration(a)) field += a;
-  }
-  s.dxm = (x_tilde_ - s.x_start).colwise() + h * h * field;
+  b.field.setZero(3, n);
+  for (const auto& e : effects) e->add_acceleration(b.field);
+  s.dxm = (x_tilde_ - s.x_start) + h * h * b.field;
   // Effects of one-vertex pairs stop the vertices they must (`limit_moves`), then the move
   // they leave is cut to what every effect finds safe: a vertex landing on an obstacle does
   // not hold back the rest of its sheet.

@@ -5,15 +5,18 @@
 
 #include <omp.h>
 
+#include <utility>
+
 namespace pce::sim::contact {
 
-template <bool VF>
-CandidateSet<VF>::CandidateSet(const Model& model, BroadPhaseKind kind, double distance, bool bounded)
+template <bool VF> CandidateSet<VF>::CandidateSet(const Model& model, BroadPhaseKind kind, double distance,
+                                                  bool bounded, std::vector<char> allowed)
     : model_(&model),
       broad_phase_(make_broad_phase(kind)),
       distance_(distance),
       margin_(0.5 * distance),
-      bounded_(bounded) {
+      bounded_(bounded),
+      allowed_(std::move(allowed)) {
   mesh_of_.resize(static_cast<std::size_t>(model.vertex_count()));
   for (std::size_t m = 0; m < model.meshes.size(); ++m)
     for (int i = 0; i < model.meshes[m].vertex_count; ++i)
@@ -188,10 +191,10 @@ void CandidateSet<VF>::query(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd&
     const double r = distance_ + margin_;
     if constexpr (VF) {
       broad_phase_->vertex_face(query_at_, query_to_, model_->triangles, r, fresh);
-      drop_interior_vertices(fresh);
     } else {
       broad_phase_->edge_edge(query_at_, query_to_, model_->edges, r, fresh);
     }
+    drop_excluded(fresh);
   }
   // Both lists are sorted: one merge pass finds where each fresh pair was.
   previous.assign(fresh.size(), -1);
@@ -206,11 +209,21 @@ void CandidateSet<VF>::query(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd&
   stats_.queries += 1;
 }
 
-template <bool VF> void CandidateSet<VF>::drop_interior_vertices(std::vector<Pair>& pairs) const {
-  if (model_->surface_vertex.empty()) return;
-  pairs.erase(
-      std::remove_if(pairs.begin(), pairs.end(), [&](const Pair& p) { return !model_->is_surface_vertex(p[0]); }),
-      pairs.end());
+template <bool VF> void CandidateSet<VF>::drop_excluded(std::vector<Pair>& pairs) const {
+  if (VF && !model_->surface_vertex.empty())
+    pairs.erase(
+        std::remove_if(pairs.begin(), pairs.end(), [&](const Pair& p) { return !model_->is_surface_vertex(p[0]); }),
+        pairs.end());
+  if (allowed_.empty()) return;
+  const std::size_t M = model_->meshes.size();
+  pairs.erase(std::remove_if(pairs.begin(), pairs.end(),
+                             [&](const Pair& p) {
+                               const auto v = Geometry::vertices(*model_, p);
+                               const auto a = static_cast<std::size_t>(mesh_of_[static_cast<std::size_t>(v[0])]);
+                               const auto b = static_cast<std::size_t>(mesh_of_[static_cast<std::size_t>(v[3])]);
+                               return !allowed_[a * M + b];
+                             }),
+              pairs.end());
 }
 
 template <bool VF> void CandidateSet<VF>::set_sweep(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1) {
@@ -255,10 +268,10 @@ template <bool VF> void CandidateSet<VF>::find_fold_pairs() {
   std::vector<Pair> rest_pairs;
   if constexpr (VF) {
     broad_phase_->vertex_face(model_->rest, model_->triangles, r, rest_pairs);
-    drop_interior_vertices(rest_pairs);
   } else {
     broad_phase_->edge_edge(model_->rest, model_->edges, r, rest_pairs);
   }
+  drop_excluded(rest_pairs);
   const long n = static_cast<long>(rest_pairs.size());
   std::vector<char> near(rest_pairs.size(), 0);
   std::vector<double> rest_distance(rest_pairs.size(), 0.0);

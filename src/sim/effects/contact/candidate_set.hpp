@@ -58,8 +58,10 @@ template <bool VF> class CandidateSet {
   };
 
   /// `distance` d, the activation distance; `bounded`: the effect bounds its steps
-  /// (validity is then kept by step_limit, and re-queries wait until the limit binds).
-  CandidateSet(const Model& model, BroadPhaseKind kind, double distance, bool bounded);
+  /// (validity is then kept by step_limit, and re-queries wait until the limit binds);
+  /// `allowed`: M×M (M the model's meshes, symmetric), whether primitives of meshes a and b
+  /// may be a candidate pair, or empty for every pair.
+  CandidateSet(const Model& model, BroadPhaseKind kind, double distance, bool bounded, std::vector<char> allowed = {});
 
   /// Fold pairs are active below this fraction of their rest distance (and below d).
   static constexpr double kFoldReach = 0.5;
@@ -307,9 +309,9 @@ template <bool VF> class CandidateSet {
   void query(const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1, std::vector<long>& previous);
 
   /// Removes the (vertex, triangle) pairs whose vertex lies inside a volume
-  /// (`Model::surface_vertex`): only a volume's surface takes part in contact. Keeps the
-  /// order (the broad phase's lists are sorted).
-  void drop_interior_vertices(std::vector<Pair>& pairs) const;
+  /// (`Model::surface_vertex`: only a volume's surface takes part in contact) and the pairs
+  /// of two meshes `allowed_` leaves out. Keeps the order (the broad phase's lists are sorted).
+  void drop_excluded(std::vector<Pair>& pairs) const;
 
   /// The sweep of a query: its ends, each vertex's box over it (condition A) and the gaps
   /// between the meshes' boxes at x0 (condition B).
@@ -336,6 +338,7 @@ template <bool VF> class CandidateSet {
   const double margin_;                   ///< the margin m = d/2 of the query radius r = d + m
   bool bounded_;                          ///< the effect bounds its steps (validity kept by step_limit)
   std::vector<int> mesh_of_;              ///< per vertex: its mesh
+  std::vector<char> allowed_;             ///< M×M: meshes whose primitives may pair; empty: all
   std::vector<Pair> pairs_;               ///< the candidates, sorted
   std::vector<Pair> folds_;               ///< same-mesh pairs closer than 2d at rest, sorted
   std::vector<double> fold_reaches_;      ///< per entry of folds_: min(d, kFoldReach · rest distance)

@@ -37,6 +37,24 @@ namespace {
 
 using namespace contact;
 
+/// `ContactSettings::mesh_pairs` as CandidateSet's M×M table (empty: every pair); throws
+/// ArgumentError (`meshes`) for a name the model does not have.
+std::vector<char> allowed_mesh_pairs(const Model& model, const std::vector<std::array<std::string, 2>>& pairs) {
+  if (pairs.empty()) return {};
+  const std::size_t M = model.meshes.size();
+  const auto index = [&](const std::string& name) {
+    for (std::size_t k = 0; k < M; ++k)
+      if (model.meshes[k].name == name) return k;
+    throw ArgumentError("meshes", "unknown mesh \"" + name + "\"");
+  };
+  std::vector<char> allowed(M * M, 0);
+  for (const auto& [a, b] : pairs) {
+    const std::size_t i = index(a), j = index(b);
+    allowed[i * M + j] = allowed[j * M + i] = 1;
+  }
+  return allowed;
+}
+
 template <bool VF> class SelfContact final : public ContactEffect {
  public:
   SelfContact(const ContactSettings& settings, const Model& model)
@@ -44,7 +62,8 @@ template <bool VF> class SelfContact final : public ContactEffect {
         settings_(settings),
         model_(&model),
         areas_(settings.area_weighted ? rest_areas(model) : RestAreas{}),
-        candidates_(model, settings.broad_phase, settings.penalty.distance, bounded()),
+        candidates_(model, settings.broad_phase, settings.penalty.distance, bounded(),
+                    allowed_mesh_pairs(model, settings.mesh_pairs)),
         classifier_(settings_, candidates_, areas_),
         potential_(settings_, candidates_, classifier_),
         active_(settings_, candidates_, classifier_, potential_),

@@ -6,7 +6,7 @@
 /// scene declares are constructed (`pce/sim/scene.hpp`), so nothing else costs time.
 ///
 /// Every effect considers six virtual functions: `begin_step`, `declare`, `evaluate`,
-/// `evaluate_local`, `uniform_acceleration` and `report` (each but `declare` and `evaluate`
+/// `evaluate_local`, `add_acceleration` and `report` (each but `declare` and `evaluate`
 /// has a default). What
 /// only contact needs (a step bound, re-queries, a state-dependent pattern, lagged friction,
 /// saved state) is the separate interface `ContactEffect` (`pce/sim/contact_effect.hpp`),
@@ -71,10 +71,10 @@ class Effect {
   /// evaluates the whole effect and reads those columns and blocks; an effect overrides it
   /// to evaluate only the elements touching the vertices.
   virtual void evaluate_local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices, LocalTerms& terms);
-  /// Whether the effect is a uniform acceleration field (gravity), and then its acceleration
-  /// in `a`: block descent starts each step from xⁿ + h vⁿ + h² a (docs/simulation.md §5.5).
-  /// The default: it is none.
-  virtual bool uniform_acceleration(Eigen::Vector3d& /*a*/) const { return false; }
+  /// Adds the effect's acceleration field, if it is one that does not depend on the state
+  /// (gravity: g at each vertex it acts on), to `a` (3×n): block descent starts each step
+  /// from xⁿ + h vⁿ + h² a (docs/simulation.md §5.5). The default: it is none.
+  virtual void add_acceleration(Eigen::Matrix3Xd& /*a*/) const {}
   /// Counters for the frame's statistics (contact counts, minimum distance, …).
   virtual void report(EffectCounters& /*counters*/) const {}
 

@@ -27,6 +27,7 @@
 #include <array>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace pce::sim {
@@ -170,6 +171,11 @@ struct ContactSettings {
   bool area_weighted = false;
   /// Friction on the effect's pairs; none when absent (nothing of it is built).
   std::optional<FrictionSettings> friction = std::nullopt;
+  /// The pairs of meshes (by name, either order; the same name twice: a mesh with itself)
+  /// whose primitives may meet; empty: every pair of the model's meshes. Build the effect on
+  /// `restrict_to_meshes(model, <the meshes named>)` too, so its broad phase sees only those
+  /// (scene `meshes` given as pairs; docs/simulation.md §2.5).
+  std::vector<std::array<std::string, 2>> mesh_pairs{};
 };
 
 /// The strategies a contact effect's `hessian` accepts (scene key, `pce-sim --hessian`,

@@ -92,6 +92,15 @@ struct ModelMesh {
 /// `kMaxVertices` vertices in all, or a vertex left without mass.
 Model build_model(const std::vector<ModelMesh>& meshes);
 
+/// The model as an effect restricted to some of its meshes sees it (scene key `meshes`,
+/// docs/simulation.md §2.5): the same vertices, rest positions and mesh ranges, with only the
+/// named meshes' triangles, segments, tetrahedra and edges (in the model's order, so that
+/// naming every mesh gives the model itself); the other meshes' vertices have mass 0 and take
+/// part in no contact (`surface_vertex` 0), and their ranges hold no elements. An effect built
+/// on it acts on those meshes only and keeps a pointer to it: it must outlive the effect.
+/// Throws `ArgumentError` (`meshes`) for an empty list, an unknown or a repeated name.
+Model restrict_to_meshes(const Model& model, const std::vector<std::string>& meshes);
+
 /// Rest areas of a model's elements, for area-weighted contact (docs/simulation.md §4):
 /// each triangle's area, and the lumped areas of vertices (a third of every triangle they
 /// are a corner of) and edges (a third of every triangle they border). A vertex or edge of
