@@ -158,7 +158,16 @@ class Simulation:
         self._s.step()
         return self.stats
 
-    def run(self, frames: Optional[int] = None, out=None, *, write_frames: bool = True, checkpoint_every: int = 0):
+    def run(
+        self,
+        frames: Optional[int] = None,
+        out=None,
+        *,
+        write_frames: bool = True,
+        checkpoint_every: int = 0,
+        video=None,
+        usd=None,
+    ):
         """Steps ``frames`` more frames (default: up to the scene's :attr:`frames`); with
         ``out``, writes into that directory what ``pce-sim --out DIR`` writes: the current
         frame and every ``output_every``-th frame as ``frame_NNNN.obj`` (not with
@@ -166,6 +175,9 @@ class Simulation:
         ``last_frame.png``, ``stats.json`` and ``summary.json`` (also after a failed frame,
         which is then re-raised, and after Ctrl-C, which also writes a checkpoint as
         ``pce-sim`` does on SIGINT), plus a checkpoint every ``checkpoint_every`` frames.
+        With ``video`` (a .mp4, .m4v, .mov or .mkv path; needs ``out`` and ffmpeg) and ``usd``
+        (a .usda or .usd path; needs ``out``), also the movie and the USD cache of the frames
+        this call writes (``pce-sim``'s ``--video`` and ``--usd``), when it ends.
 
         Returns the records of the frames run.
         """
@@ -175,6 +187,16 @@ class Simulation:
         checkpoint_every = _optional_int("checkpoint_every", checkpoint_every, 0, 10_000_000)
         if not isinstance(write_frames, bool):
             raise TypeError(f"write_frames: expected True or False, got {write_frames!r}")
+        files = {}
+        for name, value in (("video", video), ("usd", usd)):
+            if value is None:
+                continue
+            if not isinstance(value, (str, os.PathLike)):
+                raise TypeError(f"{name}: expected a file path, got {value!r}")
+            if out is None:
+                raise ValueError(f"{name}: needs out= (the run's output directory)")
+            files[name] = os.fsdecode(os.fspath(value))
+            _pce._check_output(name, files[name])
         records = []
         if out is None:
             for _ in range(frames):
@@ -182,7 +204,7 @@ class Simulation:
             return records
         if not isinstance(out, (str, os.PathLike)):
             raise TypeError(f"out: expected a directory path, got {out!r}")
-        self._s.open(os.fspath(out), write_frames, checkpoint_every)
+        self._s.open(os.fspath(out), write_frames, checkpoint_every, files.get("video", ""), files.get("usd", ""))
         try:
             for _ in range(frames):
                 records.append(self.step())

@@ -1,9 +1,11 @@
 # SPDX-License-Identifier: MIT
 """pce.sim: a run from Python writes what pce-sim writes and ends bit for bit where it ends;
 stepping, the state's copies, the records; scene errors carry pce-sim's message; bad
-arguments raise naming the argument."""
+arguments raise naming the argument. run(usd=...) writes a USD cache whose points are the
+OBJ frames (read with pxr), run(video=...) a movie of one frame per output frame."""
 
 import json
+import shutil
 import subprocess
 
 import numpy as np
@@ -188,3 +190,123 @@ def test_block_descent_is_pce_sims(pce_sim, scenes, tmp_path):
     s.run(out=py)
     assert (py / "frame_0003.obj").read_bytes() == (cli / "frame_0003.obj").read_bytes()
     assert s.stats["stop"] == "block_descent" and s.stats["newton_iterations"] == 4
+
+
+def small_scene(tmp_path):
+    """A cloth and two strands falling, a box sliding below them: dt 0.01 s, 5 frames, every
+    second frame written (frames 0, 2, 4 and 5)."""
+    scene = {
+        "dt": 0.01,
+        "frames": 5,
+        "output_every": 2,
+        "meshes": [
+            {"name": "cloth", "generator": {"type": "grid", "width": 0.5, "height": 0.5, "nx": 6, "ny": 6}},
+            {
+                "name": "hair",
+                "generator": {"type": "strands", "count": 2, "segments": 4, "length": 0.3, "spacing": 0.2},
+                "transform": {"translation": [1, 0, 0.5]},
+            },
+        ],
+        "obstacles": [
+            {
+                "name": "slider",
+                "shape": "box",
+                "half_extents": [0.2, 0.2, 0.05],
+                "position": [0, 0, -0.3],
+                "motion": {"velocity": [0.5, 0, 0]},
+            }
+        ],
+        "effects": [
+            {"type": "gravity"},
+            {"type": "stretching", "stiffness": 20},
+            {"type": "strand_stretching", "stiffness": 20},
+        ],
+    }
+    path = tmp_path / "small.json"
+    path.write_text(json.dumps(scene))
+    return path
+
+
+def obj_elements(path, kind):
+    """The 0-based vertex indices of an OBJ's `f` (kind "f") or `l` (kind "l") lines."""
+    return [[int(t) - 1 for t in line.split()[1:]] for line in open(path) if line.startswith(kind + " ")]
+
+
+def test_usd_cache_points_are_the_obj_frames(tmp_path):
+    Usd = pytest.importorskip("pxr.Usd", reason="usd-core is not installed (the test extra installs it)")
+    from pxr import UsdGeom
+
+    s = pce.sim.load(small_scene(tmp_path))
+    out = tmp_path / "out"
+    s.run(out=out, usd=out / "cache.usda")
+    stage = Usd.Stage.Open(str(out / "cache.usda"))
+    assert stage.GetTimeCodesPerSecond() == 1 / s.dt == 100
+    assert (stage.GetStartTimeCode(), stage.GetEndTimeCode()) == (0, 5)
+    assert UsdGeom.GetStageUpAxis(stage) == "Z" and UsdGeom.GetStageMetersPerUnit(stage) == 1
+    assert stage.GetDefaultPrim().GetPath() == "/World"
+    cloth, hair = UsdGeom.Mesh.Get(stage, "/World/cloth"), UsdGeom.BasisCurves.Get(stage, "/World/hair")
+    assert cloth and hair
+    frames = sorted(int(p.stem[len("frame_") :]) for p in out.glob("frame_*.obj"))
+    assert frames == [0, 2, 4, 5]
+    assert cloth.GetPointsAttr().GetTimeSamples() == frames == hair.GetPointsAttr().GetTimeSamples()
+    n_cloth = len(cloth.GetPointsAttr().Get(0))
+    # Topology once: the OBJ's triangles and strands.
+    triangles, segments = obj_elements(out / "frame_0000.obj", "f"), obj_elements(out / "frame_0000.obj", "l")
+    assert list(cloth.GetFaceVertexCountsAttr().Get()) == [3] * len(triangles)
+    assert list(cloth.GetFaceVertexIndicesAttr().Get()) == [i for t in triangles for i in t]
+    assert hair.GetTypeAttr().Get() == "linear"
+    assert list(hair.GetCurveVertexCountsAttr().Get()) == [5, 5]
+    assert [[a - n_cloth, b - n_cloth] for a, b in segments] == [[k, k + 1] for k in (0, 1, 2, 3, 5, 6, 7, 8)]
+    # Points: each time code's are the OBJ frame's vertices rounded to float, exactly.
+    for f in frames:
+        x = obj_vertices(out / f"frame_{f:04d}.obj").astype(np.float32)
+        np.testing.assert_array_equal(np.array(cloth.GetPointsAttr().Get(f), dtype=np.float32), x[:n_cloth])
+        np.testing.assert_array_equal(np.array(hair.GetPointsAttr().Get(f), dtype=np.float32), x[n_cloth:])
+    # The sliding box: its transform sampled at the same time codes, 0.5 m/s along x.
+    box = UsdGeom.Xformable(stage.GetPrimAtPath("/World/obstacles/slider"))
+    assert stage.GetPrimAtPath("/World/obstacles/slider/shape").GetTypeName() == "Cube"
+    assert box.GetXformOpOrderAttr().Get() == ["xformOp:transform"]
+    for f in frames:
+        assert box.ComputeLocalToWorldTransform(f).ExtractTranslation()[0] == pytest.approx(0.5 * f * s.dt, abs=1e-12)
+    assert not (out / "pce-sim-frames.tmp").exists()
+
+
+def test_video_has_one_frame_per_output_frame(tmp_path):
+    if not (shutil.which("ffmpeg") and shutil.which("ffprobe")):
+        pytest.skip("ffmpeg or ffprobe is not installed (Debian: apt-get install ffmpeg)")
+    s = pce.sim.load(small_scene(tmp_path))
+    movie = tmp_path / "movie.mp4"
+    s.run(out=tmp_path / "out", write_frames=False, video=movie)
+    probe = subprocess.run(
+        ["ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries",
+         "stream=nb_read_frames,r_frame_rate,codec_name,pix_fmt", "-of", "json", str(movie)],
+        check=True, capture_output=True, text=True,
+    )  # fmt: skip
+    stream = json.loads(probe.stdout)["streams"][0]
+    # Frames 0, 2, 4 and 5 (write_frames=False writes only the last OBJ, the movie has them all).
+    assert stream["nb_read_frames"] == "4" and stream["r_frame_rate"] == "50/1"
+    assert (stream["codec_name"], stream["pix_fmt"]) == ("h264", "yuv420p")
+
+
+def test_bad_video_and_usd_arguments(tmp_path, monkeypatch):
+    s = pce.sim.load(small_scene(tmp_path))
+    out = tmp_path / "out"
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(TypeError, match="^video: expected a file path"):
+        s.run(out=out, video=3)
+    with pytest.raises(TypeError, match="^usd: expected a file path"):
+        s.run(out=out, usd=b"cache.usda")
+    with pytest.raises(ValueError, match=r"^usd: needs out="):
+        s.run(usd=tmp_path / "cache.usda")
+    with pytest.raises(ValueError, match=r"^video: .*: is a directory$"):
+        s.run(out=out, video=tmp_path)
+    with pytest.raises(ValueError, match=r"^usd: .*cache\.txt: expected a file name ending in \.usda or \.usd$"):
+        s.run(out=out, usd=tmp_path / "cache.txt")
+    with pytest.raises(ValueError, match=r"^usd: .*: .*file is not a directory$"):
+        s.run(out=out, usd=tmp_path / "file" / "cache.usda")
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    monkeypatch.setenv("PATH", str(empty))
+    with pytest.raises(RuntimeError, match=r"^video: ffmpeg not found on PATH; .*apt-get install ffmpeg"):
+        s.run(out=out, video=tmp_path / "movie.mp4")
+    assert s.frame == 0 and not out.exists()  # nothing ran, nothing written

@@ -4,9 +4,12 @@
 #include <pce/sim/allocator.hpp>
 #include <pce/sim/checkpoint.hpp>
 #include <pce/sim/effects.hpp>
+#include <pce/sim/frames.hpp>
 #include <pce/sim/input_error.hpp>
+#include <pce/sim/movie.hpp>
 #include <pce/sim/run.hpp>
 #include <pce/sim/scene.hpp>
+#include <pce/sim/usd.hpp>
 
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/optional.h>
@@ -54,11 +57,14 @@ class LoadedScene {
     }
   }
 
-  void open(const std::string& dir, bool write_frames, int checkpoint_every) {
+  void open(const std::string& dir, bool write_frames, int checkpoint_every, const std::string& video,
+            const std::string& usd) {
     RunOutput o;
     o.dir = dir;
     o.write_frames = write_frames;
     o.checkpoint_every = checkpoint_every;
+    o.video = video;
+    o.usd = usd;
     o.fingerprint = fingerprint_;
     run_->open(o);
   }
@@ -92,6 +98,18 @@ class LoadedScene {
   std::vector<std::string> warnings_;
   std::string last_record_;
 };
+
+/// Checks the file `run(video=...)` or `run(usd=...)` names (`what`: "video" or "usd")
+/// before anything is written: ValueError "<what>: <path>: <what is wrong>" if it cannot be
+/// written there, RuntimeError for a video without ffmpeg on PATH.
+void check_output(const std::string& what, const std::string& path) {
+  try {
+    check_output_file(path, what == "video" ? movie_extensions() : usd_extensions());
+  } catch (const std::invalid_argument& e) {
+    throw nb::value_error((what + ": " + e.what()).c_str());
+  }
+  if (what == "video" && find_ffmpeg().empty()) throw std::runtime_error("video: " + ffmpeg_missing());
+}
 
 /// The names of `values` (enumerators), separated by ", ".
 template <class Values> std::string plain_names(const Values& values) {
@@ -152,7 +170,8 @@ void bind_simulation(nb::module_& m) {
         "glibc keeps freed memory for reuse (process-wide; what pce-sim does first): returns whether it took");
   nb::class_<LoadedScene>(m, "_Simulation")
       .def("step", &LoadedScene::step)
-      .def("open", &LoadedScene::open, nb::arg("dir"), nb::arg("write_frames"), nb::arg("checkpoint_every"))
+      .def("open", &LoadedScene::open, nb::arg("dir"), nb::arg("write_frames"), nb::arg("checkpoint_every"),
+           nb::arg("video"), nb::arg("usd"))
       .def("close", &LoadedScene::close, nb::arg("failure"), nb::arg("stopped_by").none())
       .def_prop_ro("is_open", &LoadedScene::is_open)
       .def_prop_ro("dir", &LoadedScene::dir)
@@ -174,6 +193,8 @@ void bind_simulation(nb::module_& m) {
   m.def("_load", &load, nb::arg("file"), nb::arg("frames").none(), nb::arg("hessian").none(),
         nb::arg("broad_phase").none(), nb::arg("threads").none(), nb::arg("single_solve").none(),
         nb::arg("tolerance").none(), nb::arg("mode").none(), nb::arg("iterations").none());
+  m.def("_check_output", &check_output, nb::arg("what"), nb::arg("path"),
+        "Checks run()'s video= or usd= file: ValueError if it cannot be written, RuntimeError without ffmpeg.");
   m.def(
       "_solver_modes", [] { return names(pce::enumerators<SolverMode>()); },
       "The solver modes' names, in pce::sim::kSolverModeNames' order.");

@@ -48,6 +48,9 @@ void check_output_file(const std::filesystem::path& path, const std::vector<std:
   namespace fs = std::filesystem;
   const auto fail = [&](const std::string& what) { throw std::invalid_argument(path.string() + ": " + what); };
   if (path.empty()) throw std::invalid_argument("\"\": an empty file name");
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (fs::is_directory(status)) fail("is a directory");
   std::string extension = path.extension().string(), expected;
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -55,9 +58,6 @@ void check_output_file(const std::filesystem::path& path, const std::vector<std:
     expected += (k == 0 ? "" : k + 1 == extensions.size() ? " or " : ", ") + extensions[k];
   if (std::find(extensions.begin(), extensions.end(), extension) == extensions.end())
     fail("expected a file name ending in " + expected);
-  std::error_code error;
-  const fs::file_status status = fs::status(path, error);
-  if (fs::is_directory(status)) fail("is a directory");
   if (fs::exists(status)) {
     if (!fs::is_regular_file(status)) fail("exists and is not a regular file");
     if (access(path.c_str(), W_OK) != 0) fail(std::string("cannot be written (") + std::strerror(errno) + ")");
