@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The typed C++ builders (pce/sim/effects.hpp, build_model in pce/sim/model.hpp) and the
-// runnable-state checks of Simulation::step: a scene using every effect type and its C++
-// transcription simulate bit for bit alike (the loader calls the same builders); every
+// runnable-state checks of Simulation::step: a scene using every effect type (with a
+// keyframed obstacle and pin group) and its C++ transcription simulate bit for bit alike
+// (the loader calls the same builders); every
 // invalid argument throws one ArgumentError naming the field as the scene key would, and
 // the scene loader reports the same fault at the JSON path; step() on an unrunnable
 // simulation throws before it changes anything.
@@ -35,7 +36,9 @@ const char* const kScene = R"({
     {"name": "jelly", "generator": {"type": "tet_box", "size": [0.08, 0.08, 0.08], "n": [2, 2, 2]},
      "transform": {"translation": [0.15, 0.15, 0.2]}}
   ],
-  "obstacles": [{"name": "ball", "shape": "sphere", "radius": 0.1}],
+  "obstacles": [{"name": "ball", "shape": "sphere", "radius": 0.1,
+                 "motion": {"interpolation": "smooth", "keyframes": [{"time": 0},
+                   {"time": 0.16, "translation": [0.02, 0.01, 0], "rotation": {"axis": [1, 1, 0], "degrees": 45}}]}}],
   "effects": [
     {"type": "gravity"},
     {"type": "stretching", "stiffness": 50},
@@ -43,7 +46,9 @@ const char* const kScene = R"({
     {"type": "strand_stretching", "stiffness": 10},
     {"type": "strand_bending", "stiffness": 0.0001},
     {"type": "pins", "stiffness": 1e4, "groups": [
-      {"mesh": "lower", "vertices": [0], "release_frame": 8},
+      {"mesh": "lower", "vertices": [0], "release_frame": 8, "motion": {"center": [0, 0, 0.12], "keyframes": [
+        {"time": 0.04, "translation": [0, 0, 0.01]},
+        {"time": 0.12, "translation": [0, 0, 0.03], "rotation": {"axis": [0, 0, 1], "degrees": 20}}]}},
       {"mesh": "hair", "box": {"min": [-1, -1, 0.449], "max": [1, 1, 1]}, "motion": {"velocity": [0.1, 0, 0]}}]},
     {"type": "damping", "coefficient": 0.1},
     {"type": "self_vertex_face", "penalty": {"type": "quadratic", "stiffness": 1000, "distance": 0.01},
@@ -56,6 +61,8 @@ const char* const kScene = R"({
     {"type": "volume_elasticity", "young_modulus": 2e4, "poisson_ratio": 0.3}
   ]
 })";
+
+constexpr double kPi = 3.14159265358979323846;
 
 Mesh moved(Mesh m, const Eigen::Vector3d& by) {
   m.positions.colwise() += by;
@@ -70,9 +77,15 @@ void transcribe(Simulation& sim, SolverMode mode) {
       {"hair", moved(strands(2, 4, 0.2, 0.05, 0.0), {0, 0, 0.45}), 0.1, 0.01},
       {"jelly", moved(tet_box({0.08, 0.08, 0.08}, {2, 2, 2}), {0.15, 0.15, 0.2}), 1000, 0.005}};
   sim.model = build_model(meshes);
+  // A rotation as the scene's {"axis", "degrees"} gives it.
+  const auto rotation = [](const Eigen::Vector3d& axis, double degrees) {
+    return Eigen::AngleAxisd(degrees * kPi / 180.0, axis.normalized()).toRotationMatrix();
+  };
   Obstacle ball;
   ball.name = "ball";
   ball.radius = 0.1;
+  ball.motion.interpolation = Interpolation::smooth;
+  ball.motion.keyframes = {Keyframe{0.0}, Keyframe{0.16, {0.02, 0.01, 0}, rotation({1, 1, 0}, 45)}};
   sim.obstacles = {ball};
   sim.solver.dt = 0.02;
   sim.solver.tolerance = 1e-3;
@@ -84,6 +97,9 @@ void transcribe(Simulation& sim, SolverMode mode) {
   std::vector<PinGroup> pins(2);
   pins[0].vertices = {m.meshes[0].first_vertex};
   pins[0].release_frame = 8;
+  pins[0].motion = Motion{};
+  pins[0].motion->keyframes = {Keyframe{0.04, {0, 0, 0.01}}, Keyframe{0.12, {0, 0, 0.03}, rotation({0, 0, 1}, 20)}};
+  pins[0].centre = Eigen::Vector3d(0, 0, 0.12);
   pins[1].vertices = vertices_in_box(m, {-1, -1, 0.449}, {1, 1, 1}, "hair");
   pins[1].motion = Motion{};
   pins[1].motion->velocity = {0.1, 0, 0};
@@ -227,6 +243,20 @@ TEST(EffectsApi, PinBuildersNameTheBadField) {
   late.motion->stop = 3;
   late.centre = Eigen::Vector3d(0, kNaN, 0);
   EXPECT_EQ(field_of([&] { pins(late); }), "groups[1].motion.center");
+  PinGroup lifted{{3}};
+  lifted.motion = Motion{};
+  lifted.motion->keyframes = {Keyframe{0.0}, Keyframe{0.5, {0, 0, 0.2}}, Keyframe{1.0}};
+  EXPECT_EQ(field_of([&] { pins(lifted); }), "(no error)");
+  lifted.motion->keyframes[2].time = 0.5;
+  EXPECT_EQ(field_of([&] { pins(lifted); }), "groups[1].motion.keyframes[2].time");
+  lifted.motion->keyframes[2].time = kNaN;
+  EXPECT_EQ(field_of([&] { pins(lifted); }), "groups[1].motion.keyframes[2].time");
+  lifted.motion->keyframes[2].time = 1.0;
+  lifted.motion->keyframes[1].translation.z() = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(field_of([&] { pins(lifted); }), "groups[1].motion.keyframes[1].translation");
+  lifted.motion->keyframes[1].translation.z() = 0.2;
+  lifted.motion->velocity.x() = 0.1;
+  EXPECT_EQ(field_of([&] { pins(lifted); }), "groups[1].motion.velocity");
   EXPECT_EQ(field_of([&] { vertices_in_box(m, {0, 0, 1}, {1, 1, 0}); }), "max");
   EXPECT_EQ(field_of([&] { vertices_in_box(m, {0, 0, 0}, {1, 1, 1}, "nope"); }), "mesh");
   EXPECT_EQ(vertices_in_box(m, {-0.51, -0.51, 0}, {-0.49, 0.51, 0}, "cloth"), (std::vector<int>{0, 4, 8, 12}));
@@ -304,6 +334,35 @@ TEST(EffectsApi, ContactBuildersNameTheBadField) {
   EXPECT_EQ(field_of([&] { with([](Obstacle& o) { o.position.x() = kNaN; }); }), "obstacles[1].position");
   EXPECT_EQ(field_of([&] { with([](Obstacle& o) { o.rotation(0, 0) = 2; }); }), "obstacles[1].rotation");
   EXPECT_EQ(field_of([&] { with([](Obstacle& o) { o.motion.stop = -1; }); }), "obstacles[1].motion.stop");
+  // Keyframes: each fault names its field, as the scene key would.
+  const auto keyed = [&](const std::function<void(Motion&)>& change) {
+    with([&](Obstacle& o) {
+      o.motion.keyframes = {Keyframe{0.0}, Keyframe{0.5, {0, 0, 0.2}}};
+      change(o.motion);
+    });
+  };
+  EXPECT_EQ(field_of([&] { keyed([](Motion&) {}); }), "(no error)");
+  EXPECT_EQ(field_of([&] { keyed([](Motion& k) { k.keyframes[1].time = 0; }); }),
+            "obstacles[1].motion.keyframes[1].time");
+  EXPECT_EQ(field_of([&] { keyed([](Motion& k) { k.keyframes[0].time = -0.1; }); }),
+            "obstacles[1].motion.keyframes[0].time");
+  EXPECT_EQ(field_of([&] { keyed([](Motion& k) { k.keyframes[1].time = kNaN; }); }),
+            "obstacles[1].motion.keyframes[1].time");
+  EXPECT_EQ(field_of([&] { keyed([](Motion& k) { k.keyframes[1].time = std::numeric_limits<double>::infinity(); }); }),
+            "obstacles[1].motion.keyframes[1].time");
+  EXPECT_EQ(field_of([&] { keyed([](Motion& k) { k.keyframes[1].translation.y() = kNaN; }); }),
+            "obstacles[1].motion.keyframes[1].translation");
+  EXPECT_EQ(field_of([&] { keyed([](Motion& k) { k.keyframes[1].translation.y() = 2e6; }); }),
+            "obstacles[1].motion.keyframes[1].translation");
+  EXPECT_EQ(field_of([&] { keyed([](Motion& k) { k.keyframes[0].rotation(1, 1) = -1; }); }),  // a mirror
+            "obstacles[1].motion.keyframes[0].rotation");
+  EXPECT_EQ(field_of([&] { keyed([](Motion& k) { k.velocity.z() = 1; }); }), "obstacles[1].motion.velocity");
+  EXPECT_EQ(field_of([&] { keyed([](Motion& k) { k.angular_velocity.x() = 1; }); }),
+            "obstacles[1].motion.angular_velocity");
+  EXPECT_EQ(field_of([&] { keyed([](Motion& k) { k.start = 1; }); }), "obstacles[1].motion.start");
+  EXPECT_EQ(field_of([&] { keyed([](Motion& k) { k.stop = 1; }); }), "obstacles[1].motion.stop");
+  EXPECT_EQ(field_of([&] { keyed([](Motion& k) { k.interpolation = static_cast<Interpolation>(7); }); }),
+            "obstacles[1].motion.interpolation");
   EXPECT_EQ(field_of([&] {
               make_obstacle_contact({ball}, {ContactPenalty::Kind::quadratic, 10, 0, 0});
             }),
