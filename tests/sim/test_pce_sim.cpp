@@ -522,6 +522,73 @@ TEST(PceSim, ResumedRunWithMovingObstacleAndPinsEndsBitForBit) {
   EXPECT_FALSE(moved(0.135, 0.15));
 }
 
+TEST(PceSim, ResumedRunWithKeyframedObstacleAndPinsEndsBitForBit) {
+  // The same sheet and box as above, moved by keyframes instead: the box holds its first
+  // keyframe until t = 0.05 s, then (smooth) shifts and turns through a second keyframe at
+  // 0.09 s to a third at 0.13 s, and the pinned edge's targets rise and turn (linear) through
+  // keyframes at 0.06 s and 0.2 s until the group is released at frame 12. The checkpoint of
+  // frame 10 falls inside both paths' second segments; the resumed run ends frame 15 where
+  // the uninterrupted one does. It fails if a keyframed pose or target read anything but
+  // the restored time.
+  const json scene = {
+      {"dt", 0.01},
+      {"frames", 15},
+      {"solver", {{"tolerance", 0.01}, {"max_iterations", 30}}},
+      {"obstacles",
+       {{{"name", "table"},
+         {"shape", "box"},
+         {"half_extents", {0.15, 0.15, 0.05}},
+         {"position", {0, 0, -0.05}},
+         {"motion",
+          {{"interpolation", "smooth"},
+           {"keyframes",
+            {{{"time", 0.05}},
+             {{"time", 0.09}, {"translation", {0.01, 0, 0.004}}, {"rotation", {{"axis", {0, 0, 1}}, {"degrees", 5}}}},
+             {{"time", 0.13},
+              {"translation", {0.024, 0, 0.008}},
+              {"rotation", {{"axis", {0.6, 0, 0.8}}, {"degrees", 9}}}}}}}}}}},
+      {"meshes",
+       {{{"name", "cloth"},
+         {"generator", {{"type", "grid"}, {"width", 0.2}, {"height", 0.2}, {"nx", 8}, {"ny", 8}}},
+         {"transform", {{"translation", {0, 0, 0.006}}}}}}},
+      {"effects",
+       {{{"type", "gravity"}},
+        {{"type", "stretching"}, {"stiffness", 20}},
+        {{"type", "bending"}, {"stiffness", 1e-5}},
+        {{"type", "pins"},
+         {"stiffness", 100},
+         {"groups",
+          {{{"mesh", "cloth"},
+            {"box", {{"min", {0.09, -1, -1}}, {"max", {1, 1, 1}}}},
+            {"motion",
+             {{"keyframes",
+               {{{"time", 0}},
+                {{"time", 0.06}, {"translation", {0, 0, 0.018}}, {"rotation", {{"axis", {1, 0, 0}}, {"degrees", 7}}}},
+                {{"time", 0.2},
+                 {"translation", {0, 0, 0.04}},
+                 {"rotation", {{"axis", {1, 0, 0}}, {"degrees", 20}}}}}}}},
+            {"release_frame", 12}}}}},
+        {{"type", "obstacle_contact"},
+         {"penalty", {{"type", "quadratic"}, {"stiffness", 20}, {"distance", 0.005}}},
+         {"friction", {{"coefficient", 0.3}}}},
+        {{"type", "self_vertex_face"}, {"penalty", {{"type", "quadratic"}, {"stiffness", 20}, {"distance", 0.005}}}}}}};
+  const fs::path file = write_scene(scene, "resume_keyframed");
+  const std::vector<json> a = resume_matches(file, "resume_keyframed", 15, 13, 10);
+  ASSERT_EQ(a.size(), 15u);
+  for (std::size_t k = 9; k < 13; ++k) EXPECT_GT(a[k]["contacts"]["obstacle"].get<long>(), 0) << "frame " << k + 1;
+  EXPECT_GT(counter(a[9], "pinned_vertices"), 0.0);   // pinned at the checkpoint
+  EXPECT_EQ(counter(a[11], "pinned_vertices"), 0.0);  // released in frame 12
+  // The box holds before its first keyframe and after its last, and moves in between,
+  // across the checkpoint (t = 0.1 s).
+  const auto loaded = pce::sim::load_scene(file);
+  const pce::sim::Obstacle& table = loaded->simulation.obstacles.at(0);
+  const auto moved = [&](double t0, double t1) { return !table.pose(t0).isApprox(table.pose(t1), 1e-12); };
+  EXPECT_FALSE(moved(0.0, 0.05));
+  EXPECT_TRUE(moved(0.09, 0.10));
+  EXPECT_TRUE(moved(0.10, 0.11));
+  EXPECT_FALSE(moved(0.13, 0.15));
+}
+
 TEST(PceSim, ResumedRunWithTwoThreadsEndsBitForBit) {
   // slope_scene at 17² + 11² vertices with "threads": 2 in the scene, so the interrupted, the
   // resumed and the uninterrupted run all use two threads: at the checkpoint of frame 10
