@@ -5,7 +5,9 @@
 # contact matrices a supernodal factorisation takes ~180 ms with it and ~340-500 ms with
 # the reference BLAS (the pthread/OpenMP builds are 6-9x slower still on these small
 # supernodes, so it is the serial one).
-PCE_DEBIAN_PACKAGES="g++ cmake ninja-build pkg-config libeigen3-dev libboost-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev libfcl-dev libccd-dev libcgal-dev libsuitesparse-dev libcli11-dev libstb-dev libopenblas0-serial libbullet-dev python3-matplotlib python3-dev python3-venv doxygen clang-format clang-tidy ccache"
+# ffmpeg (with ffprobe) encodes pce-sim's --video movies, run as a child process (nothing
+# links it); the tests count a movie's frames with ffprobe.
+PCE_DEBIAN_PACKAGES="g++ cmake ninja-build pkg-config libeigen3-dev libboost-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev libfcl-dev libccd-dev libcgal-dev libsuitesparse-dev libcli11-dev libstb-dev libopenblas0-serial libbullet-dev python3-matplotlib python3-dev python3-venv doxygen clang-format clang-tidy ccache ffmpeg"
 
 pce_install_deps() {
   local sudo=""
