@@ -416,7 +416,8 @@ TEST(Usd, IdentifiersAreValidPrimNames) {
 }
 
 /// A scene with a cloth named with a space, strands, a volume, a mesh named "obstacles" and
-/// one obstacle of each shape (the box moving); gravity only.
+/// one obstacle of each shape (the box moving); gravity only. The cloth and the strands are
+/// turned, so that their coordinates need all nine digits of a float.
 std::unique_ptr<pce::sim::Scene> usd_scene() {
   const fs::path dir = tmp("usd_scene");
   fs::create_directories(dir);
@@ -424,9 +425,10 @@ std::unique_ptr<pce::sim::Scene> usd_scene() {
   const std::string text = R"({
     "dt": 0.02, "frames": 3,
     "meshes": [
-      {"name": "sheet 1", "generator": {"type": "grid", "width": 0.4, "height": 0.4, "nx": 3, "ny": 2}},
+      {"name": "sheet 1", "generator": {"type": "grid", "width": 0.4, "height": 0.4, "nx": 3, "ny": 2},
+       "transform": {"rotation": {"axis": [1, 2, 3], "degrees": 17}, "translation": [0.1234567, 0, 0]}},
       {"name": "hair", "generator": {"type": "strands", "count": 2, "segments": 3, "length": 0.3, "spacing": 0.1},
-       "transform": {"translation": [1, 0, 1]}},
+       "transform": {"rotation": {"axis": [3, 1, 0], "degrees": 10}, "translation": [1, 0, 1]}},
       {"name": "block", "generator": {"type": "tet_box", "size": [0.2, 0.2, 0.2], "n": [1, 1, 1]},
        "transform": {"translation": [-1, 0, 0.5]}},
       {"name": "obstacles", "generator": {"type": "grid", "width": 0.2, "height": 0.2, "nx": 1, "ny": 1},
@@ -719,6 +721,44 @@ TEST(Movie, OneVideoFramePerRecordedFrame) {
   EXPECT_EQ(p.count("height") ? p.at("height") : "", "120");
   EXPECT_EQ(p.count("r_frame_rate") ? p.at("r_frame_rate") : "", "25/2");
   EXPECT_FALSE(fs::exists(movie.string() + ".ffmpeg-log"));
+}
+
+TEST(Movie, OneCameraForTheWholeRun) {
+  // A cloth recorded at two places 3 m apart: decoded, the movie shows it on the left in its
+  // first frame and on the right in its second, at about the same size (a camera fitted to
+  // each frame would centre both).
+  if (!have_ffmpeg_and_ffprobe()) GTEST_SKIP() << "ffmpeg or ffprobe is not installed (Debian: apt-get install ffmpeg)";
+  auto scene = pce::sim::load_scene_text(R"({"dt": 0.01, "frames": 1, "view_direction": [0, 0.3, -1],
+      "meshes": [{"name": "cloth", "generator": {"type": "grid", "width": 1, "height": 1, "nx": 8, "ny": 8}}],
+      "effects": [{"type": "gravity"}]})",
+                                         "one_camera.json", PCE_TEST_TMP);
+  const Eigen::Matrix3Xd here = scene->simulation.x;
+  Eigen::Matrix3Xd there = here;
+  there.row(0).array() += 3.0;
+  pce::sim::FrameRecording recording(tmp("one_camera.tmp"), static_cast<int>(here.cols()));
+  recording.append(0, 0, here);
+  recording.append(1, 0.01, there);
+  RenderOptions opts;
+  opts.width = 320, opts.height = 240, opts.view_direction = scene->view_direction;
+  const fs::path movie = tmp("one_camera.mp4");
+  pce::sim::write_movie(movie, *scene, recording, 10, opts);
+  const std::string command = "ffmpeg -v error -i '" + movie.string() + "' -f rawvideo -pix_fmt rgb24 -";
+  std::FILE* pipe = popen(command.c_str(), "r");
+  ASSERT_TRUE(pipe);
+  std::vector<std::uint8_t> frame(320 * 240 * 3);
+  std::vector<std::pair<long, double>> seen;
+  while (std::fread(frame.data(), 1, frame.size(), pipe) == frame.size()) {
+    double mean_x = 0;
+    const auto [n, edge] = red_pixels(frame, 320, 240, 4, &mean_x);
+    EXPECT_EQ(edge, 0);
+    seen.emplace_back(n, mean_x);
+  }
+  pclose(pipe);
+  ASSERT_EQ(seen.size(), 2u);
+  EXPECT_GT(seen[0].first, 500);
+  EXPECT_LT(seen[0].second, 130);
+  EXPECT_GT(seen[1].second, 190);
+  EXPECT_NEAR(static_cast<double>(seen[1].first) / static_cast<double>(seen[0].first), 1.0, 0.2);
 }
 
 }  // namespace
