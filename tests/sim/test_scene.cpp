@@ -308,6 +308,89 @@ TEST(Scene, KeyframedMotionsLoadAndEveryBadKeyframeNamesItsPath) {
   }
 }
 
+TEST(Scene, InlineMeshesLoadAsTheirFileAndEveryBadElementNamesItsPath) {
+  // A cloth square, a strand and a tetrahedron written inline load as the same OBJ and .tet
+  // files do, bit for bit; every bad element is one error naming its JSON path.
+  write(std::filesystem::path(PCE_TEST_TMP) / "inline_square.obj",
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0.5\nf 1 2 3\nf 1 3 4\nl 3 4\n");
+  write(std::filesystem::path(PCE_TEST_TMP) / "inline_tet.tet", "v 0 0 2\nv 1 0 2\nv 0 1 2\nv 0 0 3\nt 1 2 3 4\n");
+  json from_files = minimal(), inline_scene = minimal();
+  from_files["meshes"] = json::parse(R"([{"name": "square", "file": "inline_square.obj"},
+      {"name": "tet", "file": "inline_tet.tet", "transform": {"translation": [0, 0, 0.25]}}])");
+  inline_scene["meshes"] = json::parse(R"([
+      {"name": "square", "vertices": [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0.5]],
+       "triangles": [[0, 1, 2], [0, 2, 3]], "segments": [[2, 3]]},
+      {"name": "tet", "vertices": [[0, 0, 2], [1, 0, 2], [0, 1, 2], [0, 0, 3]], "tetrahedra": [[0, 1, 2, 3]],
+       "transform": {"translation": [0, 0, 0.25]}}])");
+  const auto a = load_scene_text(from_files.dump(), "scene.json", PCE_TEST_TMP);
+  const auto b = load_scene_text(inline_scene.dump(), "scene.json", PCE_TEST_TMP);
+  EXPECT_EQ(a->simulation.model.rest, b->simulation.model.rest);
+  EXPECT_EQ(a->simulation.model.triangles, b->simulation.model.triangles);
+  EXPECT_EQ(a->simulation.model.segments, b->simulation.model.segments);
+  EXPECT_EQ(a->simulation.model.tetrahedra, b->simulation.model.tetrahedra);
+  EXPECT_EQ(a->simulation.model.mass, b->simulation.model.mass);
+  EXPECT_EQ(b->simulation.model.tetrahedra.cols(), 1);
+  EXPECT_EQ(b->simulation.model.triangles.cols(), 2 + 4);  // the square's and the tetrahedron's faces
+
+  const struct {
+    const char* pointer;  // JSON pointer of the field to set, below meshes[1]
+    json value;
+    const char* path;     // the error's JSON path
+    const char* message;  // a part of the error's message
+  } cases[] = {
+      {"/vertices/2/1", 2e7, "meshes[1].vertices[2][1]",
+       "expected a number in [-1e+06, 1e+06] (the coordinates pce::sim accepts, in m), got 20000000"},
+      {"/vertices/2/1", "x", "meshes[1].vertices[2][1]", "got \"x\""},
+      {"/vertices/2/1", nullptr, "meshes[1].vertices[2][1]", "got null"},
+      {"/vertices/2", json::array({0, 1}), "meshes[1].vertices[2]", "expected a vertex: an array of 3 numbers"},
+      {"/vertices", json::array(), "meshes[1].vertices", "expected at least one vertex"},
+      {"/vertices", 3, "meshes[1].vertices", "expected an array, got a number"},
+      {"/tetrahedra/0/2", 12, "meshes[1].tetrahedra[0][2]", "expected a vertex index in [0, 4), got 12"},
+      {"/tetrahedra/0/2", -1, "meshes[1].tetrahedra[0][2]", "expected a vertex index in [0, 4), got -1"},
+      {"/tetrahedra/0/2", 18446744073709551615u, "meshes[1].tetrahedra[0][2]", "got 18446744073709551615"},
+      {"/tetrahedra/0/2", 2.5, "meshes[1].tetrahedra[0][2]", "expected a vertex index (an integer) in [0, 4), got 2.5"},
+      {"/tetrahedra/0/2", 1, "meshes[1].tetrahedra[0]", "the tetrahedron uses vertex 1 twice"},
+      {"/tetrahedra/0", json::array({0, 1, 2}), "meshes[1].tetrahedra[0]", "expected a tetrahedron: an array of 4"},
+      {"/tetrahedra/0", json::array({0, 2, 1, 3}), "meshes[1].tetrahedra",
+       "tetrahedron 0 (vertices 0, 2, 1, 3) has signed volume -0.16666666666666666: it is inverted"},
+      {"/vertices/3", json::array({0.5, 0.5, 2}), "meshes[1].tetrahedra", "it is flat"},
+      {"/triangles", json::parse("[[0, 1, 2]]"), "meshes[1].triangles", "a mesh with \"tetrahedra\" is a volume"},
+      {"/segments", json::parse("[[0, 1]]"), "meshes[1].segments", "leave \"segments\" out"},
+      {"/tetrahedra", json::array(), "meshes[1].vertices",
+       "expected \"triangles\", \"segments\" or \"tetrahedra\" with the vertices"},
+      {"/file", "inline_tet.tet", "meshes[1].vertices",
+       "expected exactly one of \"file\", \"generator\" or \"vertices\""},
+      {"/transform/translation", json::array({0, 0, 1e6}), "meshes[1].vertices", "beyond |coordinate| <= 1e+06"},
+  };
+  for (const auto& c : cases) {
+    json j = inline_scene;
+    j[json::json_pointer("/meshes/1" + std::string(c.pointer))] = c.value;
+    std::string msg;
+    EXPECT_EQ(error_path(j, &msg), c.path) << c.pointer << " = " << c.value.dump() << ": " << msg;
+    EXPECT_NE(msg.find(c.message), std::string::npos) << msg;
+  }
+  // Elements without vertices, and no source at all.
+  json j = inline_scene;
+  j["meshes"][0].erase("vertices");
+  std::string msg;
+  EXPECT_EQ(error_path(j, &msg), "meshes[0].file") << msg;
+  j["meshes"][0]["generator"] = json::parse(R"({"type": "grid", "width": 1, "height": 1, "nx": 1, "ny": 1})");
+  EXPECT_EQ(error_path(j, &msg), "meshes[0].triangles") << msg;
+  EXPECT_NE(msg.find("the elements of a mesh given by its \"vertices\""), std::string::npos) << msg;
+  // The triangle of an inline cloth that repeats a vertex, and one out of range.
+  j = inline_scene;
+  j["meshes"][0]["triangles"][1] = json::array({0, 3, 3});
+  EXPECT_EQ(error_path(j, &msg), "meshes[0].triangles[1]") << msg;
+  j["meshes"][0]["triangles"][1] = json::array({0, 3, 12});
+  EXPECT_EQ(error_path(j, &msg), "meshes[0].triangles[1][2]") << msg;
+  EXPECT_NE(msg.find("scene.json: meshes[0].triangles[1][2]: expected a vertex index in [0, 4), got 12"),
+            std::string::npos)
+      << msg;
+  j["meshes"][0]["segments"] = json::parse("[[0, 1, 2]]");
+  j["meshes"][0]["triangles"][1] = json::array({0, 2, 3});
+  EXPECT_EQ(error_path(j, &msg), "meshes[0].segments[0]") << msg;
+}
+
 TEST(Scene, ShippedScenesLoad) {
   const std::filesystem::path dir = std::filesystem::path(PCE_SOURCE_DIR) / "examples" / "scenes";
   int count = 0;

@@ -16,7 +16,9 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <set>
@@ -173,17 +175,111 @@ Mesh parse_generator(const Params& g) {
   }
 }
 
+/// The rows of the array `key` (absent: none), each an array of N vertex indices in
+/// [0, `vertices`) with no vertex twice, as the columns of a matrix; `what` names a row
+/// ("triangle"). Errors name the row or the index (`triangles[4][2]`).
+template <int N> Eigen::Matrix<int, N, Eigen::Dynamic> index_rows(const Params& p, const std::string& key,
+                                                                  Eigen::Index vertices, const char* what) {
+  const nlohmann::json& rows = p.array(key);
+  const std::string range = "[0, " + std::to_string(vertices) + ")";
+  Eigen::Matrix<int, N, Eigen::Dynamic> out(N, static_cast<Eigen::Index>(rows.size()));
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const std::string row = "[" + std::to_string(r) + "]";
+    if (!rows[r].is_array() || rows[r].size() != N)
+      p.fail(key + row, "expected a " + std::string(what) + ": an array of " + std::to_string(N) + " vertex indices");
+    for (int k = 0; k < N; ++k) {
+      const nlohmann::json& v = rows[r][static_cast<std::size_t>(k)];
+      const std::string at = key + row + "[" + std::to_string(k) + "]";
+      if (!v.is_number_integer()) p.fail(at, "expected a vertex index (an integer) in " + range + ", got " + v.dump());
+      // an unsigned beyond int64's range is out of range too: its text, not a wrapped value
+      const std::int64_t i = v.is_number_unsigned() && v.get<std::uint64_t>() > std::uint64_t{1} << 62
+                                 ? std::numeric_limits<std::int64_t>::max()
+                                 : v.get<std::int64_t>();
+      if (i < 0 || i >= vertices) p.fail(at, "expected a vertex index in " + range + ", got " + v.dump());
+      out(k, static_cast<Eigen::Index>(r)) = static_cast<int>(i);
+      for (int m = 0; m < k; ++m)
+        if (out(m, static_cast<Eigen::Index>(r)) == i)
+          p.fail(key + row, "the " + std::string(what) + " uses vertex " + std::to_string(i) + " twice");
+    }
+  }
+  return out;
+}
+
+/// A mesh written in the scene (`vertices` and `triangles`, `segments` or `tetrahedra`):
+/// every coordinate a number within ±kMaxCoordinate, every index in range and no element
+/// repeating a vertex, errors naming the element (`vertices[3][1]`, `triangles[4][2]`). A
+/// volume's triangles are its boundary faces; `validate`'s checks of the tetrahedra
+/// (orientation, size, shared faces) name `tetrahedra`.
+Mesh parse_inline_mesh(const Params& p) {
+  const nlohmann::json& rows = p.array("vertices", true);
+  if (rows.empty()) p.fail("vertices", "expected at least one vertex");
+  if (static_cast<long>(rows.size()) > kMaxVertices)
+    p.fail("vertices",
+           "expected at most " + std::to_string(kMaxVertices) + " vertices, got " + std::to_string(rows.size()));
+  Mesh m;
+  m.positions.resize(3, static_cast<Eigen::Index>(rows.size()));
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const std::string row = "vertices[" + std::to_string(r) + "]";
+    if (!rows[r].is_array() || rows[r].size() != 3) p.fail(row, "expected a vertex: an array of 3 numbers [x, y, z]");
+    for (int k = 0; k < 3; ++k) {
+      const nlohmann::json& c = rows[r][static_cast<std::size_t>(k)];
+      const std::string at = row + "[" + std::to_string(k) + "]";
+      const double v = c.is_number() ? c.get<double>() : std::numeric_limits<double>::quiet_NaN();
+      if (!(std::abs(v) <= kMaxCoordinate))
+        p.fail(at, "expected a number in [-" + args::limit_text(kMaxCoordinate) + ", " +
+                       args::limit_text(kMaxCoordinate) + "] (the coordinates pce::sim accepts, in m), got " +
+                       (c.is_number() ? args::text(v) : c.dump()));
+      m.positions(k, static_cast<Eigen::Index>(r)) = v;
+    }
+  }
+  const Eigen::Index n = m.vertex_count();
+  m.triangles = index_rows<3>(p, "triangles", n, "triangle");
+  m.segments = index_rows<2>(p, "segments", n, "segment");
+  m.tetrahedra = index_rows<4>(p, "tetrahedra", n, "tetrahedron");
+  if (m.tetrahedra.cols() > 0) {
+    for (const char* key : {"triangles", "segments"})
+      if (p.has(key))
+        p.fail(key, std::string("a mesh with \"tetrahedra\" is a volume: its triangles are its boundary faces, and "
+                                "it has no segments; leave \"") +
+                        key + "\" out");
+    m.triangles = boundary_faces(m.tetrahedra);
+    try {
+      validate(m, p.file());
+    } catch (const InputError& e) {
+      p.fail("tetrahedra", e.what());
+    }
+  } else if (m.triangles.cols() + m.segments.cols() == 0) {
+    p.fail("vertices", "expected \"triangles\", \"segments\" or \"tetrahedra\" with the vertices");
+  }
+  return m;
+}
+
 ModelMesh parse_mesh(const Params& p, const std::filesystem::path& base) {
-  p.only({"name", "file", "generator", "transform", "density", "linear_density"});
+  p.only({"name", "file", "generator", "vertices", "triangles", "segments", "tetrahedra", "transform", "density",
+          "linear_density"});
   ModelMesh s;
   s.name = p.string("name");
-  if (p.has("file") == p.has("generator")) p.fail("file", "expected exactly one of \"file\" or \"generator\"");
-  s.mesh = p.has("file") ? read_mesh(p, "file", base) : parse_generator(p.object("generator"));
+  const int sources = int{p.has("file")} + int{p.has("generator")} + int{p.has("vertices")};
+  const char* const source = p.has("file") ? "file" : p.has("generator") ? "generator" : "vertices";
+  if (sources != 1)
+    p.fail(sources == 0        ? "file"
+           : p.has("vertices") ? "vertices"
+                               : "generator",
+           "expected exactly one of \"file\", \"generator\" or \"vertices\"");
+  if (!p.has("vertices"))
+    for (const char* key : {"triangles", "segments", "tetrahedra"})
+      if (p.has(key)) p.fail(key, "the elements of a mesh given by its \"vertices\": give them too");
+  if (p.has("file"))
+    s.mesh = read_mesh(p, "file", base);
+  else if (p.has("generator"))
+    s.mesh = parse_generator(p.object("generator"));
+  else
+    s.mesh = parse_inline_mesh(p);
   if (p.has("transform")) apply(parse_transform(p.object("transform")), s.mesh);
   try {
     validate(s.mesh, p.file());
   } catch (const InputError& e) {
-    p.fail(p.has("file") ? "file" : "generator", e.what());
+    p.fail(source, e.what());
   }
   const bool volume = s.mesh.tetrahedra.cols() > 0;
   if (volume && p.has("linear_density"))
