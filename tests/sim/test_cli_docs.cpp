@@ -4,8 +4,9 @@
 // side's extra option fails, naming it). Every pce-sim command line the documentation shows
 // (docs/*.md and README.md: lines of fenced and indented code blocks, and inline code spans,
 // that start with `pce-sim`, `./build/src/sim/pce-sim` or `build/src/sim/pce-sim`) runs:
-// with `--frames 1 --no-frames --out <a folder of the build>` appended (the last value of a
-// repeated option wins), from the source directory, it must exit with 0 after one frame.
+// with `--frames 1 --no-frames --out <a folder of the build>` appended (and `--video` and
+// `--usd` into that folder when it has them; the last value of a repeated option wins), from
+// the source directory, it must exit with 0 after one frame.
 // Command lines that are templates are skipped: those with a placeholder in capitals
 // (SCENE.json, DIR, N, RESULTS/…), "…", "...", brackets or alternatives (`[--a | --b]`).
 // Each runs one frame only, so the cost is the scene's loading and first step: every scene
@@ -232,9 +233,16 @@ TEST(CliDocs, EveryDocumentedCommandLineRuns) {
     fs::remove_all(out);
     std::string args;
     for (std::size_t k = 1; k < s.words.size(); ++k) args += " '" + s.words[k] + "'";
+    // A movie or a cache the command writes goes into the folder too (nothing is written
+    // into the source tree).
+    std::string outputs;
+    if (std::find(s.words.begin(), s.words.end(), "--video") != s.words.end())
+      outputs += " --video '" + (out / "movie.mp4").string() + "'";
+    if (std::find(s.words.begin(), s.words.end(), "--usd") != s.words.end())
+      outputs += " --usd '" + (out / "cache.usda").string() + "'";
     std::string output;
     const int code = run_in_source_dir(
-        std::string(PCE_SIM_EXE) + args + " --frames 1 --no-frames --out '" + out.string() + "'", &output);
+        std::string(PCE_SIM_EXE) + args + " --frames 1 --no-frames --out '" + out.string() + "'" + outputs, &output);
     std::cout << "ran (exit " << code << "): " << s.where << ": " << command << "\n";
     EXPECT_EQ(code, 0) << s.where << ": `" << command << "` (run with --frames 1 --no-frames --out DIR) failed:\n"
                        << output;
