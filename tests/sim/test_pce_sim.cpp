@@ -467,6 +467,43 @@ TEST(PceSim, ResumedRunOfAVolumeEndsBitForBit) {
   EXPECT_GT(touching.size(), 1u);  // the contact changes after the checkpoint
 }
 
+namespace {
+
+/// A 0.2 m sheet (9 × 9 vertices) lying on a 0.3 m box that moves by `table_motion`, with a
+/// pin group along its edge x ≥ 0.09 whose targets move by `pin_motion` until it is released
+/// at frame 12; friction on the box, vertex-face self contact; 15 frames of 10 ms.
+json sheet_on_a_moving_box(const json& table_motion, const json& pin_motion) {
+  const json penalty = {{"type", "quadratic"}, {"stiffness", 20}, {"distance", 0.005}};
+  return {{"dt", 0.01},
+          {"frames", 15},
+          {"solver", {{"tolerance", 0.01}, {"max_iterations", 30}}},
+          {"obstacles",
+           {{{"name", "table"},
+             {"shape", "box"},
+             {"half_extents", {0.15, 0.15, 0.05}},
+             {"position", {0, 0, -0.05}},
+             {"motion", table_motion}}}},
+          {"meshes",
+           {{{"name", "cloth"},
+             {"generator", {{"type", "grid"}, {"width", 0.2}, {"height", 0.2}, {"nx", 8}, {"ny", 8}}},
+             {"transform", {{"translation", {0, 0, 0.006}}}}}}},
+          {"effects",
+           {{{"type", "gravity"}},
+            {{"type", "stretching"}, {"stiffness", 20}},
+            {{"type", "bending"}, {"stiffness", 1e-5}},
+            {{"type", "pins"},
+             {"stiffness", 100},
+             {"groups",
+              {{{"mesh", "cloth"},
+                {"box", {{"min", {0.09, -1, -1}}, {"max", {1, 1, 1}}}},
+                {"motion", pin_motion},
+                {"release_frame", 12}}}}},
+            {{"type", "obstacle_contact"}, {"penalty", penalty}, {"friction", {{"coefficient", 0.3}}}},
+            {{"type", "self_vertex_face"}, {"penalty", penalty}}}}};
+}
+
+}  // namespace
+
 TEST(PceSim, ResumedRunWithMovingObstacleAndPinsEndsBitForBit) {
   // A sheet lying on a box that moves and turns from t = 0.05 s to 0.13 s (frames 6–13)
   // while a pin group along one edge pulls it up and turns it (its targets move from t = 0
@@ -475,36 +512,9 @@ TEST(PceSim, ResumedRunWithMovingObstacleAndPinsEndsBitForBit) {
   // after it; the resumed run ends frame 15 where the uninterrupted one does. It fails if
   // the obstacle's pose, the pins' targets or the release read anything but the restored
   // frame and time.
-  const json scene = {
-      {"dt", 0.01},
-      {"frames", 15},
-      {"solver", {{"tolerance", 0.01}, {"max_iterations", 30}}},
-      {"obstacles",
-       {{{"name", "table"},
-         {"shape", "box"},
-         {"half_extents", {0.15, 0.15, 0.05}},
-         {"position", {0, 0, -0.05}},
-         {"motion",
-          {{"velocity", {0.3, 0, 0.1}}, {"angular_velocity", {1.5, 0, 2}}, {"start", 0.05}, {"stop", 0.13}}}}}},
-      {"meshes",
-       {{{"name", "cloth"},
-         {"generator", {{"type", "grid"}, {"width", 0.2}, {"height", 0.2}, {"nx", 8}, {"ny", 8}}},
-         {"transform", {{"translation", {0, 0, 0.006}}}}}}},
-      {"effects",
-       {{{"type", "gravity"}},
-        {{"type", "stretching"}, {"stiffness", 20}},
-        {{"type", "bending"}, {"stiffness", 1e-5}},
-        {{"type", "pins"},
-         {"stiffness", 100},
-         {"groups",
-          {{{"mesh", "cloth"},
-            {"box", {{"min", {0.09, -1, -1}}, {"max", {1, 1, 1}}}},
-            {"motion", {{"velocity", {0, 0, 0.3}}, {"angular_velocity", {2, 0, 0}}}},
-            {"release_frame", 12}}}}},
-        {{"type", "obstacle_contact"},
-         {"penalty", {{"type", "quadratic"}, {"stiffness", 20}, {"distance", 0.005}}},
-         {"friction", {{"coefficient", 0.3}}}},
-        {{"type", "self_vertex_face"}, {"penalty", {{"type", "quadratic"}, {"stiffness", 20}, {"distance", 0.005}}}}}}};
+  const json scene = sheet_on_a_moving_box(
+      {{"velocity", {0.3, 0, 0.1}}, {"angular_velocity", {1.5, 0, 2}}, {"start", 0.05}, {"stop", 0.13}},
+      {{"velocity", {0, 0, 0.3}}, {"angular_velocity", {2, 0, 0}}});
   const fs::path file = write_scene(scene, "resume_moving");
   const std::vector<json> a = resume_matches(file, "resume_moving", 15, 13, 10);
   ASSERT_EQ(a.size(), 15u);
@@ -530,48 +540,20 @@ TEST(PceSim, ResumedRunWithKeyframedObstacleAndPinsEndsBitForBit) {
   // frame 10 falls inside both paths' second segments; the resumed run ends frame 15 where
   // the uninterrupted one does. It fails if a keyframed pose or target read anything but
   // the restored time.
-  const json scene = {
-      {"dt", 0.01},
-      {"frames", 15},
-      {"solver", {{"tolerance", 0.01}, {"max_iterations", 30}}},
-      {"obstacles",
-       {{{"name", "table"},
-         {"shape", "box"},
-         {"half_extents", {0.15, 0.15, 0.05}},
-         {"position", {0, 0, -0.05}},
-         {"motion",
-          {{"interpolation", "smooth"},
-           {"keyframes",
-            {{{"time", 0.05}},
-             {{"time", 0.09}, {"translation", {0.01, 0, 0.004}}, {"rotation", {{"axis", {0, 0, 1}}, {"degrees", 5}}}},
-             {{"time", 0.13},
-              {"translation", {0.024, 0, 0.008}},
-              {"rotation", {{"axis", {0.6, 0, 0.8}}, {"degrees", 9}}}}}}}}}}},
-      {"meshes",
-       {{{"name", "cloth"},
-         {"generator", {{"type", "grid"}, {"width", 0.2}, {"height", 0.2}, {"nx", 8}, {"ny", 8}}},
-         {"transform", {{"translation", {0, 0, 0.006}}}}}}},
-      {"effects",
-       {{{"type", "gravity"}},
-        {{"type", "stretching"}, {"stiffness", 20}},
-        {{"type", "bending"}, {"stiffness", 1e-5}},
-        {{"type", "pins"},
-         {"stiffness", 100},
-         {"groups",
-          {{{"mesh", "cloth"},
-            {"box", {{"min", {0.09, -1, -1}}, {"max", {1, 1, 1}}}},
-            {"motion",
-             {{"keyframes",
-               {{{"time", 0}},
-                {{"time", 0.06}, {"translation", {0, 0, 0.018}}, {"rotation", {{"axis", {1, 0, 0}}, {"degrees", 7}}}},
-                {{"time", 0.2},
-                 {"translation", {0, 0, 0.04}},
-                 {"rotation", {{"axis", {1, 0, 0}}, {"degrees", 20}}}}}}}},
-            {"release_frame", 12}}}}},
-        {{"type", "obstacle_contact"},
-         {"penalty", {{"type", "quadratic"}, {"stiffness", 20}, {"distance", 0.005}}},
-         {"friction", {{"coefficient", 0.3}}}},
-        {{"type", "self_vertex_face"}, {"penalty", {{"type", "quadratic"}, {"stiffness", 20}, {"distance", 0.005}}}}}}};
+  const json box_keyframes = {
+      {"interpolation", "smooth"},
+      {"keyframes",
+       {{{"time", 0.05}},
+        {{"time", 0.09}, {"translation", {0.01, 0, 0.004}}, {"rotation", {{"axis", {0, 0, 1}}, {"degrees", 5}}}},
+        {{"time", 0.13},
+         {"translation", {0.024, 0, 0.008}},
+         {"rotation", {{"axis", {0.6, 0, 0.8}}, {"degrees", 9}}}}}}};
+  const json pin_keyframes = {
+      {"keyframes",
+       {{{"time", 0}},
+        {{"time", 0.06}, {"translation", {0, 0, 0.018}}, {"rotation", {{"axis", {1, 0, 0}}, {"degrees", 7}}}},
+        {{"time", 0.2}, {"translation", {0, 0, 0.04}}, {"rotation", {{"axis", {1, 0, 0}}, {"degrees", 20}}}}}}};
+  const json scene = sheet_on_a_moving_box(box_keyframes, pin_keyframes);
   const fs::path file = write_scene(scene, "resume_keyframed");
   const std::vector<json> a = resume_matches(file, "resume_keyframed", 15, 13, 10);
   ASSERT_EQ(a.size(), 15u);
