@@ -9,6 +9,7 @@
 // --gtest_also_run_disabled_tests --gtest_filter=*Timing*).
 #include "scene/effect_loaders.hpp"
 
+#include <pce/sim/effects.hpp>
 #include <pce/sim/generators.hpp>
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/mesh.hpp>
@@ -21,6 +22,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <random>
 #include <string>
 #include <ctime>
@@ -623,6 +625,85 @@ TEST(Pins, KeyframedEdgeLiftsAHangingSheetThatFollows) {
   EXPECT_GT(least, 0.1);
   // The reference's edge stayed where it was pinned.
   for (int i : pinned) EXPECT_LT((b.x.col(i) - model.rest.col(i)).norm(), weight / k);
+}
+
+TEST(Pins, TargetsSetBetweenStepsReplaceRestAndMotionFromTheNextStep) {
+  // Group 0 (vertex 12) is pinned in place, group 1 (vertices 0 and 3) moves +z at 1 m/s,
+  // group 2 (vertex 5) is released at frame 3. Targets set through PinsEffect replace a
+  // group's rest positions or motion from the next begin_step on, until cleared.
+  const Model m = cloth(3, 3);
+  auto e = build(load_pins,
+                 R"({"type":"pins","stiffness":100,"groups":[{"vertices":[12]},
+                     {"vertices":[0,3],"motion":{"velocity":[0,0,1]}},{"vertices":[5],"release_frame":3}]})",
+                 m);
+  auto* pins = dynamic_cast<PinsEffect*>(e.get());
+  ASSERT_NE(pins, nullptr);
+  ASSERT_EQ(pins->group_count(), 3);
+  EXPECT_EQ(pins->group_vertices(1), (std::vector<int>{0, 3}));
+  StepContext step;
+  step.frame = 1;
+  const auto targets = [&](double t) {  // x̂ from the gradient at the rest shape (to rounding), after begin_step at t
+    step.time = t;
+    e->begin_step(step);
+    Matrix3Xd g = Matrix3Xd::Zero(3, m.rest.cols());
+    e->evaluate(m.rest, &g, nullptr);
+    return Matrix3Xd(m.rest - g / 100.0);
+  };
+  const Eigen::Vector3d up(0, 0, 2);
+  Matrix3Xd x_hat = targets(2.0);
+  EXPECT_LT((x_hat.col(12) - (m.rest.col(12))).norm(), 1e-14);
+  EXPECT_LT((x_hat.col(0) - (m.rest.col(0) + up)).norm(), 1e-14);
+  Matrix3Xd set0(3, 1), set1(3, 2);
+  set0 << 1, 2, 3;
+  set1 << 0.1, 0.2, 0.3, 0.4, 0.5, 0.6;
+  pins->set_targets(0, set0);
+  pins->set_targets(1, set1);
+  EXPECT_EQ(pins->group_targets(0), set0);  // the ones set, before any step uses them
+  x_hat = targets(3.0);
+  EXPECT_LT((x_hat.col(12) - (set0.col(0))).norm(), 1e-14);
+  EXPECT_LT((x_hat.col(0) - (set1.col(0))).norm(), 1e-14);
+  EXPECT_LT((x_hat.col(3) - (set1.col(1))).norm(), 1e-14);
+  EXPECT_LT((x_hat.col(5) - (m.rest.col(5))).norm(), 1e-14);
+  EXPECT_EQ(pins->group_targets(1), set1);
+  const Matrix3Xd x = perturbed(m.rest, 0.1, 3);
+  expect_gradient_matches(*e, x);
+  expect_hessian_matches(*e, x);
+  // Cleared: the rest position and the motion (at the new time) again.
+  pins->clear_targets(0);
+  pins->clear_targets(1);
+  x_hat = targets(4.0);
+  EXPECT_LT((x_hat.col(12) - (m.rest.col(12))).norm(), 1e-14);
+  EXPECT_LT((x_hat.col(0) - (m.rest.col(0) + 2 * up)).norm(), 1e-14);
+  EXPECT_EQ(pins->group_targets(0).col(0), m.rest.col(12));
+  // A released group stays released with targets set.
+  pins->set_targets(2, set0);
+  step.frame = 3;
+  e->begin_step(step);
+  EffectCounters c;
+  e->report(c);
+  EXPECT_EQ(c.at("pinned_vertices"), 3);
+  // Errors name the argument.
+  const auto field_of = [&](const std::function<void()>& call) {
+    try {
+      call();
+    } catch (const ArgumentError& err) {
+      return err.field() + ": " + err.expected();
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_EQ(field_of([&] { pins->set_targets(3, set0); }), "group: expected a pin group index in [0, 3), got 3");
+  EXPECT_EQ(field_of([&] { pins->clear_targets(-1); }), "group: expected a pin group index in [0, 3), got -1");
+  EXPECT_EQ(field_of([&] { pins->group_vertices(7); }), "group: expected a pin group index in [0, 3), got 7");
+  EXPECT_EQ(field_of([&] { pins->set_targets(1, set0); }),
+            "targets: expected one target per vertex of group 1 (2), got 1");
+  Matrix3Xd bad = set1;
+  bad(2, 1) = std::nan("");
+  EXPECT_EQ(field_of([&] { pins->set_targets(1, bad); }).rfind("targets[1]: ", 0), 0u);
+  bad(2, 1) = 2e6;
+  EXPECT_EQ(field_of([&] { pins->set_targets(1, bad); }).rfind("targets[1]: ", 0), 0u);
+  Matrix3Xd kept(3, 2);  // the bad ones were not kept: the motion's of the last begin_step
+  kept << m.rest.col(0) + 2 * up, m.rest.col(3) + 2 * up;
+  EXPECT_EQ(pins->group_targets(1), kept);
 }
 
 TEST(Pins, MeshLocalIndicesAndDefaultStiffness) {

@@ -14,8 +14,10 @@
 
 #include <pce/sim/contact_effect.hpp>
 #include <pce/sim/fcl_distance.hpp>
+#include <pce/sim/input_error.hpp>
 #include <pce/sim/obstacle.hpp>
 #include <pce/sim/scene.hpp>
+#include <pce/sim/simulation.hpp>
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
@@ -432,6 +434,120 @@ TEST(ObstacleMotion, AKeyframedBallPushesASheetUpAndHolds) {
     if (std::abs(sim.model.rest(0, i)) > 0.29) {
       EXPECT_LT(std::abs(sim.x(2, i)), 1e-3) << "vertex " << i;
     }
+}
+
+TEST(ObstacleMotion, PosesPutBetweenStepsReplayAKeyframedRunBitForBit) {
+  // A keyframed ball rises through two sheets, each in contact with it through its own
+  // obstacle_contact entry; the same scene with the ball still, put before every step at the
+  // pose the keyframes give at the step's end (which reaches both entries' copies), runs the
+  // same bit for bit, and the put ball's `pose` keeps its history (output draws it).
+  nlohmann::json scene = nlohmann::json::parse(R"({
+    "dt": 0.01, "frames": 30,
+    "meshes": [{"name": "sheet", "generator": {"type": "grid", "width": 0.6, "height": 0.6, "nx": 10, "ny": 10}},
+               {"name": "upper", "generator": {"type": "grid", "width": 0.6, "height": 0.6, "nx": 6, "ny": 6},
+                "transform": {"translation": [0, 0, 0.02]}}],
+    "obstacles": [{"name": "ball", "shape": "sphere", "radius": 0.1, "position": [0, 0, -0.3],
+                   "motion": {"interpolation": "smooth", "keyframes": [
+                     {"time": 0.02}, {"time": 0.2, "translation": [0, 0, 0.25],
+                                      "rotation": {"axis": [1, 0, 0], "degrees": 40}}]}},
+                  {"name": "far", "shape": "box", "half_extents": [0.1, 0.1, 0.1], "position": [0, 0, 5]}],
+    "effects": [{"type": "stretching", "stiffness": 100}, {"type": "damping", "coefficient": 2},
+                {"type": "pins", "stiffness": 1e4, "groups": [{"box": {"min": [-1, -1, -1], "max": [-0.29, 1, 1]}},
+                                                              {"box": {"min": [0.29, -1, -1], "max": [1, 1, 1]}}]},
+                {"type": "obstacle_contact", "meshes": ["sheet"], "obstacles": ["ball"],
+                 "penalty": {"type": "quadratic", "stiffness": 1e4, "distance": 0.005}},
+                {"type": "obstacle_contact", "meshes": ["upper"], "obstacles": ["ball", "far"],
+                 "penalty": {"type": "cubic", "stiffness": 1e5, "distance": 0.01}}]
+  })");
+  auto keyed = pce::sim::load_scene_text(scene.dump(), "keyed.json", PCE_TEST_TMP);
+  scene["obstacles"][0].erase("motion");
+  auto put = pce::sim::load_scene_text(scene.dump(), "put.json", PCE_TEST_TMP);
+  pce::sim::Simulation &a = keyed->simulation, &b = put->simulation;
+  const pce::sim::Obstacle& path = a.obstacles.at(0);
+  double contacts = 0;
+  for (int f = 1; f <= 30; ++f) {
+    b.set_obstacle_pose("ball", path.pose(b.time + b.solver.dt));
+    contacts += a.step().counters.at("obstacle_contacts");
+    b.step();
+    ASSERT_EQ(a.x, b.x) << "frame " << f;
+    ASSERT_EQ(a.v, b.v) << "frame " << f;
+    EXPECT_EQ(b.obstacles.at(0).pose(b.time).matrix(), path.pose(a.time).matrix()) << "frame " << f;
+  }
+  EXPECT_GT(contacts, 0);  // the ball reached the sheets and pushed both up
+  const auto& sheets = a.model.meshes;
+  EXPECT_GT(a.x.row(2).segment(sheets[0].first_vertex, sheets[0].vertex_count).maxCoeff(), 0.03);
+  EXPECT_GT(a.x.row(2).segment(sheets[1].first_vertex, sheets[1].vertex_count).maxCoeff(), 0.04);
+  EXPECT_EQ(b.obstacles.at(0).pose(0.0).translation(), Eigen::Vector3d(0, 0, -0.3));  // before the first put
+  const std::vector<pce::sim::PlacedPose>& placed = b.obstacles.at(0).placed;
+  EXPECT_NEAR(placed.at(10).from, 0.105, 1e-15);  // held from the middle of its step on
+  EXPECT_EQ(b.obstacles.at(0).pose(placed[10].from).matrix(), placed[10].pose.matrix());
+  EXPECT_EQ(b.obstacles.at(0).pose(placed[10].from - 1e-9).matrix(), placed[9].pose.matrix());
+  EXPECT_EQ(b.obstacles.at(0).placed.size(), 30u);
+
+  // Put twice before one step: the second replaces the first. Errors name the argument.
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() << 0, 0, 1;
+  b.set_obstacle_pose("ball", pose);
+  pose.translation() << 0, 0, 2;
+  b.set_obstacle_pose("ball", pose);
+  EXPECT_EQ(b.obstacles.at(0).placed.size(), 31u);
+  EXPECT_EQ(b.obstacles.at(0).pose(b.time + b.solver.dt).translation(), Eigen::Vector3d(0, 0, 2));
+  const auto error = [&](const std::string& name, const Eigen::Isometry3d& p) {
+    try {
+      b.set_obstacle_pose(name, p);
+    } catch (const pce::sim::ArgumentError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_EQ(error("wall", pose), "name: no obstacle named \"wall\" (the obstacles: \"ball\", \"far\")");
+  Eigen::Isometry3d bad = pose;
+  bad.translation() << 0, 0, 2e6;
+  EXPECT_EQ(error("ball", bad).rfind("translation: ", 0), 0u) << error("ball", bad);
+  bad = pose;
+  bad.linear() = 2 * Eigen::Matrix3d::Identity();
+  EXPECT_EQ(error("ball", bad), "rotation: expected a rotation matrix (orthonormal, determinant 1)");
+  bad.linear() = -Eigen::Matrix3d::Identity();  // a reflection
+  EXPECT_EQ(error("ball", bad), "rotation: expected a rotation matrix (orthonormal, determinant 1)");
+  EXPECT_EQ(b.obstacles.at(0).pose(b.time + b.solver.dt).translation(), Eigen::Vector3d(0, 0, 2));  // unchanged
+}
+
+TEST(ObstacleMotion, AFloorPutBetweenStepsDragsASheetByFriction) {
+  // A sheet rests on a box floor with friction; the floor is put 2 mm further along +x before
+  // every step (0.2 m/s). Friction sees the surface move from its pose at the step's start to
+  // the new one, so the sheet is dragged along as by the same constant-velocity motion (to
+  // rounding: the motion's start pose is taken at t + h − h), and not at all without friction.
+  nlohmann::json scene = nlohmann::json::parse(R"({
+    "dt": 0.01, "frames": 20,
+    "meshes": [{"name": "sheet", "generator": {"type": "grid", "width": 0.2, "height": 0.2, "nx": 4, "ny": 4}}],
+    "obstacles": [{"name": "floor", "shape": "box", "half_extents": [1, 1, 0.1], "position": [0, 0, -0.103],
+                   "motion": {"velocity": [0.2, 0, 0]}}],
+    "effects": [{"type": "gravity"}, {"type": "stretching", "stiffness": 100},
+                {"type": "obstacle_contact", "penalty": {"type": "quadratic", "stiffness": 1e4, "distance": 0.005},
+                 "friction": {"coefficient": 0.8}}]
+  })");
+  auto moving = pce::sim::load_scene_text(scene.dump(), "moving.json", PCE_TEST_TMP);
+  scene["obstacles"][0].erase("motion");
+  auto put = pce::sim::load_scene_text(scene.dump(), "put.json", PCE_TEST_TMP);
+  scene["effects"][2].erase("friction");
+  auto slippery = pce::sim::load_scene_text(scene.dump(), "slippery.json", PCE_TEST_TMP);
+  pce::sim::Simulation &a = moving->simulation, &b = put->simulation, &c = slippery->simulation;
+  for (int f = 1; f <= 20; ++f) {
+    for (pce::sim::Simulation* s : {&b, &c}) {
+      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+      pose.translation() << 0.002 * f, 0, -0.103;
+      s->set_obstacle_pose("floor", pose);
+    }
+    a.step();
+    b.step();
+    c.step();
+  }
+  const double dragged = (b.x.row(0) - b.model.rest.row(0)).mean(), slid = (c.x.row(0) - c.model.rest.row(0)).mean();
+  std::printf("mean x displacement after 20 steps: put %.6f m, moving %.6f m, frictionless %.2g m (floor: 0.04 m)\n",
+              dragged, (a.x.row(0) - a.model.rest.row(0)).mean(), slid);
+  EXPECT_GT(dragged, 0.03);
+  EXPECT_LT(std::abs(slid), 1e-9);
+  EXPECT_LT((a.x - b.x).cwiseAbs().maxCoeff(), 1e-9);
 }
 
 // --- the obstacle_contact effect -------------------------------------------------------

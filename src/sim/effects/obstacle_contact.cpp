@@ -87,11 +87,11 @@ double bounding_radius(const Obstacle& o) {
   return std::numeric_limits<double>::infinity();
 }
 
-class ObstacleContact final : public ContactEffect {
+class ObstacleContact final : public ObstacleContactEffect {
  public:
   ObstacleContact(const ObstacleContactSettings& settings, std::vector<Obstacle> obstacles, Eigen::VectorXd areas,
                   std::vector<char> surface, long vertices)
-      : ContactEffect("obstacle_contact"),
+      : ObstacleContactEffect("obstacle_contact"),
         penalty_(settings.penalty),
         floor_(settings.min_separation * settings.penalty.distance),
         friction_(settings.friction),
@@ -121,6 +121,20 @@ class ObstacleContact final : public ContactEffect {
     slip_ = friction_->slip_velocity * ctx.dt;
     rounds_ = 1;
     freeze(*ctx.x_start, true);
+  }
+
+  bool has_obstacle(const std::string& name) const override {
+    return std::any_of(obstacles_.begin(), obstacles_.end(), [&](const Obstacle& o) { return o.name == name; });
+  }
+
+  bool place_obstacle(const std::string& name, const PlacedPose& placed) override {
+    bool found = false;
+    for (Obstacle& o : obstacles_)
+      if (o.name == name) {
+        o.place(placed);
+        found = true;
+      }
+    return found;
   }
 
   bool update_lagged(const Eigen::Matrix3Xd& x) override {
@@ -564,15 +578,15 @@ void check_obstacle(const Obstacle& o, const std::string& at) {
 
 }  // namespace
 
-std::unique_ptr<ContactEffect> make_obstacle_contact(const std::vector<Obstacle>& obstacles,
-                                                     const ContactPenalty& penalty) {
+std::unique_ptr<ObstacleContactEffect> make_obstacle_contact(const std::vector<Obstacle>& obstacles,
+                                                             const ContactPenalty& penalty) {
   ObstacleContactSettings settings;
   settings.penalty = penalty;
   return make_obstacle_contact(Model{}, obstacles, settings);  // unweighted: the model is not read
 }
 
-std::unique_ptr<ContactEffect> make_obstacle_contact(const Model& model, const std::vector<Obstacle>& obstacles,
-                                                     const ObstacleContactSettings& settings) {
+std::unique_ptr<ObstacleContactEffect> make_obstacle_contact(const Model& model, const std::vector<Obstacle>& obstacles,
+                                                             const ObstacleContactSettings& settings) {
   check_penalty(settings.penalty, "penalty.");
   check_friction(settings.friction);
   check_min_separation(settings.min_separation);

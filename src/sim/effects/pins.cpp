@@ -6,7 +6,8 @@
 // step, c the group's centre: d = v τ and R = exp([ω]× τ) for a constant velocity (the
 // twist scene turns one end of a ribbon that way), or the keyframes' interpolated
 // translation and rotation. A group is active for frames < release_frame (always without
-// one).
+// one). Targets set from outside (`PinsEffect::set_targets`) replace a group's rest
+// positions or motion from the next step on.
 #include "pins.hpp"
 
 #include "arguments.hpp"
@@ -14,6 +15,7 @@
 #include <pce/sim/effects.hpp>
 
 #include <algorithm>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,12 +31,17 @@ struct Group {
   bool moving = false;  ///< has a motion; else the targets are the rest positions
   Motion motion;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  /// Targets set from outside (one column per vertex of the group), replacing the above.
+  std::optional<Eigen::Matrix3Xd> set;
+  /// The next begin_step writes the rest positions (a non-moving group's set targets were
+  /// cleared).
+  bool restore = false;
 };
 
-class Pins final : public Effect {
+class Pins final : public PinsEffect {
  public:
   Pins(const Model& model, std::vector<Group> groups, double k)
-      : Effect("pins"),
+      : PinsEffect("pins"),
         model_(&model),
         groups_(std::move(groups)),
         k_(k),
@@ -45,10 +52,49 @@ class Pins final : public Effect {
   void begin_step(const StepContext& ctx) override {
     for (Group& g : groups_) {
       g.active = g.release_frame == 0 || ctx.frame < g.release_frame;
-      if (g.active && g.moving)
+      if (!g.active) continue;
+      if (g.set) {
+        for (std::size_t j = 0; j < g.vertices.size(); ++j)
+          target_.col(g.vertices[j]) = g.set->col(static_cast<Eigen::Index>(j));
+      } else if (g.moving) {
         for (int i : g.vertices) target_.col(i) = g.motion.apply(ctx.time, g.centre, model_->rest.col(i));
+      } else if (g.restore) {
+        for (int i : g.vertices) target_.col(i) = model_->rest.col(i);
+        g.restore = false;
+      }
     }
     count_holds();
+  }
+
+  int group_count() const override { return static_cast<int>(groups_.size()); }
+
+  const std::vector<int>& group_vertices(int group) const override { return groups_[checked(group)].vertices; }
+
+  Eigen::Matrix3Xd group_targets(int group) const override {
+    const Group& g = groups_[checked(group)];
+    if (g.set) return *g.set;
+    Eigen::Matrix3Xd out(3, static_cast<Eigen::Index>(g.vertices.size()));
+    for (std::size_t j = 0; j < g.vertices.size(); ++j)
+      out.col(static_cast<Eigen::Index>(j)) = target_.col(g.vertices[j]);
+    return out;
+  }
+
+  void set_targets(int group, const Eigen::Matrix3Xd& targets) override {
+    Group& g = groups_[checked(group)];
+    if (targets.cols() != static_cast<Eigen::Index>(g.vertices.size()))
+      throw ArgumentError("targets", "expected one target per vertex of group " + std::to_string(group) + " (" +
+                                         std::to_string(g.vertices.size()) + "), got " +
+                                         std::to_string(targets.cols()));
+    for (Eigen::Index j = 0; j < targets.cols(); ++j)
+      args::position("targets[" + std::to_string(j) + "]", targets.col(j));
+    g.set = targets;
+    g.restore = false;
+  }
+
+  void clear_targets(int group) override {
+    Group& g = groups_[checked(group)];
+    if (g.set && !g.moving) g.restore = true;
+    g.set.reset();
   }
   void declare(Pattern& pattern) const override {
     for (const Group& g : groups_)
@@ -94,6 +140,14 @@ class Pins final : public Effect {
   Eigen::Matrix3Xd target_;  ///< x̂ per vertex (rest positions but for moving groups)
   std::vector<int> holds_;   ///< per vertex: the active groups holding it
 
+  /// `group` as an index of groups_; throws ArgumentError ("group") when it is none.
+  std::size_t checked(int group) const {
+    if (group < 0 || group >= group_count())
+      throw ArgumentError("group", "expected a pin group index in [0, " + std::to_string(group_count()) + "), got " +
+                                       std::to_string(group));
+    return static_cast<std::size_t>(group);
+  }
+
   /// Counts, per vertex, the active groups holding it.
   void count_holds() {
     std::fill(holds_.begin(), holds_.end(), 0);
@@ -130,7 +184,7 @@ std::vector<int> vertices_in_box(const Model& model, const Eigen::Vector3d& lo, 
   return inside;
 }
 
-std::unique_ptr<Effect> make_pins(const Model& model, std::vector<PinGroup> groups, double stiffness) {
+std::unique_ptr<PinsEffect> make_pins(const Model& model, std::vector<PinGroup> groups, double stiffness) {
   const double k = args::stiffness("stiffness", stiffness);
   if (groups.empty()) throw ArgumentError("groups", "expected at least one pin group");
   std::vector<Group> run;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <vector>
 
@@ -67,12 +68,28 @@ Eigen::Matrix3d Motion::spin(double t) const {
   return a.rotation * Eigen::AngleAxisd(s.w * relative.angle(), relative.axis()).toRotationMatrix();
 }
 
+void Obstacle::place(const PlacedPose& p) {
+  while (!placed.empty() && !(placed.back().from < p.from)) placed.pop_back();
+  placed.push_back(p);
+}
+
 Eigen::Isometry3d Obstacle::pose(double t) const {
+  // The last placed pose at or before t (a NaN t is before none: the motion's).
+  const auto after =
+      std::upper_bound(placed.begin(), placed.end(), t, [](double time, const PlacedPose& p) { return time < p.from; });
+  if (after != placed.begin()) return std::prev(after)->pose;
   // R(t) = spin(t) R0 about the obstacle's centre, c(t) = position + shift(t).
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = position + motion.shift(t);
   pose.linear() = motion.spin(t) * rotation;
   return pose;
+}
+
+Eigen::Matrix3d axis_rotation(const Eigen::Vector3d& axis, double degrees) {
+  constexpr double kPi = 3.14159265358979323846;
+  // Scaled by the largest component first: a tiny axis (1e-200) would underflow its norm.
+  const double largest = axis.cwiseAbs().maxCoeff();
+  return Eigen::AngleAxisd(degrees * kPi / 180.0, (axis / largest).normalized()).toRotationMatrix();
 }
 
 namespace {

@@ -28,8 +28,6 @@ namespace pce::sim {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 /// The scene's time step dt (s): from a microsecond (beyond any vibration a stiffness
 /// ≤ 1e12 on a mass a density ≥ 1e-9 gives needs to resolve) to one second (a frame of a
 /// slow-motion sequence; a step's free fall g·dt² stays ≤ kMaxCoordinate). Keeps M/dt²,
@@ -60,8 +58,7 @@ Eigen::Matrix3d parse_rotation(const Params& p) {
   const double largest = axis.cwiseAbs().maxCoeff();
   if (!(largest > 0)) p.fail("axis", "expected a non-zero axis");
   const double degrees = p.number("degrees");  // any finite angle: only its sine and cosine are used
-  // Scaled by the largest component first: a tiny axis (1e-200) would underflow its norm.
-  return Eigen::AngleAxisd(degrees * kPi / 180.0, (axis / largest).normalized()).toRotationMatrix();
+  return axis_rotation(axis, degrees);
 }
 
 }  // namespace

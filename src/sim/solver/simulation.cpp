@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 // Backward Euler by projected Newton on the incremental potential (simulation.hpp).
+#include "effects/arguments.hpp"
 #include "solver/linear_state.hpp"
 #include "solver/step_state.hpp"
 #include "util/stopwatch.hpp"
 
 #include <pce/sim/contact_effect.hpp>
+#include <pce/sim/effects.hpp>
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/simulation.hpp>
 
@@ -136,6 +138,22 @@ FrameStats Simulation::step() {
   accept(s);
   report(s);
   return s.st;
+}
+
+void Simulation::set_obstacle_pose(const std::string& name, const Eigen::Isometry3d& pose) {
+  const auto it = std::find_if(obstacles.begin(), obstacles.end(), [&](const Obstacle& o) { return o.name == name; });
+  if (it == obstacles.end()) {
+    std::string names;
+    for (const Obstacle& o : obstacles) names += (names.empty() ? "\"" : ", \"") + o.name + "\"";
+    throw ArgumentError("name", "no obstacle named \"" + name +
+                                    "\" (the obstacles: " + (names.empty() ? std::string("none") : names) + ")");
+  }
+  args::position("translation", pose.translation());
+  args::rotation("rotation", pose.linear());
+  const PlacedPose placed{time + 0.5 * solver.dt, pose};
+  it->place(placed);
+  for (const std::unique_ptr<Effect>& e : effects)
+    if (auto* contact = dynamic_cast<ObstacleContactEffect*>(e.get())) contact->place_obstacle(name, placed);
 }
 
 /// Per-step constants (M/h² per coordinate, the inertial target x̃ = xⁿ + h vⁿ, the length

@@ -83,9 +83,36 @@ struct PinGroup {
   std::optional<Eigen::Vector3d> centre = std::nullopt;
 };
 
+/// The effect `make_pins` builds, with what a program may change between steps (docs/python.md,
+/// `Simulation.set_pin_targets`): the targets of a group, which then replace its rest positions
+/// or its motion. Found among `Simulation::effects` by `dynamic_cast`. A vertex held by two
+/// groups has one target: that of the last of them whose targets move or are set. Targets set
+/// so are not in a checkpoint.
+class PinsEffect : public Effect {
+ public:
+  using Effect::Effect;
+  /// The number of groups (the scene's `groups`, in order).
+  virtual int group_count() const = 0;
+  /// Group `group`'s vertices (model indices, in the group's order). Throws ArgumentError
+  /// ("group") for a group not in [0, group_count()).
+  virtual const std::vector<int>& group_vertices(int group) const = 0;
+  /// Group `group`'s targets, one column per vertex of the group: the ones set, else the
+  /// last step's (before the first step: its rest positions). Throws as group_vertices.
+  virtual Eigen::Matrix3Xd group_targets(int group) const = 0;
+  /// From the next step on, group `group`'s targets at the end of every step are the columns
+  /// of `targets` (one per vertex of the group, in its order) instead of its rest positions
+  /// or its motion, until set again or cleared; a released group stays released. Throws
+  /// ArgumentError for a group not in range ("group"), a matrix that is not 3 × the group's
+  /// vertex count, or a coordinate that is not finite or beyond ±`kMaxCoordinate` ("targets").
+  virtual void set_targets(int group, const Eigen::Matrix3Xd& targets) = 0;
+  /// From the next step on, group `group`'s targets are its rest positions or its motion's
+  /// again. Throws as group_vertices.
+  virtual void clear_targets(int group) = 0;
+};
+
 /// Pins: stiff zero-length springs to targets, E = ½ k Σ_{pinned i} |xᵢ − x̂ᵢ|² over the
 /// groups not yet released; `stiffness` k > 0 (N/m).
-std::unique_ptr<Effect> make_pins(const Model& model, std::vector<PinGroup> groups, double stiffness = 1e5);
+std::unique_ptr<PinsEffect> make_pins(const Model& model, std::vector<PinGroup> groups, double stiffness = 1e5);
 
 /// The vertices whose rest positions lie in the closed box [lo, hi] (what a scene pin group's
 /// `box` selects), optionally only those of the model mesh named `mesh` (empty: all).
@@ -196,12 +223,27 @@ std::unique_ptr<ContactEffect> make_self_vertex_face(const Model& model, const C
 /// and strand segments). Needs two edges; the same settings rules as vertex-face.
 std::unique_ptr<ContactEffect> make_self_edge_edge(const Model& model, const ContactSettings& settings);
 
+/// The effect `make_obstacle_contact` builds, with its copies of the obstacles reachable by
+/// name: `Simulation::set_obstacle_pose` places them (found among `Simulation::effects` by
+/// `dynamic_cast`).
+class ObstacleContactEffect : public ContactEffect {
+ public:
+  using ContactEffect::ContactEffect;
+  /// Whether one of its obstacles is named `name`.
+  virtual bool has_obstacle(const std::string& name) const = 0;
+  /// Places its copy of the obstacle named `name` (`Obstacle::place`): the steps that end at
+  /// or after `placed.from` push out of the obstacle at `placed.pose`, and friction sees its
+  /// surface move there from where the step started. Returns false (and changes nothing)
+  /// when it has no obstacle of that name.
+  virtual bool place_obstacle(const std::string& name, const PlacedPose& placed) = 0;
+};
+
 /// Contact with kinematic obstacles: Σ ψ(d) over (vertex, obstacle) pairs, d the signed
 /// distance to the obstacle's surface (negative inside). The obstacles are copied; each
 /// must be a valid shape (sizes > 0, finite pose, a mesh with triangles). Frictionless and
 /// unweighted; the overload below takes every setting.
-std::unique_ptr<ContactEffect> make_obstacle_contact(const std::vector<Obstacle>& obstacles,
-                                                     const ContactPenalty& penalty);
+std::unique_ptr<ObstacleContactEffect> make_obstacle_contact(const std::vector<Obstacle>& obstacles,
+                                                             const ContactPenalty& penalty);
 
 /// An obstacle-contact effect's settings (scene `obstacle_contact` object, but the list of
 /// obstacles).
@@ -222,7 +264,7 @@ struct ObstacleContactSettings {
 
 /// Contact with kinematic obstacles, as above, with area weighting and friction as
 /// `settings` says (`model`: the vertices' rest areas).
-std::unique_ptr<ContactEffect> make_obstacle_contact(const Model& model, const std::vector<Obstacle>& obstacles,
-                                                     const ObstacleContactSettings& settings);
+std::unique_ptr<ObstacleContactEffect> make_obstacle_contact(const Model& model, const std::vector<Obstacle>& obstacles,
+                                                             const ObstacleContactSettings& settings);
 
 }  // namespace pce::sim

@@ -96,8 +96,19 @@ struct Motion {
   }
 };
 
-/// A rigid obstacle of the scene: its shape in local coordinates, its pose at t = 0 and
-/// its `Motion`.
+/// A pose an obstacle is put at while the simulation runs, replacing its `Motion`
+/// (`Simulation::set_obstacle_pose`): it holds from `from` on, until a later one.
+struct PlacedPose {
+  /// Time (s) from which it holds. Put between steps at time t for the step to t + h, it is
+  /// t + h/2: the step's end (and every later time) sees it, the step's start (t, as t + h − h
+  /// rounds) does not.
+  double from = 0;
+  /// The pose: x_world = pose * x_local.
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+};
+
+/// A rigid obstacle of the scene: its shape in local coordinates, its pose at t = 0, its
+/// `Motion` and the poses it was put at while running.
 struct Obstacle {
   /// The scene's obstacle name.
   std::string name;
@@ -111,10 +122,23 @@ struct Obstacle {
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  ///< orientation at t = 0
   /// Its path after t = 0.
   Motion motion;
+  /// Poses it was put at while running, in increasing `from` (not a scene key, not in a
+  /// checkpoint): from the first one's `from` on, the last one at or before t replaces the
+  /// motion.
+  std::vector<PlacedPose> placed{};
 
-  /// World pose at time `t` (s): x_world = pose * x_local.
+  /// Adds `p` to `placed`, after dropping every placed pose whose `from` is not before p's
+  /// (a pose put again before the same step replaces the earlier one).
+  void place(const PlacedPose& p);
+
+  /// World pose at time `t` (s): x_world = pose * x_local. The last placed pose whose
+  /// `from` ≤ t, else by the motion: translation position + shift(t), rotation spin(t) · rotation.
   Eigen::Isometry3d pose(double t) const;
 };
+
+/// The rotation of a scene's `{"axis": axis, "degrees": degrees}`: right-handed by `degrees`
+/// about `axis` (non-zero and finite, any length; checked by the caller).
+Eigen::Matrix3d axis_rotation(const Eigen::Vector3d& axis, double degrees);
 
 /// Signed distance from world point `p` to the obstacle's surface at pose `pose` (negative
 /// inside) with the outward unit normal at the closest surface point. Closed forms for

@@ -219,6 +219,17 @@ class Simulation {
   /// Throws `ArgumentError` when the simulation is not runnable (what `step()` checks first).
   void check() const;
 
+  /// Puts the obstacle named `name` at `pose` (x_world = pose * x_local) from the next step
+  /// on, replacing its motion until it is put again: adds `PlacedPose{time + dt/2, pose}`
+  /// (`Obstacle::place`) to it in `obstacles` (which output draws) and to every obstacle
+  /// contact effect's copy of it (`ObstacleContactEffect`, `pce/sim/effects.hpp`). The next
+  /// step ends with the obstacle at `pose`, and friction sees its surface move there from its
+  /// pose at the step's start. Throws `ArgumentError` when no obstacle has that name
+  /// ("name"), the translation is not finite or beyond ±`kMaxCoordinate` ("translation"), or
+  /// the linear part is no rotation matrix ("rotation": orthonormal to 1e-9, determinant
+  /// 1). Placed poses are not in a checkpoint.
+  void set_obstacle_pose(const std::string& name, const Eigen::Isometry3d& pose);
+
  private:
   [[noreturn]] void fail_non_finite(const Eigen::Matrix3Xd& y, int frame, const std::string& where);
   double potential(const Eigen::Matrix3Xd& y, std::vector<double>* effect_ms);
