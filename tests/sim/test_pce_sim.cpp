@@ -16,6 +16,7 @@
 #include <pce/sim/obstacle.hpp>
 #include <pce/sim/scene.hpp>
 
+#include "ffprobe.hpp"
 #include "usda_reader.hpp"
 
 #include <fcntl.h>
@@ -705,29 +706,8 @@ std::vector<int> cache_matches_frames(const fs::path& usda_file, const fs::path&
   return codes;
 }
 
-/// `key=value` lines of ffprobe about `file`'s video stream, frames counted.
-std::map<std::string, std::string> probe(const fs::path& file) {
-  const std::string command =
-      "ffprobe -v error -count_frames -select_streams v:0 -show_entries "
-      "stream=codec_name,pix_fmt,width,height,r_frame_rate,nb_read_frames -of default=nw=1 '" +
-      file.string() + "'";
-  std::map<std::string, std::string> out;
-  std::FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return out;
-  char line[256];
-  while (std::fgets(line, sizeof line, pipe)) {
-    std::string s(line);
-    while (!s.empty() && (s.back() == '\n' || s.back() == '\r')) s.pop_back();
-    const std::size_t eq = s.find('=');
-    if (eq != std::string::npos) out[s.substr(0, eq)] = s.substr(eq + 1);
-  }
-  pclose(pipe);
-  return out;
-}
-
-bool have_ffmpeg_and_ffprobe() {
-  return !pce::sim::find_ffmpeg().empty() && std::system("command -v ffprobe > /dev/null 2>&1") == 0;
-}
+using pce::sim::testing::have_ffmpeg_and_ffprobe;
+using pce::sim::testing::probe;
 
 }  // namespace
 
