@@ -135,7 +135,11 @@ std::string physics_key(const std::filesystem::path& scene_file, const SceneOver
   std::ifstream in(scene_file, std::ios::binary);
   std::stringstream text;
   text << in.rdbuf();
-  std::string key = text.str();
+  return physics_key_of_text(text.str(), o);
+}
+
+std::string physics_key_of_text(const std::string& scene_text, const SceneOverrides& o) {
+  std::string key = scene_text;
   if (o.hessian) key += "\n--hessian " + std::string(name_of(*o.hessian));
   if (o.broad_phase) key += "\n--broad-phase " + std::to_string(static_cast<int>(*o.broad_phase));
   if (o.single_solve && *o.single_solve) key += "\n--single-solve";

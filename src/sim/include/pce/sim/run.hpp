@@ -23,6 +23,10 @@ namespace pce::sim {
 /// checkpoints are fingerprinted with (`simulation_fingerprint`, `pce/sim/checkpoint.hpp`).
 std::string physics_key(const std::filesystem::path& scene_file, const SceneOverrides& overrides);
 
+/// The same for a scene given as its JSON text (`load_scene_text`): the key of a file that
+/// holds exactly `scene_text`.
+std::string physics_key_of_text(const std::string& scene_text, const SceneOverrides& overrides);
+
 /// Checks the start state (`check_start_state`) as `pce-sim` does before a run: throws an
 /// `InputError` naming `scene_file` with every refusal on one line, unless the scene sets
 /// `allow_initial_intersections`; returns the warnings, each one line starting with the file
