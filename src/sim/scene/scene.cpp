@@ -165,7 +165,8 @@ Mesh parse_generator(const Params& g) {
           return args::nonnegative_at_most(f, v, kMaxCoordinate, "the largest length pce::sim accepts, in m");
         },
         0.0);
-    return strands(count, segments, length, spacing, curl);
+    // qualified: a unity build (tests/fuzz) also sees registry.cpp's strands(MeshRange, MeshRange)
+    return sim::strands(count, segments, length, spacing, curl);
   } catch (const InputError& e) {
     if (e.file() == g.file()) throw;  // already names the scene field
     g.fail("type", e.what());
