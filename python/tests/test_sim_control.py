@@ -205,7 +205,11 @@ def pinned_sheet(frames, stiffness):
             {"type": "stretching", "stiffness": 20},
             {"type": "bending", "stiffness": 1e-4},
             {"type": "damping", "coefficient": 1},
-            {"type": "pins", "stiffness": stiffness, "groups": [{"vertices": [0]}, {"vertices": [8, 80]}]},
+            {
+                "type": "pins",
+                "stiffness": stiffness,
+                "groups": [{"vertices": [0]}, {"vertices": [8, 80], "release_frame": 2}],
+            },
         ],
     }
 
@@ -217,8 +221,10 @@ def test_a_sheet_pinned_at_a_corner_follows_the_target_python_moves_each_frame()
     assert corner.tolist() == [0] and s.pin_vertices(1).tolist() == [8, 80]
     rest = s.positions[0].copy()
     np.testing.assert_array_equal(s.pin_targets(0), [rest])
+    # Held flat by three corners for the first step, the sheet then swings down from corner 0,
+    # a pendulum released from the horizontal: its pivot pulls at most 3 m g (2.57 m g here).
     mass = 0.1 * 0.4 * 0.4
-    tolerance = 3 * mass * 9.81 / k  # the pin carries at most the sheet's weight and its swing
+    tolerance = 3 * mass * 9.81 / k
     for f in range(1, frames + 1):
         target = rest + [0.005 * f, 0.0, 0.01 * f]  # 0.5 m/s along x, 1 m/s up
         s.set_pin_targets(0, [target])
