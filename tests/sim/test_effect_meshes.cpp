@@ -5,8 +5,8 @@
 // which stretches by the ratio of the stiffnesses; per-mesh friction on one slope lets one
 // sheet slide as Coulomb says while the other sticks, through obstacle contact and through
 // self contact given as mesh pairs; overlaps, gaps and entries naming meshes without the
-// type's elements are errors naming both entries; and a scene with such entries simulates bit
-// for bit as its C++ transcription.
+// type's elements are errors naming both entries (a pins entry's meshes narrow what its groups
+// pin); and a scene with such entries simulates bit for bit as its C++ transcription.
 #include <pce/sim/effects.hpp>
 #include <pce/sim/generators.hpp>
 #include <pce/sim/input_error.hpp>
@@ -271,8 +271,16 @@ TEST(EffectMeshes, OverlapsGapsAndMeshesWithoutTheElementsNameTheEntries) {
               e[2]["meshes"] = pairs({{"a", "b"}});
             }).find("pairs are for self contact"),
             std::string::npos);
-  // pins take no meshes (their groups name them).
-  EXPECT_NE(with([](json& e) { e[4]["meshes"] = {"a"}; }).find("effects[4].meshes: unknown field"), std::string::npos);
+  // pins: `meshes` narrows what its groups may pin.
+  EXPECT_EQ(with([](json& e) { e[4]["meshes"] = {"a", "b"}; }), "");
+  EXPECT_EQ(with([](json& e) { e[4]["meshes"] = {"a"}; }),
+            "meshes.json: effects[4].groups[1].mesh: mesh \"b\" is not one of the entry's meshes (\"a\")");
+  EXPECT_NE(with([](json& e) {
+              e[4]["meshes"] = {"a"};
+              e[4]["groups"][1].erase("mesh");
+              e[4]["groups"][1]["box"]["min"] = {0.2, -5, 0.199};  // only b's top edge
+            }).find("effects[4].groups[1].box: the box contains no vertex of the entry's meshes (\"a\") at rest"),
+            std::string::npos);
   // A mesh without the type's elements: strand stretching on a cloth.
   EXPECT_NE(with([](json& e) {
               e.push_back({{"type", "strand_stretching"}, {"meshes", {"a"}}, {"stiffness", 1.0}});

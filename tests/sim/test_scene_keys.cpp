@@ -324,11 +324,11 @@ const char* const kSolver = "### 2.4 Solver";
 const char* const kEffects = "### 2.5 Effects";
 const char* const kPenalties = "### 2.6 Penalties";
 
-/// The effects' table: one effect's rows, and `type` and (every effect but pins) `meshes`,
-/// documented in the prose above it.
+/// The effects' table: one effect's rows, and `type` and `meshes`, documented in the prose
+/// above it.
 DocTable effect_rows(const char* name, bool meshes = true) {
   DocTable t{kEffects, "", name, nullptr, nullptr, {{"type", "Each entry is `{\"type\": NAME, …}`"}}};
-  if (meshes) t.elsewhere.emplace_back("meshes", "Every entry but `pins` may name the meshes it");
+  if (meshes) t.elsewhere.emplace_back("meshes", "Every entry may name the meshes it");
   return t;
 }
 
@@ -368,7 +368,7 @@ const std::vector<SceneObject>& objects() {
       {"bending", "/effects/{bending}", effect_rows("`bending`")},
       {"strand_stretching", "/effects/{strand_stretching}", effect_rows("`strand_stretching`")},
       {"strand_bending", "/effects/{strand_bending}", effect_rows("`strand_bending`")},
-      {"pins", "/effects/{pins}", effect_rows("`pins`", false)},
+      {"pins", "/effects/{pins}", effect_rows("`pins`")},
       {"damping", "/effects/{damping}", effect_rows("`damping`")},
       {"self_vertex_face", "/effects/{self_vertex_face}", effect_rows("`self_vertex_face`")},
       {"self_edge_edge", "/effects/{self_edge_edge}", effect_rows("`self_edge_edge`")},

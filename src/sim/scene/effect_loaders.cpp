@@ -129,9 +129,32 @@ std::unique_ptr<Effect> load_strand_bending(const Params& params, const BuildCon
 }
 
 std::unique_ptr<Effect> load_pins(const Params& params, const BuildContext& ctx) {
-  params.only({"type", "stiffness", "groups"});
+  params.only({"type", "meshes", "stiffness", "groups"});
   const double k = params.positive("stiffness", 1e5);
   const Model& model = *ctx.model;
+  // `meshes`: the meshes its groups may pin (every mesh without the key).
+  std::vector<const MeshRange*> allowed;
+  std::string allowed_names;
+  if (params.has("meshes")) {
+    const nlohmann::json& names = params.array("meshes");
+    if (names.empty()) params.fail("meshes", "expected at least one mesh name (leave the field out for every mesh)");
+    for (std::size_t j = 0; j < names.size(); ++j) {
+      const std::string where = params.path_of("meshes") + "[" + std::to_string(j) + "]";
+      if (!names[j].is_string()) throw InputError(params.file(), where, "expected a mesh name (a string)");
+      const MeshRange* r = find_mesh(model, names[j].get<std::string>());
+      if (!r) throw InputError(params.file(), where, "no mesh named \"" + names[j].get<std::string>() + "\"");
+      if (std::find(allowed.begin(), allowed.end(), r) != allowed.end())
+        throw InputError(params.file(), where, "mesh \"" + r->name + "\" named twice");
+      allowed.push_back(r);
+      allowed_names += (allowed_names.empty() ? "\"" : ", \"") + r->name + "\"";
+    }
+  }
+  const auto pinnable = [&](int v) {
+    if (allowed.empty()) return true;
+    for (const MeshRange* r : allowed)
+      if (v >= r->first_vertex && v < r->first_vertex + r->vertex_count) return true;
+    return false;
+  };
   const std::size_t count = params.array("groups", true).size();
   if (count == 0) params.fail("groups", "expected at least one pin group");
   std::vector<PinGroup> groups;
@@ -147,6 +170,8 @@ std::unique_ptr<Effect> load_pins(const Params& params, const BuildContext& ctx)
     if (g.has("mesh")) {
       const MeshRange* r = find_mesh(model, mesh);
       if (!r) g.fail("mesh", "no mesh named \"" + mesh + "\"");
+      if (!pinnable(r->first_vertex))
+        g.fail("mesh", "mesh \"" + mesh + "\" is not one of the entry's meshes (" + allowed_names + ")");
       first = r->first_vertex, size = r->vertex_count;
     }
     if (g.has("vertices") == g.has("box"))
@@ -154,12 +179,22 @@ std::unique_ptr<Effect> load_pins(const Params& params, const BuildContext& ctx)
     if (g.has("vertices")) {
       for (int i : g.indices("vertices", size)) group.vertices.push_back(first + i);
       if (group.vertices.empty()) g.fail("vertices", "expected at least one vertex index");
+      for (const int v : group.vertices)
+        if (!pinnable(v))
+          g.fail("vertices",
+                 "vertex " + std::to_string(v) + " is in none of the entry's meshes (" + allowed_names + ")");
     } else {
       const Params box = g.object("box");
       box.only({"min", "max"});
       const Eigen::Vector3d lo = box.vec3("min"), hi = box.vec3("max");
       group.vertices = box.build([&] { return vertices_in_box(model, lo, hi, mesh); });
-      if (group.vertices.empty()) g.fail("box", "the box contains no vertex of the rest shape");
+      group.vertices.erase(
+          std::remove_if(group.vertices.begin(), group.vertices.end(), [&](int v) { return !pinnable(v); }),
+          group.vertices.end());
+      if (group.vertices.empty())
+        g.fail("box", allowed.empty()
+                          ? "the box contains no vertex of the rest shape"
+                          : "the box contains no vertex of the entry's meshes (" + allowed_names + ") at rest");
     }
     if (g.has("motion")) {
       const Params m = g.object("motion");
