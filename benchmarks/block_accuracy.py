@@ -68,7 +68,7 @@ def main(argv=None):
         records = stats(out)
         rows.append({"mode": mode, "label": label, "command": " ".join(cmd), "dir": out, "seconds": seconds,
                      "ms_per_frame": sum(r["wall_ms"] for r in records) / len(records),
-                     "iterations_per_frame": sum(r["newton_iterations"] for r in records) / len(records),
+                     "iterations_per_frame": sum(r.get("sweeps") or r["newton_iterations"] for r in records) / len(records),
                      "max_intersecting_pairs": max(r.get("intersecting_triangle_pairs", 0) for r in records)})
     reference = rows[0]
     for r in rows:

@@ -30,7 +30,7 @@ writes RESULTS/scale_ladder.json (every run's numbers, the commands, the scene p
 RESULTS/scale_ladder.csv (one row per run) and RESULTS/scale_ladder.md (the tables):
 per run vertices, mean ms per frame and its split (broad_phase_ms, pair_ms, assembly_ms,
 solve_ms, line_search_ms; other = the rest of wall_ms), iterations per frame
-(newton_iterations), broad-phase queries per frame (counters.broad_phase_queries, both
+(newton_iterations; for block descent its sweeps), broad-phase queries per frame (counters.broad_phase_queries, both
 contact effects together) and the largest intersecting_triangle_pairs of any frame (pce-sim's
 exact end-of-frame count, docs/simulation.md section 6.1); then per mode and thread count the
 growth exponent p of ms/frame ~ c * vertices^p (least squares in log-log) and per level and
@@ -228,6 +228,9 @@ def load_records(directory):
 
 
 def iterations_of(rec):
+    """Newton iterations per frame, or block descent's sweeps (`sweeps`, in records since they were split)."""
+    if rec.get("sweeps"):
+        return rec["sweeps"]
     if "newton_iterations" in rec:
         return rec["newton_iterations"]
     return len(rec.get("iterations", [])) or None
@@ -591,7 +594,7 @@ def markdown(res, title="# Scale ladder", sub="##"):
       f"(obstacles), friction μ = {ph['self_friction']['coefficient']:g} / {ph['obstacle_friction']['coefficient']:g}. "
       "Times are means of `stats.jsonl` per frame (ms); the stages are `broad_phase_ms`, `pair_ms`, `assembly_ms`, "
       "`solve_ms`, `line_search_ms` (they overlap a little: `pair_ms` includes the line search's pair passes), and "
-      "*other* is the rest of `wall_ms` (at least 0). *it* is `newton_iterations` per frame, "
+      "*other* is the rest of `wall_ms` (at least 0). *it* is `newton_iterations` per frame (block descent: `sweeps`), "
       "*queries* `counters.broad_phase_queries` per frame (both contact effects), *max ∩* the largest "
       "`intersecting_triangle_pairs` of any frame, *contact* the first frame with obstacle contacts.\n")
     if not res.get("complete", True):

@@ -189,7 +189,7 @@ def test_block_descent_is_pce_sims(pce_sim, scenes, tmp_path):
     s = pce.sim.load(path, frames=3, threads=1, mode="block_descent", iterations=4)
     s.run(out=py)
     assert (py / "frame_0003.obj").read_bytes() == (cli / "frame_0003.obj").read_bytes()
-    assert s.stats["stop"] == "block_descent" and s.stats["newton_iterations"] == 4
+    assert s.stats["stop"] == "sweeps" and s.stats["sweeps"] == 4 and s.stats["newton_iterations"] == 0
 
 
 def small_scene(tmp_path):

@@ -145,7 +145,7 @@ TEST(Contact, PassesThatReuseAnEarlierPassAgreeWithAFullPass) {
     const Eigen::Matrix3Xd& x = t.x;
     const auto n = static_cast<int>(x.cols());
     // a: update_pattern tests every candidate; the evaluation then visits the active ones.
-    ea.update_pattern(x);
+    ea.begin_iteration(x);
     Pattern pa;
     ea.declare(pa);
     BlockHessian H;
@@ -155,7 +155,7 @@ TEST(Contact, PassesThatReuseAnEarlierPassAgreeWithAFullPass) {
     // b: a full evaluation first, whose record update_pattern then reads.
     Eigen::Matrix3Xd gb = Eigen::Matrix3Xd::Zero(3, n);
     const double Eb = eb.evaluate(x, &gb, nullptr);
-    eb.update_pattern(x);
+    eb.begin_iteration(x);
     Pattern pb;
     eb.declare(pb);
     EXPECT_GT(pa.pairs().size(), 0u);
@@ -191,7 +191,7 @@ TEST(Contact, LineSearchTrialsOnTheStepAgreeWithAFullPass) {
     const Eigen::Index half = x.cols() / 2;
     for (Eigen::Index i = half; i < x.cols(); ++i)
       if (x(0, i) < 0) dx(2, i) = -0.015, dx(1, i) = 0.004 * std::cos(2.3 * static_cast<double>(i));
-    const double t = ea.max_step(x, dx);
+    const double t = ea.begin_line_search(x, dx);
     ASSERT_GT(t, 0.4);
     const std::string kind = std::string(type) == "self_vertex_face" ? "vertex_face" : "edge_edge";
     std::atomic<long>& visited = kind == "vertex_face" ? instrumentation().vertex_face_pairs_evaluated
@@ -214,8 +214,8 @@ TEST(Contact, LineSearchTrialsOnTheStepAgreeWithAFullPass) {
       EXPECT_EQ(ca.at(kind + "_contacts"), cb.at(kind + "_contacts"));
       EXPECT_EQ(ca.at(kind + "_min_distance"), cb.at(kind + "_min_distance"));
       // update_pattern at y reads the list pass's record (a) or its own full pass's (b).
-      ea.update_pattern(y);
-      eb.update_pattern(y);
+      ea.begin_iteration(y);
+      eb.begin_iteration(y);
       Pattern pa, pb;
       ea.declare(pa);
       eb.declare(pb);
@@ -260,7 +260,7 @@ TEST(Contact, BarrierStepNeverReachesZeroDistance) {
   ContactEffect& e = contact_of(s->simulation.effects[0]);
   const Eigen::Matrix3Xd x = s->simulation.x;
   const Eigen::Matrix3Xd dx = lift_b(x, -0.05) - x;  // straight through the other sheet
-  const double t = e.max_step(x, dx);
+  const double t = e.begin_line_search(x, dx);
   EXPECT_GT(t, 0.0);
   EXPECT_LT(t, 0.16);  // the sheets touch at t = 0.16
   EXPECT_TRUE(std::isfinite(e.evaluate(x + t * dx, nullptr, nullptr)));
@@ -295,16 +295,16 @@ TEST(Contact, DeclaresExactlyThePairsActiveAtTheIterate) {
       e.report(c);
       return std::make_pair(c.at(kind + "_declared"), c.at(kind + "_contacts"));
     };
-    EXPECT_TRUE(e.update_pattern(x));
+    EXPECT_TRUE(e.begin_iteration(x));
     const auto [declared, active] = counts(x);
     EXPECT_GT(active, 0.0);
     EXPECT_EQ(declared, active);
-    EXPECT_FALSE(e.update_pattern(x));  // unchanged: the solver keeps its symbolic analysis
+    EXPECT_FALSE(e.begin_iteration(x));  // unchanged: the solver keeps its symbolic analysis
     // Sheet b leaves contact (0.038 apart, still candidates): the pattern shrinks to nothing.
     const Eigen::Matrix3Xd away = lift_b(x, 0.03);
-    EXPECT_TRUE(e.update_pattern(away));
+    EXPECT_TRUE(e.begin_iteration(away));
     EXPECT_EQ(counts(away), std::make_pair(0.0, 0.0));
-    EXPECT_TRUE(e.update_pattern(x));  // and grows back
+    EXPECT_TRUE(e.begin_iteration(x));  // and grows back
     EXPECT_EQ(counts(x), std::make_pair(declared, active));
   }
 }
@@ -400,7 +400,7 @@ TEST(Contact, StepKeepsEveryCandidateATenthOfItsDistanceAlongTheWholeStep) {
       ContactEffect& e = contact_of(s->simulation.effects[0]);
       const Eigen::Matrix3Xd x = s->simulation.x;
       const Eigen::Matrix3Xd dx = closing_motion(x, seed + 100);
-      const double t = e.max_step(x, dx);
+      const double t = e.begin_line_search(x, dx);
       ASSERT_GT(t, 0.0);
       const Model& m = s->simulation.model;
       const Candidates c = brute_force_candidates(x, m.triangles, m.edges, 0.03);
@@ -449,7 +449,7 @@ TEST(Contact, StepBoundFollowsASlidingPairToTheEndOfTheStep) {
   const Eigen::Index half = x.cols() / 2;
   Eigen::Matrix3Xd dx = Eigen::Matrix3Xd::Zero(3, x.cols());
   dx.block(0, half, 1, half).setConstant(0.008);
-  EXPECT_EQ(e.max_step(x, dx), 1.0);
+  EXPECT_EQ(e.begin_line_search(x, dx), 1.0);
 }
 
 TEST(Contact, StepBoundIgnoresACommonTranslation) {
@@ -461,9 +461,9 @@ TEST(Contact, StepBoundIgnoresACommonTranslation) {
   const Eigen::Matrix3Xd x = s->simulation.x;
   Eigen::Matrix3Xd dx = Eigen::Matrix3Xd::Zero(3, x.cols());
   dx.row(2).setConstant(-0.5);
-  EXPECT_EQ(e.max_step(x, dx), 1.0);
+  EXPECT_EQ(e.begin_line_search(x, dx), 1.0);
   dx.row(2).tail(x.cols() / 2).setZero();  // only sheet a (the lower one) moves down: apart
-  EXPECT_LT(e.max_step(x, dx), 0.1);       // conservative: the bound does not know the direction
+  EXPECT_LT(e.begin_line_search(x, dx), 0.1);       // conservative: the bound does not know the direction
 }
 
 TEST(Contact, StepNeverCarriesAVertexThroughAFaceThatWasNotACandidate) {
@@ -477,7 +477,7 @@ TEST(Contact, StepNeverCarriesAVertexThroughAFaceThatWasNotACandidate) {
     ContactEffect& e = contact_of(s->simulation.effects[0]);
     const Eigen::Matrix3Xd x = s->simulation.x;
     const Eigen::Matrix3Xd dx = lift_b(x, -0.2) - x;  // (the candidates are pairs within one sheet)
-    const double t = e.max_step(x, dx);
+    const double t = e.begin_line_search(x, dx);
     EXPECT_GT(t, 0.0);
     EXPECT_LE(0.2 * t, 0.1 - 0.02 + 1e-15);  // never closer than d: the set stays valid
     // 0.5 apart, the same step keeps them 0.3 apart: the meshes' gap is its budget, so it
@@ -485,7 +485,7 @@ TEST(Contact, StepNeverCarriesAVertexThroughAFaceThatWasNotACandidate) {
     auto far = two_sheets(contact(type, "unsigned", "analytic", true), 0.5);
     begin(*far);
     EXPECT_EQ(contact_of(far->simulation.effects[0])
-                  .max_step(far->simulation.x, lift_b(far->simulation.x, -0.2) - far->simulation.x),
+                  .begin_line_search(far->simulation.x, lift_b(far->simulation.x, -0.2) - far->simulation.x),
               1.0);
   }
 }
@@ -522,7 +522,7 @@ TEST(Contact, LandingSheetIsCoveredByOneQueryOverItsSweep) {
     resting->simulation.effects[0]->report(apart);
     const std::string kind = std::string(type) == "self_vertex_face" ? "vertex_face" : "edge_edge";
     EXPECT_GT(falling.at(kind + "_candidates"), apart.at(kind + "_candidates"));  // the sweep reaches a
-    EXPECT_EQ(e.max_step(x, lift_b(x, -0.09) - x), 1.0);
+    EXPECT_EQ(e.begin_line_search(x, lift_b(x, -0.09) - x), 1.0);
     EXPECT_TRUE(e.still_valid(lift_b(x, -0.09)));  // no second query
   }
 }
@@ -540,9 +540,9 @@ TEST(Contact, StepBeyondTheSetIsCoveredByAQueryOverIt) {
     const Eigen::Matrix3Xd x = s->simulation.x;
     Eigen::Matrix3Xd dx = Eigen::Matrix3Xd::Zero(3, x.cols());
     dx.block(0, x.cols() / 2, 1, x.cols() / 2).setConstant(0.05);
-    EXPECT_LE(e.max_step(x, dx), 0.2 + 1e-12);
+    EXPECT_LE(e.begin_line_search(x, dx), 0.2 + 1e-12);
     EXPECT_TRUE(e.cover_step(x, dx));
-    EXPECT_EQ(e.max_step(x, dx), 1.0);
+    EXPECT_EQ(e.begin_line_search(x, dx), 1.0);
     EXPECT_FALSE(e.cover_step(x, dx));
     const Eigen::Matrix3Xd end = x + dx;
     auto fresh = two_sheets(contact(type, "unsigned", "analytic", true), 0.008);
@@ -651,7 +651,7 @@ TEST(Contact, StepBoundEqualsTheBoundOverEveryCandidate) {
                                   ? reference_step<pce::VertexFace>(*s, c.vertex_face, x, dx, 0.03, &valid)
                                   : reference_step<pce::EdgeEdge>(*s, c.edge_edge, x, dx, 0.03, &valid);
       EXPECT_LT(expected, valid);  // a pair binds, not the validity limit
-      EXPECT_DOUBLE_EQ(e.max_step(x, dx), expected);
+      EXPECT_DOUBLE_EQ(e.begin_line_search(x, dx), expected);
     }
   }
 }

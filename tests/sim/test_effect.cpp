@@ -38,7 +38,7 @@ Eigen::Matrix3Xd stepped_state(Simulation& sim) {
 
 /// The whole gradient and Hessian of `e` at x, as the solver assembles them.
 void evaluate_whole(Effect& e, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& g, BlockHessian& H) {
-  if (ContactEffect* c = as_contact(&e)) c->update_pattern(x);
+  if (ContactEffect* c = as_contact(&e)) c->begin_iteration(x);
   Pattern pattern;
   e.declare(pattern);
   H.set_pattern(static_cast<int>(x.cols()), pattern);

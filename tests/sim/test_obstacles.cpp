@@ -692,7 +692,7 @@ TEST(ObstacleContact, BarrierIsInfiniteInsideAndMaxStepKeepsDistancesPositive) {
   Eigen::Matrix3Xd dx(3, x.cols());
   for (Eigen::Index i = 0; i < x.cols(); ++i)
     dx.col(i) = 2 * (s.obstacles[static_cast<std::size_t>(i % 2)].pose(0.1).translation() - x.col(i));
-  const double t = e->max_step(x, dx);
+  const double t = e->begin_line_search(x, dx);
   EXPECT_GT(t, 0);
   EXPECT_LT(t, 1);
   const Eigen::Matrix3Xd y = x + t * dx;
@@ -709,7 +709,7 @@ TEST(ObstacleContact, BarrierIsInfiniteInsideAndMaxStepKeepsDistancesPositive) {
   EXPECT_EQ(g.norm(), 0.0);
   // Non-barrier penalties allow the full step.
   auto q = build(contact_scene("quadratic"), 0.1);
-  EXPECT_EQ(q->max_step(x, dx), 1.0);
+  EXPECT_EQ(q->begin_line_search(x, dx), 1.0);
   EXPECT_TRUE(std::isfinite(q->evaluate(x + 0.5 * dx, nullptr, nullptr)));
 }
 

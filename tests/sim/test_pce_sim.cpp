@@ -360,7 +360,9 @@ TEST(PceSim, ResumedBlockDescentRunEndsBitForBitWhereTheUninterruptedRunEnds) {
   long contacts = 0;
   for (const auto& r : a) contacts += r["contacts"]["vertex_face"].get<long>() + r["contacts"]["edge_edge"].get<long>();
   EXPECT_GT(contacts, 0);
-  EXPECT_EQ(a.back()["stop"], "block_descent");
+  EXPECT_EQ(a.back()["stop"], "sweeps");
+  EXPECT_EQ(a.back()["sweeps"], 10);
+  EXPECT_EQ(a.back()["newton_iterations"], 0);
 }
 
 /// Writes `scene` to PCE_TEST_TMP/`name`.json and returns the path.

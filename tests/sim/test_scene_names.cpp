@@ -63,7 +63,7 @@ TEST(SceneNames, TablesListEveryEnumerator) {
   EXPECT_EQ(kShapeNames.size(), static_cast<std::size_t>(ShapeKind::mesh) + 1);
   EXPECT_EQ(kBroadPhaseNames.size(), static_cast<std::size_t>(BroadPhaseKind::brute) + 1);
   EXPECT_EQ(kLinearSolverNames.size(), static_cast<std::size_t>(LinearSolver::cg) + 1);
-  EXPECT_EQ(kStopReasonNames.size(), static_cast<std::size_t>(StopReason::block_descent) + 1);
+  EXPECT_EQ(kStopReasonNames.size(), static_cast<std::size_t>(StopReason::sweeps) + 1);
   EXPECT_EQ(kGeneratorNames.size(), static_cast<std::size_t>(GeneratorKind::tet_ball) + 1);
 }
 

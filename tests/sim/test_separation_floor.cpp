@@ -107,7 +107,7 @@ Pressed press(Scene& s, bool vf, double floor, int steps, int seed) {
   for (int it = 0; it < steps; ++it) {
     const Eigen::Matrix3Xd dx = pressing_motion(x, seed * 1000 + it);
     e.cover_step(x, dx);
-    const double t = e.max_step(x, dx);
+    const double t = e.begin_line_search(x, dx);
     EXPECT_GE(t, 0.0);
     std::vector<double> d0(pairs.size());
     for (std::size_t k = 0; k < pairs.size(); ++k) d0[k] = distance(x, pairs[k], vf);
@@ -118,7 +118,7 @@ Pressed press(Scene& s, bool vf, double floor, int steps, int seed) {
           out.closest = std::min(out.closest, distance(at, pairs[k], vf) / unit);
     }
     x += t * dx;
-    out.holds += e.stiffen_held(x) ? 1 : 0;
+    out.holds += e.end_line_search(x) ? 1 : 0;
     if (!e.still_valid(x)) e.refresh(x);
   }
   return out;
@@ -175,11 +175,11 @@ TEST(SeparationFloor, APairAtOrBelowItsFloorSlidesFreelyButComesNoCloser) {
       Eigen::Matrix3Xd slide = Eigen::Matrix3Xd::Zero(3, x.cols());
       slide.block(0, half, 1, half).setConstant(0.008);
       e.cover_step(x, slide);
-      EXPECT_EQ(e.max_step(x, slide), 1.0);
+      EXPECT_EQ(e.begin_line_search(x, slide), 1.0);
       Eigen::Matrix3Xd press = Eigen::Matrix3Xd::Zero(3, x.cols());
       press.block(2, half, 1, half).setConstant(-0.01);
       e.cover_step(x, press);
-      const double t = e.max_step(x, press);
+      const double t = e.begin_line_search(x, press);
       EXPECT_LT(t, 0.1);
       double closest = std::numeric_limits<double>::infinity();
       for (const auto& p : all_pairs(s->simulation.model, vf)) {
@@ -214,7 +214,7 @@ TEST(SeparationFloor, WithoutAFloorTheSameStepsPressPairsTowardZero) {
 /// The effect's energy and gradient at x.
 double energy(ContactEffect& e, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* g = nullptr) {
   if (g) g->setZero(3, x.cols());
-  e.update_pattern(x);
+  e.begin_iteration(x);
   return e.evaluate(x, g, nullptr);
 }
 
@@ -233,9 +233,9 @@ TEST(SeparationFloor, AHeldPairsPenaltyIsStiffenedAndItsGradientIsTheEnergys) {
     for (int it = 0; it < 30 && held < 3; ++it) {
       const Eigen::Matrix3Xd dx = pressing_motion(x, it);
       e.cover_step(x, dx);
-      x += e.max_step(x, dx) * dx;
+      x += e.begin_line_search(x, dx) * dx;
       before = energy(e, x);
-      if (e.stiffen_held(x)) {
+      if (e.end_line_search(x)) {
         ++held;
         after = energy(e, x);
         EXPECT_GT(after, before);
@@ -274,8 +274,8 @@ TEST(SeparationFloor, CheckpointsKeepTheStiffening) {
   for (int it = 0; it < 30 && !held; ++it) {
     const Eigen::Matrix3Xd dx = pressing_motion(x, it);
     e.cover_step(x, dx);
-    x += e.max_step(x, dx) * dx;
-    held = e.stiffen_held(x);
+    x += e.begin_line_search(x, dx) * dx;
+    held = e.end_line_search(x);
     if (!e.still_valid(x)) e.refresh(x);
   }
   ASSERT_TRUE(held);

@@ -39,7 +39,7 @@ inline std::unique_ptr<Scene> two_sheets(const nlohmann::json& contact, double g
 /// The effect's assembled Hessian at x, dense and symmetric (the pairs active at x join the
 /// pattern first).
 inline Eigen::MatrixXd dense_hessian(ContactEffect& e, const Eigen::Matrix3Xd& x) {
-  e.update_pattern(x);
+  e.begin_iteration(x);
   Pattern p;
   e.declare(p);
   BlockHessian H;

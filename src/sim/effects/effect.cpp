@@ -26,9 +26,4 @@ void ContactEffect::load_state(const std::string& state) {
   if (!state.empty()) throw std::invalid_argument(std::string(name()) + ": unexpected saved state");
 }
 
-void ContactEffect::evaluate_local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices, LocalTerms& terms) {
-  update_pattern(x);
-  Effect::evaluate_local(x, vertices, terms);
-}
-
 }  // namespace pce::sim

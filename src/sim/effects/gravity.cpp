@@ -1,14 +1,16 @@
 // SPDX-License-Identifier: MIT
-// Gravity: E = −Σᵢ mᵢ g·xᵢ, a linear potential (zero Hessian, nothing declared).
+// Gravity: E = −Σᵢ mᵢ g·xᵢ, a linear potential (zero Hessian, nothing declared), and block
+// descent's acceleration field g (pce/sim/block_descent_hooks.hpp).
 #include "arguments.hpp"
 
+#include <pce/sim/block_descent_hooks.hpp>
 #include <pce/sim/effects.hpp>
 
 namespace pce::sim {
 
 namespace {
 
-class Gravity final : public Effect {
+class Gravity final : public Effect, public AccelerationField {
  public:
   Gravity(const Model& model, const Eigen::Vector3d& g) : Effect("gravity"), model_(&model), g_(g) {}
   void declare(Pattern& /*pattern*/) const override {}

@@ -15,17 +15,17 @@
 /// matrix is the Gauss-Newton approximation, not the exact projection.
 ///
 /// Log barrier: the energy is +∞ (returned, not thrown) when a vertex sits at d ≤ 0, and
-/// `max_step` keeps every distance positive: since d is 1-Lipschitz in the vertex
+/// the line search's bound (`begin_line_search`) keeps every distance positive: since d is 1-Lipschitz in the vertex
 /// position, t ≤ 0.9 d / |Δxᵢ| leaves d ≥ 0.1 d > 0 all along the segment.
 ///
 /// Minimum separation (`min_separation` f, docs/simulation.md §4.6): a solve that ends with
 /// a vertex closer than f·d to an obstacle's surface (at the end pose), which was not that
 /// close at the step's start or has come closer, multiplies that pair's penalty stiffness by
-/// kFloorStiffening (16) and the step is solved again from there (`update_lagged`, as
+/// kFloorStiffening (16) and the step is solved again from there (`end_solve`, as
 /// friction's lagged iterations), up to 8 times a step. A pair held so has a strict floor
 /// from then on: a trial that brings it below f·d (or, already below at the iterate,
 /// closer) is outside the energy's domain (+∞, as a barrier's), and when the line search
-/// finds no trial the pair is stiffened again (`stiffen_held`). The factor stays until the
+/// finds no trial the pair is stiffened again (`end_line_search`). The factor stays until the
 /// pair is beyond d at a step's start. Newton's iterates within a solve may pass the floor
 /// otherwise (an obstacle is rigid and its distance signed: a penalty pushes a vertex that
 /// passed its surface back out), so a step whose solves end above it is computed as
@@ -87,11 +87,11 @@ double bounding_radius(const Obstacle& o) {
   return std::numeric_limits<double>::infinity();
 }
 
-class ObstacleContact final : public ObstacleContactEffect {
+class ObstacleContact final : public ContactEffect {
  public:
   ObstacleContact(const ObstacleContactSettings& settings, std::vector<Obstacle> obstacles, Eigen::VectorXd areas,
                   std::vector<char> surface, long vertices)
-      : ObstacleContactEffect("obstacle_contact"),
+      : ContactEffect("obstacle_contact"),
         penalty_(settings.penalty),
         floor_(settings.min_separation * settings.penalty.distance),
         friction_(settings.friction),
@@ -108,8 +108,9 @@ class ObstacleContact final : public ObstacleContactEffect {
 
   void begin_step(const StepContext& ctx) override {
     for (std::size_t k = 0; k < obstacles_.size(); ++k) {
-      poses_[k] = obstacles_[k].pose(ctx.time);
-      if (friction_) start_poses_[k] = obstacles_[k].pose(ctx.time - ctx.dt);
+      const Obstacle& o = posed(ctx, k);
+      poses_[k] = o.pose(ctx.time);
+      if (friction_) start_poses_[k] = o.pose(ctx.time - ctx.dt);
     }
     forget_stiffening(*ctx.x_start);
     x_step_start_ = ctx.x_start;
@@ -123,21 +124,7 @@ class ObstacleContact final : public ObstacleContactEffect {
     freeze(*ctx.x_start, true);
   }
 
-  bool has_obstacle(const std::string& name) const override {
-    return std::any_of(obstacles_.begin(), obstacles_.end(), [&](const Obstacle& o) { return o.name == name; });
-  }
-
-  bool place_obstacle(const std::string& name, const PlacedPose& placed) override {
-    bool found = false;
-    for (Obstacle& o : obstacles_)
-      if (o.name == name) {
-        o.place(placed);
-        found = true;
-      }
-    return found;
-  }
-
-  bool update_lagged(const Eigen::Matrix3Xd& x) override {
+  bool end_solve(const Eigen::Matrix3Xd& x) override {
     const bool stiffened = stiffen_below(x);
     if (!friction_ || rounds_ >= friction_->lagged_iterations) return stiffened;
     const ScopedTimer timer(friction_stats_.ms);
@@ -160,8 +147,8 @@ class ObstacleContact final : public ObstacleContactEffect {
     return energy;
   }
 
-  double max_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) override {
-    pressed_.clear();  // a line search begins
+  double begin_line_search(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) override {
+    pressed_.clear();
     if (!penalty_.barrier()) return 1.0;
     return contact::min_over_chunks(x.cols(), kChunk, 1.0, [&](std::size_t, long begin, long end, double& t) {
       for (long i = begin; i < end; ++i) {
@@ -178,7 +165,7 @@ class ObstacleContact final : public ObstacleContactEffect {
     });
   }
 
-  /// Block descent's first move: as max_step, for every penalty (a vertex keeps its floor, or
+  /// Block descent's first move: as begin_line_search's bound, for every penalty (a vertex keeps its floor, or
   /// nine tenths of its distance when closer; one inside an obstacle is not limited).
   double safe_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) override {
     return contact::min_over_chunks(x.cols(), kChunk, 1.0, [&](std::size_t, long begin, long end, double& t) {
@@ -240,10 +227,10 @@ class ObstacleContact final : public ObstacleContactEffect {
     });
   }
 
-  /// Before each Newton iteration's assembly at the iterate x: the held pairs (stiffening
-  /// above 1) closer than the floor there, which the floor then keeps no closer than they
-  /// are. The pattern is unchanged (diagonal blocks only).
-  bool update_pattern(const Eigen::Matrix3Xd& x) override {
+  /// A Newton iteration begins at the iterate x: the held pairs (stiffening above 1) closer
+  /// than the floor there, which the floor then keeps no closer than they are. The pattern
+  /// is unchanged (diagonal blocks only).
+  bool begin_iteration(const Eigen::Matrix3Xd& x) override {
     below_.clear();
     slack_ = kFloorRounding * std::max(x.cwiseAbs().maxCoeff(), 1.0);
     for (std::size_t j = 0; j < stiffening_.size(); ++j) {
@@ -254,8 +241,8 @@ class ObstacleContact final : public ObstacleContactEffect {
     return false;
   }
 
-  bool stiffen_held(const Eigen::Matrix3Xd& x) override {
-    // the held pairs whose floor refused a trial of the last line search, if x has them
+  bool end_line_search(const Eigen::Matrix3Xd& x) override {
+    // the held pairs whose floor refused a trial of the line search, if x has them
     // within three floors (pressed in, not the full step's overshoot)
     bool any = false;
     std::sort(pressed_.begin(), pressed_.end());
@@ -318,6 +305,16 @@ class ObstacleContact final : public ObstacleContactEffect {
  private:
   /// Vertices per chunk of the parallel passes.
   static constexpr long kChunk = 1024;
+
+  /// Where obstacle k's poses come from: the simulation's obstacle of its name
+  /// (`StepContext::obstacles`, which holds the poses put between steps,
+  /// `Simulation::set_obstacle_pose`), or the effect's own copy when the step has none.
+  const Obstacle& posed(const StepContext& ctx, std::size_t k) const {
+    if (ctx.obstacles)
+      for (const Obstacle& o : *ctx.obstacles)
+        if (o.name == obstacles_[k].name) return o;
+    return obstacles_[k];
+  }
 
   /// The floor's rounding allowance, relative to max(|x|, 1) (as self contact's).
   static constexpr double kFloorRounding = 1e-12;
@@ -535,9 +532,9 @@ class ObstacleContact final : public ObstacleContactEffect {
     std::size_t pair = 0;
     double distance = 0;
   };
-  std::vector<Below> below_;                              ///< at the last update_pattern, ascending by pair
+  std::vector<Below> below_;                              ///< at the last begin_iteration, ascending by pair
   double slack_ = 0;                                      ///< the floor's rounding allowance at that iterate
-  std::vector<std::size_t> pressed_;                      ///< held pairs whose floor refused a trial since max_step
+  std::vector<std::size_t> pressed_;                      ///< held pairs whose floor refused a trial since begin_line_search
   std::vector<std::vector<std::size_t>> pressed_chunks_;  ///< per chunk of the evaluation
   const Eigen::Matrix3Xd* x_step_start_ = nullptr;        ///< xⁿ of the step
   int floor_solves_ = 0;                                  ///< solves of this step that stiffen_below asked for
@@ -578,14 +575,14 @@ void check_obstacle(const Obstacle& o, const std::string& at) {
 
 }  // namespace
 
-std::unique_ptr<ObstacleContactEffect> make_obstacle_contact(const std::vector<Obstacle>& obstacles,
+std::unique_ptr<ContactEffect> make_obstacle_contact(const std::vector<Obstacle>& obstacles,
                                                              const ContactPenalty& penalty) {
   ObstacleContactSettings settings;
   settings.penalty = penalty;
   return make_obstacle_contact(Model{}, obstacles, settings);  // unweighted: the model is not read
 }
 
-std::unique_ptr<ObstacleContactEffect> make_obstacle_contact(const Model& model, const std::vector<Obstacle>& obstacles,
+std::unique_ptr<ContactEffect> make_obstacle_contact(const Model& model, const std::vector<Obstacle>& obstacles,
                                                              const ObstacleContactSettings& settings) {
   check_penalty(settings.penalty, "penalty.");
   check_friction(settings.friction);

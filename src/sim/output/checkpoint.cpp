@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Checkpoint files (pce/sim/checkpoint.hpp).
 #include <pce/sim/checkpoint.hpp>
-#include <pce/sim/contact_effect.hpp>
+#include <pce/sim/carried_state.hpp>
+#include <pce/sim/effect.hpp>
 #include <pce/sim/input_error.hpp>
 
 #include <cmath>
@@ -19,16 +20,16 @@ namespace {
 constexpr char kMagic[8] = {'P', 'C', 'E', 'S', 'I', 'M', 'C', 'K'};
 constexpr std::uint32_t kByteOrderMark = 0x01020304;
 
-/// What `effect` carries from one step to the next: a contact effect's saved state, else nothing.
+/// What `effect` carries from one step to the next (`CarriedState`), else nothing.
 std::string state_of(const Effect& effect) {
-  const auto* c = dynamic_cast<const ContactEffect*>(&effect);
+  const auto* c = dynamic_cast<const CarriedState*>(&effect);
   return c ? c->save_state() : std::string();
 }
 
 /// Restores `state` (from state_of) into `effect`; throws std::invalid_argument when it does
 /// not fit.
 void restore_state(Effect& effect, const std::string& state) {
-  if (ContactEffect* c = as_contact(&effect))
+  if (auto* c = dynamic_cast<CarriedState*>(&effect))
     c->load_state(state);
   else if (!state.empty())
     throw std::invalid_argument(std::string(effect.name()) + ": unexpected saved state");

@@ -31,6 +31,7 @@ json frame_record(const FrameStats& s, long intersections) {
   r["frame"] = s.frame;
   r["wall_ms"] = s.wall_ms;
   r["newton_iterations"] = s.newton_iterations;
+  if (s.sweeps > 0) r["sweeps"] = s.sweeps;
   r["residual"] = s.residual;
   r["friction_load"] = s.friction_load;
   r["stop"] = std::string(name_of(s.stop));
@@ -71,6 +72,12 @@ json frame_record(const FrameStats& s, long intersections) {
                           {"limited_by", it.limited_by},
                           {"alpha", it.alpha}});
   r["iterations"] = iterations;
+  if (s.sweeps > 0) {
+    json sweeps = json::array();
+    for (const SweepRecord& k : s.sweep_records)
+      sweeps.push_back({{"residual", k.residual}, {"bound_clamps", k.bound_clamps}});
+    r["sweep_records"] = sweeps;
+  }
   return r;
 }
 
@@ -116,15 +123,18 @@ json summary_of(const Simulation& sim, const std::string& scene_file, const json
   summary["peak_memory_mib"] = peak_memory_mib();
   summary["failure"] = failure.empty() ? json(nullptr) : json(failure);
   summary["stopped_by"] = stopped_by ? json(stopped_by) : json(nullptr);
-  double ms = 0, iters = 0;
+  double ms = 0, iters = 0, sweeps = 0;
   long new_intersections = 0;
   for (const auto& r : stats) {
     ms += r["wall_ms"].get<double>();
     iters += r["newton_iterations"].get<double>();
+    sweeps += r.value("sweeps", 0.0);
     new_intersections += r.value("new_intersections", 0L);
   }
   summary["mean_ms_per_frame"] = stats.empty() ? 0.0 : ms / static_cast<double>(stats.size());
   summary["mean_newton_iterations"] = stats.empty() ? 0.0 : iters / static_cast<double>(stats.size());
+  if (sim.solver.mode == SolverMode::block_descent)
+    summary["mean_sweeps"] = stats.empty() ? 0.0 : sweeps / static_cast<double>(stats.size());
   summary["new_intersections"] = new_intersections;
   return summary;
 }

@@ -29,13 +29,12 @@ void Colouring::adjacency(int n, const std::vector<std::uint64_t>& declared, std
   }
 }
 
-bool Colouring::set_static(int n, const std::vector<std::uint64_t>& declared) {
-  if (n == n_ && declared == last_) return false;
+void Colouring::set_static(int n, const std::vector<std::uint64_t>& declared) {
+  if (n == n_ && declared == last_) return;
   n_ = n;
   last_ = declared;
   adjacency(n, declared, begin_, neighbours_);
   coloured_ = false;
-  return true;
 }
 
 bool Colouring::colour(const std::vector<std::uint64_t>& declared) {

@@ -16,9 +16,8 @@ namespace pce::sim {
 /// one (the contacts').
 class Colouring {
  public:
-  /// Sets the static couplings of n vertices from a declaration (`Pattern::pairs`); returns
-  /// true when they changed.
-  bool set_static(int n, const std::vector<std::uint64_t>& declared);
+  /// Sets the static couplings of n vertices from a declaration (`Pattern::pairs`).
+  void set_static(int n, const std::vector<std::uint64_t>& declared);
   /// Colours the vertices greedily, in index order (each takes the smallest colour none of
   /// its earlier neighbours has), with the static couplings and those `declared` (a
   /// `Pattern::pairs`). Deterministic: the result depends on the graph alone. Returns false,

@@ -8,7 +8,7 @@
 
 #include <algorithm>
 
-namespace pce::sim {
+namespace pce::sim::solver {
 
 namespace {
 
@@ -43,7 +43,7 @@ class SerialRegions {
 
 /// Symbolic analysis when the pattern changed, then the numerical factorisation, each
 /// timed; false when the factorisation fails.
-template <class Factorization> bool Simulation::LinearState::factor(Factorization& f, const SparseMatrix& A) {
+template <class Factorization> bool LinearState::factor(Factorization& f, const SparseMatrix& A) {
   factored = nullptr;
   if (!analyzed) {
     {
@@ -73,7 +73,7 @@ template <class Factorization> bool Simulation::LinearState::factor(Factorizatio
 /// (converged, breakdown, cap) is explicit and counted, where Eigen's loop reports only
 /// success or no convergence and does not stop at pᵀHp ≤ 0.
 template <class Factorization>
-bool Simulation::LinearState::preconditioned_cg(const Factorization& f, const SparseMatrix& A,
+bool LinearState::preconditioned_cg(const Factorization& f, const SparseMatrix& A,
                                                 const Eigen::VectorXd& rhs, double eta, int max_iterations,
                                                 Eigen::VectorXd& dx) {
   const double target = eta * rhs.norm();
@@ -105,7 +105,7 @@ bool Simulation::LinearState::preconditioned_cg(const Factorization& f, const Sp
 /// solve is the exact direction. After repeated CG failures the next `reuse_skip` solves
 /// refactor without trying CG (the back-off, see kMaxReuseBackoff). False when the
 /// factorisation or its solve fails.
-template <class Factorization> bool Simulation::LinearState::reuse_solve(Factorization& f, const SparseMatrix& A,
+template <class Factorization> bool LinearState::reuse_solve(Factorization& f, const SparseMatrix& A,
                                                                          const Eigen::VectorXd& rhs, double eta,
                                                                          int max_iterations, Eigen::VectorXd& dx) {
   if (factored == &f && reuse_skip == 0) {
@@ -124,7 +124,7 @@ template <class Factorization> bool Simulation::LinearState::reuse_solve(Factori
 }
 
 /// Solves H dx = rhs; false when the factorisation or the iteration fails.
-bool Simulation::LinearState::solve(const SolverSettings& settings, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx) {
+bool LinearState::solve(const SolverSettings& settings, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx) {
   const SparseMatrix& A = H.matrix();
   const SerialRegions serial;
   switch (settings.linear) {
@@ -157,4 +157,4 @@ bool Simulation::LinearState::solve(const SolverSettings& settings, const Eigen:
   return false;
 }
 
-}  // namespace pce::sim
+}  // namespace pce::sim::solver

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file
 /// The Newton system's matrix and the linear solvers of `SolverSettings::linear`, kept
-/// between steps (internal to `Simulation`): a factorisation every iteration (CHOLMOD when
+/// between steps (internal to Newton's solver, solver/newton.cpp): a factorisation every iteration (CHOLMOD when
 /// built with it, else Eigen's LDLᵀ), factor_reuse's conjugate gradients preconditioned by a
 /// kept factor, or Eigen's diagonally preconditioned conjugate gradients
 /// (docs/simulation.md §5.3).
@@ -16,11 +16,11 @@
 #include <Eigen/CholmodSupport>
 #endif
 
-namespace pce::sim {
+namespace pce::sim::solver {
 
 /// The linear solver and the global Hessian, kept between steps (no allocation per
 /// iteration once the pattern is built).
-struct Simulation::LinearState {
+struct LinearState {
   using SparseMatrix = Eigen::SparseMatrix<double>;
   BlockHessian H;
   /// The factor object's symbolic analysis is that of H's current pattern (cleared when the
@@ -65,4 +65,4 @@ struct Simulation::LinearState {
                                                   double eta, int max_iterations, Eigen::VectorXd& dx);
 };
 
-}  // namespace pce::sim
+}  // namespace pce::sim::solver

@@ -83,9 +83,9 @@ template <bool VF> class SelfContact final : public ContactEffect {
     if (settings_.friction) friction_.begin_step(ctx);
   }
 
-  bool update_lagged(const Eigen::Matrix3Xd& x) override { return settings_.friction && friction_.update_lagged(x); }
+  bool end_solve(const Eigen::Matrix3Xd& x) override { return settings_.friction && friction_.update_lagged(x); }
 
-  bool stiffen_held(const Eigen::Matrix3Xd& x) override {
+  bool end_line_search(const Eigen::Matrix3Xd& x) override {
     return bounded() && !step_bound_.held().empty() && floor_.stiffen(x, step_bound_.held());
   }
 
@@ -127,7 +127,10 @@ template <bool VF> class SelfContact final : public ContactEffect {
   }
 
   void evaluate_local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices, LocalTerms& terms) override {
-    if (!local_.ready()) return ContactEffect::evaluate_local(x, vertices, terms);
+    if (!local_.ready()) {  // no sweep listed its pairs: the pairs active at x, evaluated whole
+      active_.update_pattern(x);
+      return Effect::evaluate_local(x, vertices, terms);
+    }
     {
       const ScopedTimer timer(stats_.pair_ms);
       local_.evaluate(x, vertices, terms);
@@ -145,7 +148,7 @@ template <bool VF> class SelfContact final : public ContactEffect {
     if (settings_.friction) friction_.declare(pattern);
   }
 
-  bool update_pattern(const Eigen::Matrix3Xd& x) override { return active_.update_pattern(x); }
+  bool begin_iteration(const Eigen::Matrix3Xd& x) override { return active_.update_pattern(x); }
 
   double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian) override {
     double energy = active_.evaluate(x, gradient, hessian, step_bound_.segment_at(x), stats_);
@@ -154,13 +157,13 @@ template <bool VF> class SelfContact final : public ContactEffect {
     return energy;
   }
 
-  double max_step(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) override {
+  double begin_line_search(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx) override {
     step_bound_.invalidate();
     return bounded() ? step_bound_.max_step(x, dx) : 1.0;
   }
 
   const std::vector<FrozenFriction>& frozen_friction() const override {
-    return settings_.friction ? friction_.published() : ContactEffect::frozen_friction();
+    return settings_.friction ? friction_.published() : NewtonHooks::frozen_friction();
   }
 
   void report(EffectCounters& c) const override {

@@ -6,7 +6,7 @@
 ///
 /// What is saved: the frame count and the simulated time (pin releases, pin and obstacle
 /// motions and every other prescribed quantity are functions of them), positions and
-/// velocities as raw doubles, and each contact effect's `ContactEffect::save_state()` (self
+/// velocities as raw doubles, and each effect's `CarriedState::save_state()` (self
 /// contact: its tracked pairs with their settled sides). What is not: the linear solver's symbolic
 /// analysis (a function of the sparsity pattern, which the first iteration rebuilds) and
 /// per-step scratch.

@@ -5,15 +5,24 @@
 /// effects through this interface without knowing any of them by name; only the effects a
 /// scene declares are constructed (`pce/sim/scene.hpp`), so nothing else costs time.
 ///
-/// Every effect considers six virtual functions: `begin_step`, `declare`, `evaluate`,
-/// `evaluate_local`, `add_acceleration` and `report` (each but `declare` and `evaluate`
-/// has a default). What
-/// only contact needs (a step bound, re-queries, a state-dependent pattern, lagged friction,
-/// saved state) is the separate interface `ContactEffect` (`pce/sim/contact_effect.hpp`),
-/// which the solver discovers; no other effect carries it.
+/// An `Effect` is what every solver needs of a term, and nothing solver-specific: five
+/// virtual functions, `begin_step`, `declare`, `evaluate`, `evaluate_local` and `report`
+/// (each but `declare` and `evaluate` has a default). What one solver alone asks of some
+/// effects is that solver's own small interface, which an effect may implement as well and
+/// which only that solver looks for (`dynamic_cast`, once per time step):
+///  * `NewtonHooks` (`pce/sim/newton_hooks.hpp`): Newton's iterations, line searches and
+///    solves, told to the effect as they happen (state-dependent patterns, re-queries over a
+///    step, step bounds, lagged friction);
+///  * `BlockDescentHooks` (`pce/sim/block_descent_hooks.hpp`): block descent's first move,
+///    per-vertex bounds and sweeps; `AccelerationField` (same header): its first guess;
+///  * `Requery` (`pce/sim/requery.hpp`): candidates that go stale as the state moves, which
+///    both solvers check after each accepted update;
+///  * `CarriedState` (`pce/sim/carried_state.hpp`): state a checkpoint keeps.
+/// `ContactEffect` (`pce/sim/contact_effect.hpp`) is the base of the contact effects, which
+/// implement all four. docs/simulation.md §5.6 draws who calls what, and when.
 ///
-/// The solver makes a few virtual calls per effect and Newton iteration, never one per
-/// element or pair.
+/// The solver makes a few virtual calls per effect and iteration, never one per element
+/// or pair.
 #pragma once
 
 #include <pce/sim/block_hessian.hpp>
@@ -45,9 +54,11 @@ struct LocalTerms {
   }
 };
 
-/// One term of the incremental potential (see the file comment). The solver calls, in
-/// order: begin_step once per time step, declare, then evaluate per Newton iteration and
-/// line-search trial, and report once per frame.
+/// One term of the incremental potential (see the file comment). Every solver calls
+/// begin_step once per time step, then declare (Newton: before it assembles; block descent:
+/// once per step, for the effects that do not implement `BlockDescentHooks`), then evaluate
+/// (Newton: per iteration and line-search trial; both: at the accepted state) or
+/// evaluate_local (block descent: per colour of each sweep), and report once per frame.
 class Effect {
  public:
   /// `name`: the scene's name of the effect (`"stretching"`, `"self_vertex_face"`, …).
@@ -58,8 +69,8 @@ class Effect {
 
   /// The scene's name of the effect.
   const char* name() const { return name_.c_str(); }
-  /// Once per time step, before Newton: update prescribed data (pin targets, releases,
-  /// obstacle poses, candidate pairs).
+  /// Once per time step, before the solver's first call: update prescribed data (pin
+  /// targets, releases, obstacle poses, candidate pairs).
   virtual void begin_step(const StepContext& /*ctx*/) {}
   /// Declares the vertex tuples the Hessian couples (after `begin_step`).
   virtual void declare(Pattern& pattern) const = 0;
@@ -71,10 +82,6 @@ class Effect {
   /// evaluates the whole effect and reads those columns and blocks; an effect overrides it
   /// to evaluate only the elements touching the vertices.
   virtual void evaluate_local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices, LocalTerms& terms);
-  /// Adds the effect's acceleration field, if it is one that does not depend on the state
-  /// (gravity: g at each vertex it acts on), to `a` (3×n): block descent starts each step
-  /// from xⁿ + h vⁿ + h² a (docs/simulation.md §5.5). The default: it is none.
-  virtual void add_acceleration(Eigen::Matrix3Xd& /*a*/) const {}
   /// Counters for the frame's statistics (contact counts, minimum distance, …).
   virtual void report(EffectCounters& /*counters*/) const {}
 

@@ -223,26 +223,13 @@ std::unique_ptr<ContactEffect> make_self_vertex_face(const Model& model, const C
 /// and strand segments). Needs two edges; the same settings rules as vertex-face.
 std::unique_ptr<ContactEffect> make_self_edge_edge(const Model& model, const ContactSettings& settings);
 
-/// The effect `make_obstacle_contact` builds, with its copies of the obstacles reachable by
-/// name: `Simulation::set_obstacle_pose` places them (found among `Simulation::effects` by
-/// `dynamic_cast`).
-class ObstacleContactEffect : public ContactEffect {
- public:
-  using ContactEffect::ContactEffect;
-  /// Whether one of its obstacles is named `name`.
-  virtual bool has_obstacle(const std::string& name) const = 0;
-  /// Places its copy of the obstacle named `name` (`Obstacle::place`): the steps that end at
-  /// or after `placed.from` push out of the obstacle at `placed.pose`, and friction sees its
-  /// surface move there from where the step started. Returns false (and changes nothing)
-  /// when it has no obstacle of that name.
-  virtual bool place_obstacle(const std::string& name, const PlacedPose& placed) = 0;
-};
-
 /// Contact with kinematic obstacles: Σ ψ(d) over (vertex, obstacle) pairs, d the signed
-/// distance to the obstacle's surface (negative inside). The obstacles are copied; each
+/// distance to the obstacle's surface (negative inside). The obstacles are copied (their
+/// shapes; each step reads their poses from the simulation's obstacles of the same names,
+/// `StepContext::obstacles`, when it has them, so poses put between steps reach it); each
 /// must be a valid shape (sizes > 0, finite pose, a mesh with triangles). Frictionless and
 /// unweighted; the overload below takes every setting.
-std::unique_ptr<ObstacleContactEffect> make_obstacle_contact(const std::vector<Obstacle>& obstacles,
+std::unique_ptr<ContactEffect> make_obstacle_contact(const std::vector<Obstacle>& obstacles,
                                                              const ContactPenalty& penalty);
 
 /// An obstacle-contact effect's settings (scene `obstacle_contact` object, but the list of
@@ -264,7 +251,7 @@ struct ObstacleContactSettings {
 
 /// Contact with kinematic obstacles, as above, with area weighting and friction as
 /// `settings` says (`model`: the vertices' rest areas).
-std::unique_ptr<ObstacleContactEffect> make_obstacle_contact(const Model& model, const std::vector<Obstacle>& obstacles,
+std::unique_ptr<ContactEffect> make_obstacle_contact(const Model& model, const std::vector<Obstacle>& obstacles,
                                                              const ObstacleContactSettings& settings);
 
 }  // namespace pce::sim

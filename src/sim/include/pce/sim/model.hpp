@@ -14,6 +14,8 @@
 
 namespace pce::sim {
 
+struct Obstacle;
+
 /// Where one scene mesh lives inside the model.
 struct MeshRange {
   std::string name;      ///< the scene's mesh name
@@ -123,6 +125,9 @@ struct StepContext {
   const Model* model = nullptr;
   const Eigen::Matrix3Xd* x_start = nullptr;  ///< positions at the start of the step
   const Eigen::Matrix3Xd* v_start = nullptr;  ///< velocities at the start of the step
+  /// The simulation's obstacles, whose poses (motions and poses put between steps) an effect
+  /// that meets them reads; null when the step has none to tell.
+  const std::vector<Obstacle>* obstacles = nullptr;
 };
 
 }  // namespace pce::sim

@@ -9,11 +9,14 @@
 /// minimised by projected Newton: each effect adds its energy, gradient and PSD Hessian,
 /// the Newton direction solves H Δx = −g (by default a factorisation every iteration,
 /// CHOLMOD or Eigen's LDLᵀ; or conjugate gradients preconditioned by a kept Cholesky
-/// factor; or plain conjugate gradients), a backtracking line search (Armijo) that no effect's
-/// `max_step` lets a barrier cross, until the scale-aware residual max|Δx|/(h·ℓ) <
-/// tolerance (ℓ the rest bounding-box diagonal: a velocity in model sizes per second) with,
-/// where friction acts, no frozen contact asked by Newton's model for more than Coulomb's μλ
-/// — or the iteration cap. The paper's cheap mode takes a single Newton step per time step.
+/// factor; or plain conjugate gradients), a backtracking line search (Armijo) that no effect
+/// lets a barrier cross (`NewtonHooks::begin_line_search`), until the scale-aware residual
+/// max|Δx|/(h·ℓ) < tolerance (ℓ the rest bounding-box diagonal: a velocity in model sizes
+/// per second) with, where friction acts, no frozen contact asked by Newton's model for more
+/// than Coulomb's μλ — or the iteration cap. The paper's cheap mode takes a single Newton
+/// step per time step; block descent (`SolverMode::block_descent`) sweeps vertex by vertex
+/// instead. `Simulation` holds the model, the state, the effects and the obstacles; each
+/// solver is an object of its own that keeps its state between steps (src/sim/solver).
 #pragma once
 
 #include <pce/core/enum_names.hpp>
@@ -28,6 +31,10 @@
 #include <vector>
 
 namespace pce::sim {
+
+namespace solver {
+class StepSolver;
+}  // namespace solver
 
 /// How the Newton system H Δx = −g is solved (scene key `solver.linear_solver`):
 /// `direct` (the default: a new factorisation every iteration, CHOLMOD when built with it,
@@ -91,9 +98,15 @@ struct NewtonIteration {
   /// The friction test's largest |φ|/(μλ) over the frozen contacts at the accepted step
   /// (`pce::friction_model_force`), when the direction was below the tolerance; else 0.
   double friction_load = 0;
-  double step_limit = 1;        ///< the largest fraction of Δx every effect's `max_step` allowed
-  const char* limited_by = "";  ///< the effect whose max_step set step_limit ("" when it is 1)
+  double step_limit = 1;        ///< the largest fraction of Δx every effect allowed (`begin_line_search`)
+  const char* limited_by = "";  ///< the effect that set step_limit ("" when it is 1)
   double alpha = 0;             ///< the accepted fraction after backtracking (0: the line search failed)
+};
+
+/// One sweep of block descent (`stats.json`'s `sweep_records`, docs/simulation.md §6.1).
+struct SweepRecord {
+  double residual = 0;    ///< the largest vertex move of the sweep, over h·ℓ
+  long bound_clamps = 0;  ///< vertices the sweep moved to their bound
 };
 
 /// How far above Coulomb's μλ Newton's model may load a frozen friction contact at a step that
@@ -101,14 +114,15 @@ struct NewtonIteration {
 /// by ½(Δu⊥/y)² when the step turns its slip by Δu⊥/y.
 inline constexpr double kCoulombMargin = 1e-3;
 
-/// Why a step's Newton iterations ended (`stats.json`'s `stop`, docs/simulation.md §5.2).
+/// Why a step's solve ended (`stats.json`'s `stop`, docs/simulation.md §5.2): Newton's
+/// reasons, or `sweeps` for block descent.
 enum class StopReason {
   tolerance,      ///< a direction below the tolerance was taken (within Coulomb's bound, with friction)
   rounding,       ///< a direction below the tolerance whose trial failed by rounding
   line_search,    ///< the line search found no decrease (`line_search_failures`)
   iteration_cap,  ///< `max_iterations` were used up (`hit_iteration_cap`)
   single_solve,   ///< single-solve mode: one direction, no test
-  block_descent,  ///< block-descent mode: its sweeps were done
+  sweeps,         ///< block-descent mode: its `iterations` sweeps were done
 };
 
 /// The reasons' names (`stats.json`'s `stop`), in enumerator order.
@@ -118,7 +132,7 @@ inline constexpr EnumNames<StopReason, 6> kStopReasonNames{{
     {StopReason::line_search, "line_search"},
     {StopReason::iteration_cap, "iteration_cap"},
     {StopReason::single_solve, "single_solve"},
-    {StopReason::block_descent, "block_descent"},
+    {StopReason::sweeps, "sweeps"},
 }};
 
 /// The table of `StopReason`'s names (for `pce::name_of` and `pce::parse`).
@@ -133,14 +147,17 @@ struct FrameStats {
   int frame = 0;
   /// The whole step (`Simulation::step`), wall-clock ms.
   double wall_ms = 0;
-  /// Linear solves in this step.
+  /// Newton iterations (linear solves) in this step; 0 in block descent.
   int newton_iterations = 0;
-  double residual = 0;  ///< max|Δx|/(h·ℓ) of the last Newton direction
+  /// Block descent's sweeps in this step; 0 in Newton.
+  int sweeps = 0;
+  /// max|Δx|/(h·ℓ) of the last Newton direction, or of the last sweep's largest move.
+  double residual = 0;
   /// The friction test's largest |φ|/(μλ) at the last direction below the tolerance that was
   /// taken (0 without friction or without such a direction): above 1 + `kCoulombMargin` it
   /// did not end the step.
   double friction_load = 0;
-  StopReason stop = StopReason::iteration_cap;  ///< why the Newton iterations ended
+  StopReason stop = StopReason::iteration_cap;  ///< why the solve ended
   double energy = 0;                            ///< incremental potential at the accepted state
   double kinetic_energy = 0;                    ///< ½ Σᵢ mᵢ |vᵢ|² at the end of the step (J)
   int line_search_failures = 0;  ///< 1 when a line search found no decrease (which ends the step), else 0
@@ -153,8 +170,10 @@ struct FrameStats {
   ///@}
   std::vector<std::pair<std::string, double>> effect_ms;  ///< per evaluated effect, in scene order
   std::vector<NewtonIteration> iterations;                ///< per Newton iteration, in order
-  /// Merged effect counters (contact counts, distances, …) and the linear solver's
-  /// (`factorizations`, `cg_iterations`, `analyses`, `analyze_ms`, `factorize_ms`).
+  std::vector<SweepRecord> sweep_records;                 ///< per block-descent sweep, in order
+  /// Merged effect counters (contact counts, distances, …) and the solver's (Newton's linear
+  /// solver: `factorizations`, `cg_iterations`, `analyses`, `analyze_ms`, `factorize_ms`,
+  /// `pattern_blocks`; block descent's: `first_move`, `detections`, `colours`, …).
   EffectCounters counters;
 };
 
@@ -221,8 +240,8 @@ class Simulation {
 
   /// Puts the obstacle named `name` at `pose` (x_world = pose * x_local) from the next step
   /// on, replacing its motion until it is put again: adds `PlacedPose{time + dt/2, pose}`
-  /// (`Obstacle::place`) to it in `obstacles` (which output draws) and to every obstacle
-  /// contact effect's copy of it (`ObstacleContactEffect`, `pce/sim/effects.hpp`). The next
+  /// (`Obstacle::place`) to it in `obstacles`, which output draws and every obstacle contact
+  /// effect reads its poses from (`StepContext::obstacles`). The next
   /// step ends with the obstacle at `pose`, and friction sees its surface move there from its
   /// pose at the step's start. Throws `ArgumentError` when no obstacle has that name
   /// ("name"), the translation is not finite or beyond ±`kMaxCoordinate` ("translation"), or
@@ -231,38 +250,10 @@ class Simulation {
   void set_obstacle_pose(const std::string& name, const Eigen::Isometry3d& pose);
 
  private:
-  [[noreturn]] void fail_non_finite(const Eigen::Matrix3Xd& y, int frame, const std::string& where);
-  double potential(const Eigen::Matrix3Xd& y, std::vector<double>* effect_ms);
-  Eigen::VectorXd mass3_;  ///< per coordinate m/h²
-  Eigen::Matrix3Xd x_tilde_;
-  double scale_ = 1;
-  struct LinearState;
-  std::shared_ptr<LinearState> linear_;
-  /// What one step carries from stage to stage (solver/simulation.cpp).
-  struct StepState;
-  /// maxₖ |φₖ|/(μλ)ₖ over the contact effects' frozen friction contacts: the friction force
-  /// Newton's model assigns to contact k after `step` from the iterate (displacements from
-  /// xⁿ), in units of its Coulomb bound (`pce::friction_model_force`); 0 without friction.
-  double friction_load(const StepState& s, const Eigen::Matrix3Xd& step) const;
-  /// Whether any contact effect froze a friction contact for this step.
-  bool has_friction(const StepState& s) const;
-  // The stages of `step`, in order (docs/simulation.md §5.2).
-  void predict(StepState& s);
-  void rebuild_pattern(StepState& s);
-  void newton(StepState& s);
-  void assemble(StepState& s, int it);
-  void solve_direction(StepState& s, int it);
-  bool cover(StepState& s);
-  bool line_search(StepState& s, int it, bool small_step, bool& converged);
-  bool stiffen_held(StepState& s);
-  void refresh(StepState& s);
-  bool update_lagged(StepState& s);
-  void accept(StepState& s);
-  // Block descent's step (solver/block_descent.cpp, docs/simulation.md §5.5).
-  void block_descent(StepState& s);
-  struct BlockState;
-  std::shared_ptr<BlockState> block_;
-  void report(StepState& s);
+  /// The solver of the current mode (solver/newton.cpp, solver/block_descent.cpp), kept
+  /// between steps while the mode is one it solves.
+  std::shared_ptr<solver::StepSolver> solver_;
+  bool block_descent_ = false;  ///< solver_ is block descent's
 };
 
 }  // namespace pce::sim
