@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file
 /// The step bound of a self-contact effect with a barrier or `ccd` (internal;
-/// docs/simulation.md §4.4): the largest fraction of a Newton step along which no candidate
+/// docs/simulation.md §4.6): the largest fraction of a Newton step along which no candidate
 /// pair can cross and the candidate set stays valid, and, from the same pass, the list of
 /// candidates that can be active anywhere on that segment (what a line-search trial then
 /// visits alone).

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file
 /// Start-state validation: the checks `pce-sim` makes before frame 1 (docs/simulation.md
-/// §5.3), so that a start the solver cannot honour is refused with a reason instead of
+/// §5.4), so that a start the solver cannot honour is refused with a reason instead of
 /// freezing or exploding silently.
 ///
 /// Refusals (a start state that contact cannot repair):
