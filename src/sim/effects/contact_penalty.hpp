@@ -31,13 +31,6 @@ inline void check_penalty(const ContactPenalty& s, const std::string& prefix) {
     throw ArgumentError(prefix + "type", "expected quadratic, cubic or log_barrier");
 }
 
-/// The factor by which holding a pair at its minimum separation multiplies its penalty's
-/// stiffness, and the largest factor a pair reaches (docs/simulation.md §4.6). Sixteenfold
-/// per hold: on the test scenes that needed it, fewer holds and Newton iterations than
-/// fourfold, and a floor kept under loads where fourfold's 8 re-solves a step did not.
-inline constexpr double kFloorStiffening = 16;
-/// The largest stiffening factor, 2³⁰.
-inline constexpr double kLargestFloorStiffening = 1073741824.0;
 
 /// Throws ArgumentError (`min_separation`) unless `fraction` is in [0, kMaxMinSeparation].
 inline void check_min_separation(double fraction) {

@@ -34,9 +34,6 @@
 
 namespace pce::sim::contact {
 
-/// A pair closer than this many times its minimum separation after a Newton iteration is
-/// held there (separation_floor.hpp); the step bound stops a pressed pair at two.
-inline constexpr double kHeldWithin = 3;
 
 /// The distance between a pair's primitives (positions `xp`) by closest features; false
 /// when pce reports a status other than ok (a degenerate primitive).

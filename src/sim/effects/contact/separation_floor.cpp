@@ -35,11 +35,9 @@ template <bool VF> bool SeparationFloor<VF>::stiffen(const Eigen::Matrix3Xd& x, 
   bool any = false;
   for (const FloorLimit& h : held) {
     const std::size_t k = h.k;
-    const double now = distance(x, k), floor = classifier_->floor_of(k);
-    if (!(now < kHeldWithin * floor && now - h.gap <= std::max(0.5 * (h.start - h.gap), 0.25 * floor))) continue;
+    if (!pressed_in(distance(x, k), h, classifier_->floor_of(k))) continue;
     if (m.empty()) m.assign(candidates_->size(), 1.0);
-    if (m[k] >= kLargestFloorStiffening) continue;
-    m[k] = std::min(m[k] * kFloorStiffening, kLargestFloorStiffening);
+    if (!stiffen_factor(m[k])) continue;
     ++holds_;
     any = true;
   }

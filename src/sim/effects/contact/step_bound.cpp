@@ -101,9 +101,7 @@ template <bool VF> void StepBound<VF>::bound_pair(const Eigen::Matrix3Xd& x, con
   // δ) keeps that instead, one closer than that its floor + δ, each bounded along its
   // separating direction less δ: no pair that starts the step at or above its floor comes
   // below it, and a pair pressed in stops at twice its floor first.
-  const double above = 2 * floor + 2 * floor_slack_;
-  if (floor > 0 && 0.1 * d0 < above) {
-    const double g = d0 > above ? above : floor + floor_slack_;
+  if (const double g = floor_gap(d0, floor, floor_slack_); g > 0) {
     const double tk = directional_advance(xp, Geometry::gather(dx, v), g, floor_slack_, cap);
     if (tk < cap) held.push_back({k, g, d0});
     t = std::min(t, tk);
@@ -147,21 +145,9 @@ bool StepBound<VF>::separation(const Vec12<double>& xp, const Vec12<double>& dxp
 
 template <bool VF> double StepBound<VF>::directional_advance(const Vec12<double>& xp, const Vec12<double>& dxp,
                                                              double g, double slack, double cap) {
-  double t = 0;
-  for (int round = 0; round < 32; ++round) {
-    double S = 0, r = 0;
-    if (!separation(Vec12<double>(xp + t * dxp), dxp, S, r)) return t;
-    // The separation along m never shrinks (a pair below g, too, comes no closer), or stays
-    // above g − slack for the rest of the step (it shrinks by at most r (cap − t)): neither
-    // can the distance come lower.
-    if (!(r > 0) || !(r * (cap - t) > S - g + slack)) return cap;
-    const double step = 0.9 * (S - g) / r;
-    if (!(step > 0)) return t;
-    t += step;
-    if (t >= cap) return cap;
-    if (step <= 1e-3 * t) return t;
-  }
-  return t;
+  return advance_to_gap(
+      [&](double t, double& S, double& r) { return separation(Vec12<double>(xp + t * dxp), dxp, S, r); }, g, slack,
+      cap);
 }
 
 template <bool VF>

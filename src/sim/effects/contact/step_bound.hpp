@@ -21,17 +21,11 @@
 #pragma once
 
 #include "activity.hpp"
+#include "effects/floor.hpp"
 
 #include <vector>
 
 namespace pce::sim::contact {
-
-/// A candidate whose limit in a max_step its floor set: the gap g it was to keep and its
-/// distance d₀ at the step's start.
-struct FloorLimit {
-  std::size_t k = 0;
-  double gap = 0, start = 0;
-};
 
 /// The step bound of one self-contact effect (see the file comment).
 template <bool VF> class StepBound {
@@ -80,24 +74,15 @@ template <bool VF> class StepBound {
   /// for every s ≥ 0 (S is the distance at s = 0 up to rounding). False when the pair is
   /// degenerate or touching.
   static bool separation(const Vec12<double>& xp, const Vec12<double>& dxp, double& S, double& r);
-  /// The floor's bound (docs/simulation.md §4.6): the largest t ≤ `cap` found for which the
-  /// pair at xp + s dxp, s ∈ [0, t], stays at least g − `slack` apart (a pair already
-  /// closer: comes no closer), by the separation: from tᵢ with Sᵢ and rᵢ, the whole rest of
-  /// the step when rᵢ ≤ 0 or Sᵢ − rᵢ (cap − tᵢ) ≥ g − slack,
-  /// else up to tᵢ + (Sᵢ − g)/rᵢ, of which each round advances 0.9 and measures again (until
-  /// an advance below 1e-3 t, or 32 rounds). A pair whose separation does not shrink along
-  /// the step (it slides or parts; rᵢ ≤ 0, or rounding's rᵢ) does not limit it, so a pair
-  /// resting at its floor can slide.
+  /// The floor's bound (docs/simulation.md §4.6, `advance_to_gap`): the pair at
+  /// xp + s dxp keeps at least g − `slack`, measured by its separation along the unit vector
+  /// between its closest points.
   static double directional_advance(const Vec12<double>& xp, const Vec12<double>& dxp, double g, double slack,
                                     double cap);
 
   /// segment_at's tolerance per coordinate, relative to max(|x₀|, 1): far above the rounding
   /// of x₀ + α dx (a few ε), far below any distance that matters.
   static constexpr double kSegmentTolerance = 1e-12;
-  /// The floor's rounding allowance δ, relative to max(|x|, 1): thousands of times the
-  /// rounding error of a closest-feature distance or a separation, so a pair whose computed
-  /// separation the step keeps at least floor + δ − δ is at least its floor apart.
-  static constexpr double kFloorRounding = 1e-12;
 
   CandidateSet<VF>* candidates_;
   const Classifier<VF>* classifier_;
