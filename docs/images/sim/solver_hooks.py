@@ -113,7 +113,7 @@ def draw(out):
     # Calls.
     arrow(ax, (23, 76), (23, 69), NEWTON[1])
     arrow(ax, (79, 76), (79, 69), BLOCK[1])
-    ax.text(51, 72.5, "solve(step): one solver object per mode, kept between steps", ha="center", va="center",
+    ax.text(51, 72.5, "StepSolver::solve(step): one solver object per mode, kept between steps", ha="center", va="center",
             fontsize=8.4, color="#444444")
     arrow(ax, (3.2, 76), (3.2, 26), SIM[1])
     ax.text(4.3, 51, "begin_step · evaluate at the accepted state · report", rotation=90, ha="center",
