@@ -23,7 +23,7 @@ PUBLIC = {
     "mesh": ["mesh", "obj", "tet_io", "generators", "model"],
     "geometry": ["obstacle", "fcl_distance", "broad_phase", "candidates", "intersections"],
     "assembly": ["block_hessian"],
-    "effects": ["effect", "contact_effect", "effects"],
+    "effects": ["effect", "contact_effect", "effects", "newton_hooks", "block_descent_hooks", "requery", "carried_state"],
     "solver": ["simulation", "start_state", "allocator"],
     "scene": ["scene"],
     "output": ["render", "frames", "checkpoint", "recording", "movie", "usd"],
