@@ -14,8 +14,9 @@ the counters ending in `_ms`) left out. Keys only the second set's records have 
 change added) are listed once and not compared. A block-descent record of a build that
 counted sweeps as Newton iterations (before `sweeps` and `sweep_records`) is read as the
 newer form: its `newton_iterations` as `sweeps`, its `iterations` (residuals) as
-`sweep_records`, `stop` "block_descent" as "sweeps", and without Newton's linear-solver
-counters, which block descent no longer reports. This is for a change meant not to change
+`sweep_records`, `stop` "block_descent" as "sweeps", its counter `detections` as
+`bound_measurements`, and without Newton's linear-solver counters, which block descent no
+longer reports. This is for a change meant not to change
 results (a restructure), made on one machine: the last bits of a simulation depend on the
 CPU's libm and BLAS code paths, so a set recorded on another machine is not comparable.
 """
@@ -32,6 +33,7 @@ THREADS = [1, 2]
 # What block descent reported under Newton's names before it had its own records.
 NEWTON_ONLY_COUNTERS = ["analyses", "analyze_ms", "cg_iterations", "factorizations", "factorize_ms",
                         "pattern_blocks"]
+RENAMED_COUNTERS = {"detections": "bound_measurements"}
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
@@ -67,7 +69,8 @@ def as_sweeps(record):
     record["sweep_records"] = [{"residual": it["residual"]} for it in record["iterations"]]
     record["iterations"] = []
     record["stop"] = "sweeps"
-    record["counters"] = {k: v for k, v in record["counters"].items() if k not in NEWTON_ONLY_COUNTERS}
+    record["counters"] = {RENAMED_COUNTERS.get(k, k): v for k, v in record["counters"].items()
+                          if k not in NEWTON_ONLY_COUNTERS}
     return record
 
 

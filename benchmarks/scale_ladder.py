@@ -70,8 +70,8 @@ LEVELS = [("2k", 45), ("8k", 90), ("32k", 180), ("128k", 360)]
 DEFAULT_FRAMES = {"2k": 30, "8k": 30, "32k": 20, "128k": 15}
 STAGES = ["broad_phase_ms", "pair_ms", "assembly_ms", "solve_ms", "line_search_ms"]
 # Counters shown in a table of their own when a run reports them (block descent's, the linear solver's).
-BLOCK_COUNTERS = ["colours", "colourings", "detections", "bound_clamps", "initial_step", "factorizations",
-                  "analyses"]
+BLOCK_COUNTERS = ["colours", "colourings", "bound_measurements", "bound_clamps", "initial_step",
+                  "factorizations", "analyses"]
 STAGE_NAMES = {"broad_phase_ms": "broad phase", "pair_ms": "pairs", "assembly_ms": "assembly",
                "solve_ms": "solve", "line_search_ms": "line search", "other_ms": "other"}
 

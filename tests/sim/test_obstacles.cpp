@@ -707,10 +707,60 @@ TEST(ObstacleContact, BarrierIsInfiniteInsideAndMaxStepKeepsDistancesPositive) {
   EXPECT_NO_THROW(inside = e->evaluate(x + 0.5 * dx, &g, nullptr));
   EXPECT_EQ(inside, std::numeric_limits<double>::infinity());
   EXPECT_EQ(g.norm(), 0.0);
-  // Non-barrier penalties allow the full step.
-  auto q = build(contact_scene("quadratic"), 0.1);
+  // Non-barrier penalties without a minimum separation allow the full step.
+  Scene plain = contact_scene("quadratic");
+  plain.effects[0]["min_separation"] = 0.0;
+  auto q = build(plain, 0.1);
   EXPECT_EQ(q->begin_line_search(x, dx), 1.0);
   EXPECT_TRUE(std::isfinite(q->evaluate(x + 0.5 * dx, nullptr, nullptr)));
+}
+
+/// The smallest distance from a vertex of y to either obstacle of `s` (at time 0.1), over the
+/// vertices whose distance at x is at least `from`.
+double closest_of(const Scene& s, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y, double from) {
+  double closest = std::numeric_limits<double>::infinity();
+  for (Eigen::Index i = 0; i < x.cols(); ++i)
+    for (const Obstacle& o : s.obstacles)
+      if (pce::sim::surface_distance(o, o.pose(0.1), x.col(i)).distance >= from)
+        closest = std::min(closest, pce::sim::surface_distance(o, o.pose(0.1), y.col(i)).distance);
+  return closest;
+}
+
+TEST(ObstacleContact, TheFloorKeepsEveryVertexAtItsMinimumSeparationAlongTheStep) {
+  // Every penalty, the default floor f d = 0.01 · 0.05 (0.5 mm): the line search's bound
+  // keeps every vertex that starts at or above it at least that far from both obstacles at
+  // every point of the bounded step (sampled), for a step through the obstacles' centres and
+  // for one pressing the vertices, moved to 1.5 floors off their surfaces, straight in; the
+  // pairs the floor stopped are held when pressed in (end_line_search); a step that slides
+  // those vertices along the surfaces is not bounded.
+  const double floor = 0.01 * 0.05;
+  for (const char* type : {"quadratic", "cubic", "log_barrier"}) {
+    SCOPED_TRACE(type);
+    const Scene s = contact_scene(type);
+    auto e = build(s, 0.1);
+    const Eigen::Matrix3Xd x = s.model.rest;
+    Eigen::Matrix3Xd through(3, x.cols()), near = x, press(3, x.cols()), slide(3, x.cols());
+    for (Eigen::Index i = 0; i < x.cols(); ++i) {
+      const Obstacle& o = s.obstacles[static_cast<std::size_t>(i % 2)];
+      through.col(i) = 2 * (o.pose(0.1).translation() - x.col(i));
+      const pce::sim::SurfaceDistance sd = pce::sim::surface_distance(o, o.pose(0.1), x.col(i));
+      if (i < x.cols() - 4) near.col(i) += (1.5 * floor - sd.distance) * sd.normal;  // the far four stay culled
+      const Eigen::Vector3d n = pce::sim::surface_distance(o, o.pose(0.1), near.col(i)).normal;
+      press.col(i) = -0.01 * n;
+      slide.col(i) = 0.002 * n.unitOrthogonal();
+    }
+    for (const auto& [from, dx] : {std::pair{x, through}, std::pair{near, press}}) {
+      const double t = e->begin_line_search(from, dx);
+      EXPECT_GT(t, 0);
+      EXPECT_LT(t, 1);
+      double closest = std::numeric_limits<double>::infinity();
+      for (int j = 0; j <= 64; ++j) closest = std::min(closest, closest_of(s, from, from + (t * j / 64.0) * dx, floor));
+      EXPECT_GE(closest, floor * (1 - 1e-9));
+      EXPECT_LT(closest, 3 * floor);  // the step went as far as the floor let it
+    }
+    EXPECT_TRUE(e->end_line_search(near + e->begin_line_search(near, press) * press));  // pressed in: held
+    EXPECT_EQ(e->begin_line_search(near, slide), 1.0);
+  }
 }
 
 TEST(ObstacleContact, ObstacleListSelectsAndBadNamesNameTheirPath) {

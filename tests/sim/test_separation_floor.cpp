@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The minimum separation (src/sim/effects/contact/separation_floor.*, the floor in
-// step_bound.cpp and obstacle_contact.cpp; docs/simulation.md §4.6): no Newton step brings a
+// The minimum separation (src/sim/effects/floor.hpp, one mechanism for both contact kinds:
+// self contact's step_bound.cpp and separation_floor.*, obstacle contact's obstacle_bounds.*
+// and obstacle_floor.*; docs/simulation.md §4.6): no Newton step brings a
 // pair that starts it at or above its floor below it, however many steps press it; without
 // the floor the same steps press pairs toward zero; a held pair's penalty is stiffened, the
 // stiffened energy's gradient matches central differences, checkpoints keep the factors;
@@ -317,8 +318,9 @@ std::unique_ptr<Scene> sheet_on_box(double gap, double min_separation) {
 
 TEST(SeparationFloor, EveryStepEndsWithTheSheetAboveTheBoxsFloor) {
   // The sheet lands on the box (frame ~3): every frame ends with every vertex at least
-  // 0.01 d off the box, the vertices are held and their penalties stiffened. Without the
-  // floor the same sheet sinks through the box's top.
+  // 0.01 d off the box, the vertices are held (pressed within three floors) and their
+  // penalties stiffened, so the sheet rests just above that band. Without the floor the same
+  // sheet sinks through the box's top.
   for (const double f : {0.01, 0.0}) {
     SCOPED_TRACE("min_separation " + std::to_string(f));
     auto s = sheet_on_box(0.01, f);
@@ -335,7 +337,7 @@ TEST(SeparationFloor, EveryStepEndsWithTheSheetAboveTheBoxsFloor) {
     }
     if (f > 0) {
       EXPECT_GT(holds, 0.0);
-      EXPECT_LT(closest, 3 * f * kDistance);  // it was pressed to the floor
+      EXPECT_LT(closest, 4 * f * kDistance);  // it was pressed to the floor's band (held within 3 floors, then stiffened)
     } else {
       EXPECT_LT(closest, 0.0);
       EXPECT_EQ(holds, 0.0);

@@ -26,6 +26,39 @@ void check_density(const std::string& field, double v) {
     throw ArgumentError(field, s.str());
   }
 }
+/// Adds mesh k's lumped masses (a volume's by its tetrahedra, a surface's by its triangles,
+/// strands by their segments) to `mass` from vertex v0 on; throws ArgumentError for a vertex
+/// left without mass.
+void lump_masses(const ModelMesh& s, std::size_t k, int v0, Eigen::VectorXd& mass) {
+  const int cv = static_cast<int>(s.mesh.vertex_count()), ct = static_cast<int>(s.mesh.triangles.cols()),
+            cs = static_cast<int>(s.mesh.segments.cols()), cT = static_cast<int>(s.mesh.tetrahedra.cols());
+  for (int t = 0; t < cT; ++t) {
+    const auto tet = s.mesh.tetrahedra.col(t);
+    const auto X = [&](int j) { return s.mesh.positions.col(tet[j]); };
+    const double volume = (X(1) - X(0)).dot((X(2) - X(0)).cross(X(3) - X(0))) / 6.0;
+    for (int j = 0; j < 4; ++j) mass[v0 + tet[j]] += s.density * volume / 4.0;
+  }
+  for (int t = 0; t < ct && cT == 0; ++t) {
+    const auto tri = s.mesh.triangles.col(t);
+    const double area = 0.5 * (s.mesh.positions.col(tri[1]) - s.mesh.positions.col(tri[0]))
+                                  .cross(s.mesh.positions.col(tri[2]) - s.mesh.positions.col(tri[0]))
+                                  .norm();
+    for (int j = 0; j < 3; ++j) mass[v0 + tri[j]] += s.density * area / 3.0;
+  }
+  for (int e = 0; e < cs; ++e) {
+    const auto seg = s.mesh.segments.col(e);
+    const double len = (s.mesh.positions.col(seg[1]) - s.mesh.positions.col(seg[0])).norm();
+    for (int j = 0; j < 2; ++j) mass[v0 + seg[j]] += s.linear_density * len / 2.0;
+  }
+  for (int i = 0; i < cv; ++i)
+    if (!(mass[v0 + i] > 0))
+      throw ArgumentError(
+          "meshes[" + std::to_string(k) + "]",
+          "vertex " + std::to_string(i) +
+              (cT > 0 ? " belongs to no tetrahedron (it would have no mass)"
+                      : " belongs to no triangle or segment of positive size (it would have no mass)"));
+}
+
 }  // namespace
 
 Model build_model(const std::vector<ModelMesh>& meshes) {
@@ -73,32 +106,8 @@ Model build_model(const std::vector<ModelMesh>& meshes) {
       for (int j = 0; j < 3; ++j) m.surface_vertex[static_cast<std::size_t>(v0 + s.mesh.triangles(j, t))] = 1;
     for (int e = 0; e < cs; ++e)
       for (int j = 0; j < 2; ++j) m.surface_vertex[static_cast<std::size_t>(v0 + s.mesh.segments(j, e))] = 1;
-    for (int t = 0; t < cT; ++t) {
-      const auto tet = s.mesh.tetrahedra.col(t);
-      const auto X = [&](int j) { return s.mesh.positions.col(tet[j]); };
-      const double volume = (X(1) - X(0)).dot((X(2) - X(0)).cross(X(3) - X(0))) / 6.0;
-      for (int j = 0; j < 4; ++j) m.mass[v0 + tet[j]] += s.density * volume / 4.0;
-    }
     if (cT > 0) std::fill_n(m.boundary_triangle.begin() + t0, ct, char{1});
-    for (int t = 0; t < ct && cT == 0; ++t) {
-      const auto tri = s.mesh.triangles.col(t);
-      const double area = 0.5 * (s.mesh.positions.col(tri[1]) - s.mesh.positions.col(tri[0]))
-                                    .cross(s.mesh.positions.col(tri[2]) - s.mesh.positions.col(tri[0]))
-                                    .norm();
-      for (int j = 0; j < 3; ++j) m.mass[v0 + tri[j]] += s.density * area / 3.0;
-    }
-    for (int e = 0; e < cs; ++e) {
-      const auto seg = s.mesh.segments.col(e);
-      const double len = (s.mesh.positions.col(seg[1]) - s.mesh.positions.col(seg[0])).norm();
-      for (int j = 0; j < 2; ++j) m.mass[v0 + seg[j]] += s.linear_density * len / 2.0;
-    }
-    for (int i = 0; i < cv; ++i)
-      if (!(m.mass[v0 + i] > 0))
-        throw ArgumentError(
-            "meshes[" + std::to_string(k) + "]",
-            "vertex " + std::to_string(i) +
-                (cT > 0 ? " belongs to no tetrahedron (it would have no mass)"
-                        : " belongs to no triangle or segment of positive size (it would have no mass)"));
+    lump_masses(s, k, v0, m.mass);
     v0 += cv;
     t0 += ct;
     s0 += cs;

@@ -230,6 +230,51 @@ void put_obstacle(Writer& out, const Obstacle& o, const std::string& name, const
   out << "    " << grey << "            }\n        }\n";  // the shape's colour, then the ends of both prims
 }
 
+/// A mesh's triangles as a Mesh prim with time-sampled points.
+void put_mesh(Writer& out, const Simulation& sim, const MeshRange& r, const FrameRecording& frames,
+              const std::string& name, const std::string& colour) {
+  out << "    def Mesh \"" << name << "\"\n    {\n";
+  const Eigen::Matrix3Xi t =
+      sim.model.triangles.middleCols(r.first_triangle, r.triangle_count).array() - r.first_vertex;
+  out << "        uniform bool doubleSided = " << (r.tetrahedron_count > 0 ? "false" : "true") << "\n";
+  put_samples(out, frames, r.first_vertex, r.vertex_count, {}, 0.0f);
+  out << "        int[] faceVertexCounts = ";
+  out.put_ints(std::vector<int>(static_cast<std::size_t>(t.cols()), 3));
+  out << "\n        int[] faceVertexIndices = ";
+  out.put_ints(std::vector<int>(t.data(), t.data() + t.size()));
+  out << "\n        color3f[] primvars:displayColor = " << colour << "\n";
+  out << "        uniform token subdivisionScheme = \"none\"\n    }\n\n";
+}
+
+/// A mesh's strand segments as a BasisCurves prim with time-sampled points.
+void put_curves(Writer& out, const Simulation& sim, const MeshRange& r, const FrameRecording& frames,
+                const std::string& name, const std::string& colour) {
+  const Eigen::Matrix2Xi s =
+      sim.model.segments.middleCols(r.first_segment, r.segment_count).array() - r.first_vertex;
+  std::vector<int> order;
+  const std::vector<int> counts = curves(s, order);
+  // Width: a tenth of the mean rest segment length (the curves are drawn as tubes).
+  double length = 0;
+  for (Eigen::Index e = 0; e < s.cols(); ++e)
+    length +=
+        (sim.model.rest.col(r.first_vertex + s(0, e)) - sim.model.rest.col(r.first_vertex + s(1, e))).norm();
+  const float width = static_cast<float>(0.1 * length / static_cast<double>(s.cols()));
+  bool identity = order.size() == static_cast<std::size_t>(r.vertex_count);
+  for (std::size_t i = 0; identity && i < order.size(); ++i) identity = order[i] == static_cast<int>(i);
+  out << "    def BasisCurves \"" << name
+      << "\"\n    {\n";
+  out << "        int[] curveVertexCounts = ";
+  out.put_ints(counts);
+  out << "\n";
+  put_samples(out, frames, r.first_vertex, r.vertex_count, identity ? std::vector<int>{} : order, 0.5f * width);
+  out << "        color3f[] primvars:displayColor = " << colour << "\n";
+  out << "        uniform token type = \"linear\"\n";
+  out << "        float[] widths = [";
+  out.put(width);
+  out << "] (\n            interpolation = \"constant\"\n        )\n";
+  out << "        uniform token wrap = \"nonperiodic\"\n    }\n\n";
+}
+
 }  // namespace
 
 void write_usda(const fs::path& path, const Scene& scene, const FrameRecording& frames) {
@@ -262,45 +307,9 @@ void write_usda(const fs::path& path, const Scene& scene, const FrameRecording& 
     std::size_t k = 0;
     for (const MeshRange& r : sim.model.meshes) {
       const std::string base = usd_identifier(r.name), colour = color(mesh_color(k++));
-      if (r.triangle_count > 0) {
-        out << "    def Mesh \"" << unique_name(base, used) << "\"\n    {\n";
-        const Eigen::Matrix3Xi t =
-            sim.model.triangles.middleCols(r.first_triangle, r.triangle_count).array() - r.first_vertex;
-        out << "        uniform bool doubleSided = " << (r.tetrahedron_count > 0 ? "false" : "true") << "\n";
-        put_samples(out, frames, r.first_vertex, r.vertex_count, {}, 0.0f);
-        out << "        int[] faceVertexCounts = ";
-        out.put_ints(std::vector<int>(static_cast<std::size_t>(t.cols()), 3));
-        out << "\n        int[] faceVertexIndices = ";
-        out.put_ints(std::vector<int>(t.data(), t.data() + t.size()));
-        out << "\n        color3f[] primvars:displayColor = " << colour << "\n";
-        out << "        uniform token subdivisionScheme = \"none\"\n    }\n\n";
-      }
-      if (r.segment_count > 0) {
-        const Eigen::Matrix2Xi s =
-            sim.model.segments.middleCols(r.first_segment, r.segment_count).array() - r.first_vertex;
-        std::vector<int> order;
-        const std::vector<int> counts = curves(s, order);
-        // Width: a tenth of the mean rest segment length (the curves are drawn as tubes).
-        double length = 0;
-        for (Eigen::Index e = 0; e < s.cols(); ++e)
-          length +=
-              (sim.model.rest.col(r.first_vertex + s(0, e)) - sim.model.rest.col(r.first_vertex + s(1, e))).norm();
-        const float width = static_cast<float>(0.1 * length / static_cast<double>(s.cols()));
-        bool identity = order.size() == static_cast<std::size_t>(r.vertex_count);
-        for (std::size_t i = 0; identity && i < order.size(); ++i) identity = order[i] == static_cast<int>(i);
-        out << "    def BasisCurves \"" << unique_name(r.triangle_count > 0 ? base + "_curves" : base, used)
-            << "\"\n    {\n";
-        out << "        int[] curveVertexCounts = ";
-        out.put_ints(counts);
-        out << "\n";
-        put_samples(out, frames, r.first_vertex, r.vertex_count, identity ? std::vector<int>{} : order, 0.5f * width);
-        out << "        color3f[] primvars:displayColor = " << colour << "\n";
-        out << "        uniform token type = \"linear\"\n";
-        out << "        float[] widths = [";
-        out.put(width);
-        out << "] (\n            interpolation = \"constant\"\n        )\n";
-        out << "        uniform token wrap = \"nonperiodic\"\n    }\n\n";
-      }
+      if (r.triangle_count > 0) put_mesh(out, sim, r, frames, unique_name(base, used), colour);
+      if (r.segment_count > 0)
+        put_curves(out, sim, r, frames, unique_name(r.triangle_count > 0 ? base + "_curves" : base, used), colour);
     }
     if (!sim.obstacles.empty()) {
       out << "    def Scope \"obstacles\"\n    {\n";

@@ -132,7 +132,7 @@ void BlockDescent::measure_bounds(Step& s) {
     c->vertex_bounds(s.y, bound_);
   }
   anchor_ = s.y;
-  s.st.counters[Counter::detections] += 1;
+  s.st.counters[Counter::bound_measurements] += 1;
 }
 
 /// (3) One sweep over every colour; the bounds again after it when a vertex used its bound

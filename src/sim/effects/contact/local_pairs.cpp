@@ -65,14 +65,14 @@ void LocalPairs<VF>::begin_sweep(const Eigen::Matrix3Xd& x, const Eigen::VectorX
       mine.push_back(k);
     }
   });
-  join_chunks(parts_, chunks, live_);
+  join_chunks(parts_, chunks, listed_);
   // The colouring keeps every listed pair's vertices apart: a pair that becomes active
   // within the sweep then never has two of its vertices updated side by side (colouring
   // only the pairs active at the sweep's start left two sheets resting on a ball jittering
   // at ~0.3 m/s until they slid off).
-  for (const long k : live_) couplings.add(candidates_->vertices(static_cast<std::size_t>(k)));
-  incidence_.build(static_cast<int>(x.cols()), live_.size(),
-                   [&](std::size_t i) { return candidates_->vertices(static_cast<std::size_t>(live_[i])); });
+  for (const long k : listed_) couplings.add(candidates_->vertices(static_cast<std::size_t>(k)));
+  incidence_.build(static_cast<int>(x.cols()), listed_.size(),
+                   [&](std::size_t i) { return candidates_->vertices(static_cast<std::size_t>(listed_[i])); });
   ready_ = true;
 }
 
@@ -93,7 +93,7 @@ void LocalPairs<VF>::evaluate(const Eigen::Matrix3Xd& x, const std::vector<int>&
         for (const Incident* e = incidence_.begin(v); e != incidence_.end(v); ++e) {
           PairOutcome o;
           blocks.clear();
-          potential_->evaluate(x, live_[static_cast<std::size_t>(e->item)], penalty, &blocks, o, true);
+          potential_->evaluate(x, listed_[static_cast<std::size_t>(e->item)], penalty, &blocks, o, true);
           if (!o.active || !std::isfinite(o.term.energy)) continue;
           g += o.term.gradient.template segment<3>(3 * e->slot);
           if (!blocks.empty()) H += blocks.back().hessian.template block<3, 3>(3 * e->slot, 3 * e->slot);

@@ -53,18 +53,16 @@ template <bool VF> class LocalPairs {
   /// Adds, for each vertex of `vertices`, the gradient and the vertex's diagonal block of
   /// the projected Hessian of every listed candidate it is a corner of that is active at x.
   void evaluate(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices, LocalTerms& terms) const;
-  /// The candidates of the last begin_sweep.
-  std::size_t listed() const { return live_.size(); }
 
  private:
   const ContactSettings* settings_;
   CandidateSet<VF>* candidates_;
   const Classifier<VF>* classifier_;
   const PairPotential<VF>* potential_;
-  std::vector<long> live_;                  ///< the sweep's candidates, ascending
+  std::vector<long> listed_;                  ///< the sweep's candidates, ascending
   std::vector<std::vector<long>> parts_;    ///< per chunk while listing
   mutable std::vector<double> pair_bound_;  ///< per candidate, while bounding
-  VertexIncidence incidence_;               ///< per vertex, its entries of live_
+  VertexIncidence incidence_;               ///< per vertex, its entries of listed_
   bool ready_ = false;
 };
 

@@ -24,16 +24,11 @@ double ObstacleBounds::line_search_bound(const Eigen::Matrix3Xd& x, const Eigen:
       const double step = dx.col(i).norm();
       if (!(step > 0)) continue;
       const Eigen::Vector3d p = x.col(i);
-      bool barrier_limits = false;  // the barrier's bound of the pair visited next
+      // With a floor, a pair that stays beyond 2F + 2δ (d − |Δx| ≥ its lower bound less the
+      // step) needs no bound; without one, the barrier's pair whose d > |Δx|.
       set_->near(
-          p,
-          [&](double lower) {  // d > |Δx|: the barrier's t = 1 is safe; d − |Δx| ≥ 2F + 2δ: the floor's
-            barrier_limits = barrier_ && !(lower > step);
-            return !barrier_limits && (!floored || lower - step >= above);
-          },
-          [&](std::size_t k, const SurfaceDistance& s) {
-            bound_pair(p, dx.col(i), i, k, s.distance, barrier_limits, t, held_chunks_[c]);
-          });
+          p, [&](double lower) { return floored ? lower - step >= above : lower > step; },
+          [&](std::size_t k, const SurfaceDistance& s) { bound_pair(p, dx.col(i), i, k, s.distance, t, held_chunks_[c]); });
     }
   });
   contact::join_chunks(held_chunks_, chunks, held_);
@@ -41,26 +36,28 @@ double ObstacleBounds::line_search_bound(const Eigen::Matrix3Xd& x, const Eigen:
 }
 
 void ObstacleBounds::bound_pair(const Eigen::Vector3d& p, const Eigen::Vector3d& dxi, Eigen::Index i, std::size_t k,
-                                double d0, bool barrier_limits, double& t, std::vector<FloorLimit>& held) const {
+                                double d0, double& t, std::vector<FloorLimit>& held) const {
   if (!(d0 > 0)) return;  // inside: outside the domain already, nothing to keep
-  const double g = floor_gap(d0, floor_, slack_);
-  if (g > 0) {
-    const double cap = t;
-    const double step = dxi.norm();
-    const bool convex = set_->convex(k);
-    const double tk = advance_to_gap(
-        [&](double s, double& S, double& r) {
-          const SurfaceDistance at = set_->distance(k, p + s * dxi);
-          S = at.distance;
-          r = convex ? -at.normal.dot(dxi) : step;
-          return std::isfinite(S) && std::isfinite(r);
-        },
-        g, slack_, cap);
-    if (tk < cap) held.push_back({set_->pair(i, k), g, d0});
-    t = std::min(t, tk);
+  const double step = dxi.norm();
+  if (!(floor_ > 0)) {  // the barrier alone: a tenth of d₀ by the Lipschitz bound
+    t = std::min(t, 0.9 * d0 / step);
     return;
   }
-  if (barrier_limits) t = std::min(t, 0.9 * d0 / dxi.norm());
+  // The floor's gap, or a tenth of d₀ (at least 2F + 2δ) for a pair farther out, kept along
+  // the separating direction.
+  const double g = floor_gap(d0, floor_, slack_);
+  const bool convex = set_->convex(k);
+  const double cap = t;
+  const double tk = advance_to_gap(
+      [&](double s, double& S, double& r) {
+        const SurfaceDistance at = set_->distance(k, p + s * dxi);
+        S = at.distance;
+        r = convex ? -at.normal.dot(dxi) : step;
+        return std::isfinite(S) && std::isfinite(r);
+      },
+      g > 0 ? g : 0.1 * d0, g > 0 ? slack_ : 0.0, cap);
+  if (g > 0 && tk < cap) held.push_back({set_->pair(i, k), g, d0});
+  t = std::min(t, tk);
 }
 
 double ObstacleBounds::move_limit(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& dx, Eigen::Index i) const {

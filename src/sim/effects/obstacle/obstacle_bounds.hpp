@@ -4,14 +4,17 @@
 /// how far the vertices may move before a pair leaves the penalty's domain or passes its
 /// floor. The obstacles keep their end poses throughout a step's solve.
 ///
-/// Newton's line search (`line_search_bound`): the distance d is 1-Lipschitz in the vertex
-/// position, so with a log barrier t ≤ 0.9 d₀/|Δxᵢ| keeps d ≥ 0.1 d₀ > 0 along the step. The
-/// minimum separation F (effects/floor.hpp): a pair whose tenth is below twice its floor
-/// keeps `floor_gap` instead, bounded by `advance_to_gap` along its separating direction:
-/// for a convex obstacle the supporting plane at the closest surface point, which the shape
-/// lies behind, so the distance from xᵢ + s Δxᵢ is at least d − s r with r = −n·Δxᵢ (a
+/// Newton's line search (`line_search_bound`). Without a minimum separation, a log barrier's
+/// pairs: the distance d is 1-Lipschitz in the vertex position, so t ≤ 0.9 d₀/|Δxᵢ| keeps
+/// d ≥ 0.1 d₀ > 0 along the step (a pair with d₀ > |Δxᵢ| is not bounded). With a minimum
+/// separation F (effects/floor.hpp), for every penalty: a pair whose tenth is below twice its
+/// floor keeps `floor_gap`, any other pair that could come within 2F + 2δ a tenth of d₀,
+/// each bounded by `advance_to_gap` along its separating direction: for a convex obstacle the
+/// supporting plane at the closest surface point, which the shape lies behind, so the
+/// distance from xᵢ + s Δxᵢ is at least S − s r with S the distance at xᵢ and r = −n·Δxᵢ (a
 /// vertex sliding along its floor or leaving does not limit the step); for a mesh obstacle
-/// the Lipschitz bound, r = |Δxᵢ|. The pairs whose limit their floor set are listed (`held`).
+/// the Lipschitz bound, r = |Δxᵢ|. The pairs whose limit their floor gap set are listed
+/// (`held`).
 ///
 /// Block descent (`room`, `move_limit`, `vertex_bounds`): a vertex at distance d may move
 /// 0.9 (d − F) towards a surface (0.09 d when d ≤ F; inside, d ≤ 0, no limit: the penalty
@@ -54,11 +57,10 @@ class ObstacleBounds {
   static constexpr long kChunk = 1024;
 
  private:
-  /// Pair (i, k)'s part of line_search_bound at distance d0, lowering the running minimum
-  /// `t`: its floor's, or else (`barrier_limits`: its lower bound did not rule it out) the
-  /// barrier's.
+  /// Pair (i, k)'s part of line_search_bound at distance d0 (a pair its lower bound did not
+  /// rule out), lowering the running minimum `t`.
   void bound_pair(const Eigen::Vector3d& p, const Eigen::Vector3d& dxi, Eigen::Index i, std::size_t k, double d0,
-                  bool barrier_limits, double& t, std::vector<FloorLimit>& held) const;
+                  double& t, std::vector<FloorLimit>& held) const;
 
   const ObstacleSet* set_;
   double floor_;

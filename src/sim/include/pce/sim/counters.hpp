@@ -81,7 +81,7 @@ namespace pce::sim {
   /* block descent */                                                          \
   X(colours, sum)                                                              \
   X(colourings, sum)                                                           \
-  X(detections, sum)                                                           \
+  X(bound_measurements, sum)                                                   \
   X(bound_clamps, sum)                                                         \
   X(first_move, sum)
 

@@ -173,7 +173,7 @@ struct FrameStats {
   std::vector<SweepRecord> sweep_records;                 ///< per block-descent sweep, in order
   /// Merged effect counters (contact counts, distances, …) and the solver's (Newton's linear
   /// solver: `factorizations`, `cg_iterations`, `analyses`, `analyze_ms`, `factorize_ms`,
-  /// `pattern_blocks`; block descent's: `first_move`, `detections`, `colours`, …).
+  /// `pattern_blocks`; block descent's: `first_move`, `bound_measurements`, `colours`, …).
   EffectCounters counters;
 };
 
