@@ -462,8 +462,8 @@ TEST(Contact, StepBoundIgnoresACommonTranslation) {
   Eigen::Matrix3Xd dx = Eigen::Matrix3Xd::Zero(3, x.cols());
   dx.row(2).setConstant(-0.5);
   EXPECT_EQ(e.begin_line_search(x, dx), 1.0);
-  dx.row(2).tail(x.cols() / 2).setZero();  // only sheet a (the lower one) moves down: apart
-  EXPECT_LT(e.begin_line_search(x, dx), 0.1);       // conservative: the bound does not know the direction
+  dx.row(2).tail(x.cols() / 2).setZero();      // only sheet a (the lower one) moves down: apart
+  EXPECT_LT(e.begin_line_search(x, dx), 0.1);  // conservative: the bound does not know the direction
 }
 
 TEST(Contact, StepNeverCarriesAVertexThroughAFaceThatWasNotACandidate) {

@@ -337,7 +337,8 @@ TEST(SeparationFloor, EveryStepEndsWithTheSheetAboveTheBoxsFloor) {
     }
     if (f > 0) {
       EXPECT_GT(holds, 0.0);
-      EXPECT_LT(closest, 4 * f * kDistance);  // it was pressed to the floor's band (held within 3 floors, then stiffened)
+      EXPECT_LT(closest,
+                4 * f * kDistance);  // it was pressed to the floor's band (held within 3 floors, then stiffened)
     } else {
       EXPECT_LT(closest, 0.0);
       EXPECT_EQ(holds, 0.0);

@@ -167,8 +167,8 @@ void report_frame(const FrameReport& r, const Simulation& sim) {
   static bool warned_floor = false;
   const bool sweeps = s.sweeps > 0;
   std::fprintf(stderr, "frame %d of %d: %.1f ms, %d %s, residual %.2e, %s%ld intersecting pairs\n", f, sim.frames,
-               s.wall_ms, sweeps ? s.sweeps : s.newton_iterations, sweeps ? "block descent sweeps" : "Newton iterations",
-               s.residual,
+               s.wall_ms, sweeps ? s.sweeps : s.newton_iterations,
+               sweeps ? "block descent sweeps" : "Newton iterations", s.residual,
                s.hit_iteration_cap ? "iteration cap hit, " : "", r.intersections);
   if (s.line_search_failures > 0 && s.newton_iterations == 1)
     std::fprintf(stderr,

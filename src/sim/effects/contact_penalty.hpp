@@ -31,7 +31,6 @@ inline void check_penalty(const ContactPenalty& s, const std::string& prefix) {
     throw ArgumentError(prefix + "type", "expected quadratic, cubic or log_barrier");
 }
 
-
 /// Throws ArgumentError (`min_separation`) unless `fraction` is in [0, kMaxMinSeparation].
 inline void check_min_separation(double fraction) {
   args::nonnegative_at_most("min_separation", fraction, kMaxMinSeparation,

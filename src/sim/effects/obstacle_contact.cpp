@@ -157,14 +157,14 @@ void check_obstacle(const Obstacle& o, const std::string& at) {
 }  // namespace
 
 std::unique_ptr<ContactEffect> make_obstacle_contact(const std::vector<Obstacle>& obstacles,
-                                                             const ContactPenalty& penalty) {
+                                                     const ContactPenalty& penalty) {
   ObstacleContactSettings settings;
   settings.penalty = penalty;
   return make_obstacle_contact(Model{}, obstacles, settings);  // unweighted: the model is not read
 }
 
 std::unique_ptr<ContactEffect> make_obstacle_contact(const Model& model, const std::vector<Obstacle>& obstacles,
-                                                             const ObstacleContactSettings& settings) {
+                                                     const ObstacleContactSettings& settings) {
   check_penalty(settings.penalty, "penalty.");
   check_friction(settings.friction);
   check_min_separation(settings.min_separation);

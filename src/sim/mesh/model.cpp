@@ -52,11 +52,10 @@ void lump_masses(const ModelMesh& s, std::size_t k, int v0, Eigen::VectorXd& mas
   }
   for (int i = 0; i < cv; ++i)
     if (!(mass[v0 + i] > 0))
-      throw ArgumentError(
-          "meshes[" + std::to_string(k) + "]",
-          "vertex " + std::to_string(i) +
-              (cT > 0 ? " belongs to no tetrahedron (it would have no mass)"
-                      : " belongs to no triangle or segment of positive size (it would have no mass)"));
+      throw ArgumentError("meshes[" + std::to_string(k) + "]",
+                          "vertex " + std::to_string(i) +
+                              (cT > 0 ? " belongs to no tetrahedron (it would have no mass)"
+                                      : " belongs to no triangle or segment of positive size (it would have no mass)"));
 }
 
 }  // namespace

@@ -249,20 +249,17 @@ void put_mesh(Writer& out, const Simulation& sim, const MeshRange& r, const Fram
 /// A mesh's strand segments as a BasisCurves prim with time-sampled points.
 void put_curves(Writer& out, const Simulation& sim, const MeshRange& r, const FrameRecording& frames,
                 const std::string& name, const std::string& colour) {
-  const Eigen::Matrix2Xi s =
-      sim.model.segments.middleCols(r.first_segment, r.segment_count).array() - r.first_vertex;
+  const Eigen::Matrix2Xi s = sim.model.segments.middleCols(r.first_segment, r.segment_count).array() - r.first_vertex;
   std::vector<int> order;
   const std::vector<int> counts = curves(s, order);
   // Width: a tenth of the mean rest segment length (the curves are drawn as tubes).
   double length = 0;
   for (Eigen::Index e = 0; e < s.cols(); ++e)
-    length +=
-        (sim.model.rest.col(r.first_vertex + s(0, e)) - sim.model.rest.col(r.first_vertex + s(1, e))).norm();
+    length += (sim.model.rest.col(r.first_vertex + s(0, e)) - sim.model.rest.col(r.first_vertex + s(1, e))).norm();
   const float width = static_cast<float>(0.1 * length / static_cast<double>(s.cols()));
   bool identity = order.size() == static_cast<std::size_t>(r.vertex_count);
   for (std::size_t i = 0; identity && i < order.size(); ++i) identity = order[i] == static_cast<int>(i);
-  out << "    def BasisCurves \"" << name
-      << "\"\n    {\n";
+  out << "    def BasisCurves \"" << name << "\"\n    {\n";
   out << "        int[] curveVertexCounts = ";
   out.put_ints(counts);
   out << "\n";

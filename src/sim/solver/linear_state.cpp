@@ -72,10 +72,9 @@ template <class Factorization> bool LinearState::factor(Factorization& f, const 
 /// adapter preconditioner class pointing at the factor: twenty lines in which every exit
 /// (converged, breakdown, cap) is explicit and counted, where Eigen's loop reports only
 /// success or no convergence and does not stop at pᵀHp ≤ 0.
-template <class Factorization>
-bool LinearState::preconditioned_cg(const Factorization& f, const SparseMatrix& A,
-                                                const Eigen::VectorXd& rhs, double eta, int max_iterations,
-                                                Eigen::VectorXd& dx) {
+template <class Factorization> bool LinearState::preconditioned_cg(const Factorization& f, const SparseMatrix& A,
+                                                                   const Eigen::VectorXd& rhs, double eta,
+                                                                   int max_iterations, Eigen::VectorXd& dx) {
   const double target = eta * rhs.norm();
   dx.setZero(rhs.size());
   if (rhs.norm() == 0) return true;
@@ -106,8 +105,8 @@ bool LinearState::preconditioned_cg(const Factorization& f, const SparseMatrix& 
 /// refactor without trying CG (the back-off, see kMaxReuseBackoff). False when the
 /// factorisation or its solve fails.
 template <class Factorization> bool LinearState::reuse_solve(Factorization& f, const SparseMatrix& A,
-                                                                         const Eigen::VectorXd& rhs, double eta,
-                                                                         int max_iterations, Eigen::VectorXd& dx) {
+                                                             const Eigen::VectorXd& rhs, double eta, int max_iterations,
+                                                             Eigen::VectorXd& dx) {
   if (factored == &f && reuse_skip == 0) {
     if (preconditioned_cg(f, A, rhs, eta, max_iterations, dx)) {
       reuse_failures = 0;

@@ -57,11 +57,11 @@ class Newton final : public StepSolver {
 
   LinearState ls_;
   std::vector<std::pair<std::size_t, NewtonHooks*>> hooks_;  ///< this step's, with their effects' indices
-  std::vector<std::pair<std::size_t, Requery*>> requery_;     ///< this step's, with their effects' indices
-  Eigen::Matrix3Xd g_, dxm_, y1_;  ///< the iterate's gradient, the direction, a trial
-  Eigen::VectorXd dx_, rhs_;       ///< the direction and −g as vectors
-  double E_ = 0;                   ///< the energy at y with the current candidates
-  bool covered_ = false;           ///< a hook queried again over this iteration's step
+  std::vector<std::pair<std::size_t, Requery*>> requery_;    ///< this step's, with their effects' indices
+  Eigen::Matrix3Xd g_, dxm_, y1_;                            ///< the iterate's gradient, the direction, a trial
+  Eigen::VectorXd dx_, rhs_;                                 ///< the direction and −g as vectors
+  double E_ = 0;                                             ///< the energy at y with the current candidates
+  bool covered_ = false;                                     ///< a hook queried again over this iteration's step
 };
 
 void Newton::solve(Step& s) {
@@ -142,8 +142,8 @@ void Newton::newton(Step& s) {
           stderr,
           "  it %d E %.9g slope %.3g alpha %.3g residual %.3g friction_load %.3g accepted %d factorizations %d "
           "cg_iterations %d covered %d\n",
-          it, E_, -rhs_.dot(dx_), st.iterations.back().alpha, st.residual, st.iterations.back().friction_load,
-          accepted, static_cast<int>(ls_.counters.at(Counter::factorizations)),
+          it, E_, -rhs_.dot(dx_), st.iterations.back().alpha, st.residual, st.iterations.back().friction_load, accepted,
+          static_cast<int>(ls_.counters.at(Counter::factorizations)),
           static_cast<int>(ls_.counters.at(Counter::cg_iterations)), int(covered_));
     if (!accepted) {
       // A direction below the tolerance whose trial does not pass Armijo is rounding, not a

@@ -34,7 +34,6 @@
 
 namespace pce::sim::contact {
 
-
 /// The distance between a pair's primitives (positions `xp`) by closest features; false
 /// when pce reports a status other than ok (a degenerate primitive).
 template <bool VF> bool closest_distance(const Vec12<double>& xp, double& distance) {

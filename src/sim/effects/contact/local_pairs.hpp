@@ -59,7 +59,7 @@ template <bool VF> class LocalPairs {
   CandidateSet<VF>* candidates_;
   const Classifier<VF>* classifier_;
   const PairPotential<VF>* potential_;
-  std::vector<long> listed_;                  ///< the sweep's candidates, ascending
+  std::vector<long> listed_;                ///< the sweep's candidates, ascending
   std::vector<std::vector<long>> parts_;    ///< per chunk while listing
   mutable std::vector<double> pair_bound_;  ///< per candidate, while bounding
   VertexIncidence incidence_;               ///< per vertex, its entries of listed_

@@ -28,7 +28,9 @@ double ObstacleBounds::line_search_bound(const Eigen::Matrix3Xd& x, const Eigen:
       // step) needs no bound; without one, the barrier's pair whose d > |Δx|.
       set_->near(
           p, [&](double lower) { return floored ? lower - step >= above : lower > step; },
-          [&](std::size_t k, const SurfaceDistance& s) { bound_pair(p, dx.col(i), i, k, s.distance, t, held_chunks_[c]); });
+          [&](std::size_t k, const SurfaceDistance& s) {
+            bound_pair(p, dx.col(i), i, k, s.distance, t, held_chunks_[c]);
+          });
     }
   });
   contact::join_chunks(held_chunks_, chunks, held_);

@@ -24,9 +24,7 @@ class ObstacleFloor {
   /// The floor f·d.
   double floor() const { return floor_; }
   /// The factor of pair (i, k): 1 unless the pair was held.
-  double factor(Eigen::Index i, std::size_t k) const {
-    return factors_.empty() ? 1.0 : factors_[set_->pair(i, k)];
-  }
+  double factor(Eigen::Index i, std::size_t k) const { return factors_.empty() ? 1.0 : factors_[set_->pair(i, k)]; }
   /// At the step's start `x` (the obstacles at their end poses): forgets the factors of pairs
   /// beyond `reach` (the penalty's activation distance); zeroes the frame's hold count.
   void begin_step(const Eigen::Matrix3Xd& x, double reach);
@@ -46,9 +44,9 @@ class ObstacleFloor {
  private:
   const ObstacleSet* set_;
   double floor_;
-  long vertices_;               ///< the model's vertex count (0 without a model: no factor loads)
+  long vertices_;                ///< the model's vertex count (0 without a model: no factor loads)
   std::vector<double> factors_;  ///< per pair i·K + k; empty when all are 1
-  long holds_ = 0;              ///< holds in the frame so far
+  long holds_ = 0;               ///< holds in the frame so far
 };
 
 }  // namespace pce::sim::obstacle

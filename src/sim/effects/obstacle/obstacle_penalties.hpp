@@ -45,9 +45,8 @@ class ObstaclePenalties {
   /// domain is left (a vertex at d ≤ 0). Keeps the active pairs for `report`.
   double evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient, BlockHessian* hessian);
   /// Vertex i at p: adds its pairs' gradient and Hessian block to g and H (block descent).
-  template <class Penalty>
-  void add_local(const Penalty& penalty, const Eigen::Vector3d& p, Eigen::Index i, Eigen::Vector3d& g,
-                 Eigen::Matrix3d& H) const;
+  template <class Penalty> void add_local(const Penalty& penalty, const Eigen::Vector3d& p, Eigen::Index i,
+                                          Eigen::Vector3d& g, Eigen::Matrix3d& H) const;
 
   /// Whether the last evaluation left a barrier's domain (its energy +∞).
   bool left_domain() const { return left_domain_; }
@@ -75,9 +74,9 @@ class ObstaclePenalties {
   bool left_domain_ = false;
 };
 
-template <class Penalty>
-void ObstaclePenalties::add_local(const Penalty& penalty, const Eigen::Vector3d& p, Eigen::Index i, Eigen::Vector3d& g,
-                                  Eigen::Matrix3d& H) const {
+template <class Penalty> void ObstaclePenalties::add_local(const Penalty& penalty, const Eigen::Vector3d& p,
+                                                           Eigen::Index i, Eigen::Vector3d& g,
+                                                           Eigen::Matrix3d& H) const {
   const double reach = penalty_.distance;
   set_->near(
       p, [&](double lower) { return lower >= reach; },

@@ -230,7 +230,7 @@ std::unique_ptr<ContactEffect> make_self_edge_edge(const Model& model, const Con
 /// must be a valid shape (sizes > 0, finite pose, a mesh with triangles). Frictionless and
 /// unweighted; the overload below takes every setting.
 std::unique_ptr<ContactEffect> make_obstacle_contact(const std::vector<Obstacle>& obstacles,
-                                                             const ContactPenalty& penalty);
+                                                     const ContactPenalty& penalty);
 
 /// An obstacle-contact effect's settings (scene `obstacle_contact` object, but the list of
 /// obstacles).
@@ -252,6 +252,6 @@ struct ObstacleContactSettings {
 /// Contact with kinematic obstacles, as above, with area weighting and friction as
 /// `settings` says (`model`: the vertices' rest areas).
 std::unique_ptr<ContactEffect> make_obstacle_contact(const Model& model, const std::vector<Obstacle>& obstacles,
-                                                             const ObstacleContactSettings& settings);
+                                                     const ObstacleContactSettings& settings);
 
 }  // namespace pce::sim
