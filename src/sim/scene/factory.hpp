@@ -35,11 +35,6 @@ struct BuildContext {
   std::vector<std::array<std::string, 2>> mesh_pairs;
 };
 
-/// Reads a `motion` object: `velocity`, `angular_velocity`, `start` and `stop`, or
-/// `keyframes` and `interpolation` (not both; the caller states which keys are allowed);
-/// defined in scene/scene.cpp, shared by obstacles and pins.
-Motion parse_motion(const Params& m);
-
 using EffectFactory = std::unique_ptr<Effect> (*)(const Params& params, const BuildContext& ctx);
 
 }  // namespace pce::sim
