@@ -3,6 +3,7 @@
 #include "effects/arguments.hpp"
 #include "solver/linear_state.hpp"
 #include "solver/step_state.hpp"
+#include "util/names.hpp"
 #include "util/stopwatch.hpp"
 
 #include <pce/sim/contact_effect.hpp>
@@ -143,8 +144,7 @@ FrameStats Simulation::step() {
 void Simulation::set_obstacle_pose(const std::string& name, const Eigen::Isometry3d& pose) {
   const auto it = std::find_if(obstacles.begin(), obstacles.end(), [&](const Obstacle& o) { return o.name == name; });
   if (it == obstacles.end()) {
-    std::string names;
-    for (const Obstacle& o : obstacles) names += (names.empty() ? "\"" : ", \"") + o.name + "\"";
+    const std::string names = names_of(obstacles);
     throw ArgumentError("name", "no obstacle named \"" + name +
                                     "\" (the obstacles: " + (names.empty() ? std::string("none") : names) + ")");
   }
