@@ -27,8 +27,6 @@ class Params {
   Params(const nlohmann::json& object, std::string file, std::string path);
 
   const std::string& file() const { return file_; }
-  const std::string& path() const { return path_; }
-  const nlohmann::json& json() const { return *j_; }
   bool has(const std::string& key) const;
   /// The JSON path of `key` inside this object.
   std::string path_of(const std::string& key) const;

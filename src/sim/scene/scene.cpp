@@ -84,9 +84,7 @@ void build_effects(const nlohmann::json& effects, const std::vector<EffectEntry>
     BuildContext ctx;
     ctx.model = &sim.model;
     ctx.obstacles = &sim.obstacles;
-    ctx.dt = sim.solver.dt;
     ctx.broad_phase = broad_phase;
-    ctx.threads = sim.solver.threads;
     if (e.meshes.given) {
       std::vector<std::string> names;
       for (const int m : e.meshes.meshes) names.push_back(mesh_name(m));

@@ -3,7 +3,6 @@
 #include "solver_settings.hpp"
 
 #include "../effects/arguments.hpp"
-#include "scene_names.hpp"
 
 #include <string>
 
