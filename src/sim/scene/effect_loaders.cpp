@@ -146,10 +146,10 @@ std::unique_ptr<Effect> load_pins(const Params& params, const BuildContext& ctx)
       if (v >= r.first_vertex && v < r.first_vertex + r.vertex_count) return true;
     return false;
   };
-  const std::size_t count = params.array("groups", true).size();
-  if (count == 0) params.fail("groups", "expected at least one pin group");
+  const std::size_t group_count = params.array("groups", true).size();
+  if (group_count == 0) params.fail("groups", "expected at least one pin group");
   std::vector<PinGroup> groups;
-  for (std::size_t gi = 0; gi < count; ++gi) {
+  for (std::size_t gi = 0; gi < group_count; ++gi) {
     const Params g = params.element("groups", gi);
     g.only({"vertices", "box", "mesh", "release_frame", "motion"});
     PinGroup group;

@@ -75,12 +75,12 @@ Mesh parse_generator(const Params& g) {
 }
 
 /// The rows of the array `key` (absent: none), each an array of N vertex indices in
-/// [0, `vertices`) with no vertex twice, as the columns of a matrix; `what` names a row
+/// [0, `vertex_count`) with no vertex twice, as the columns of a matrix; `what` names a row
 /// ("triangle"). Errors name the row or the index (`triangles[4][2]`).
 template <int N> Eigen::Matrix<int, N, Eigen::Dynamic> index_rows(const Params& p, const std::string& key,
-                                                                  Eigen::Index vertices, const char* what) {
+                                                                  Eigen::Index vertex_count, const char* what) {
   const nlohmann::json& rows = p.array(key);
-  const std::string range = "[0, " + std::to_string(vertices) + ")";
+  const std::string range = "[0, " + std::to_string(vertex_count) + ")";
   Eigen::Matrix<int, N, Eigen::Dynamic> out(N, static_cast<Eigen::Index>(rows.size()));
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const std::string row = "[" + std::to_string(r) + "]";
@@ -94,7 +94,7 @@ template <int N> Eigen::Matrix<int, N, Eigen::Dynamic> index_rows(const Params& 
       const std::int64_t i = v.is_number_unsigned() && v.get<std::uint64_t>() > std::uint64_t{1} << 62
                                  ? std::numeric_limits<std::int64_t>::max()
                                  : v.get<std::int64_t>();
-      if (i < 0 || i >= vertices) p.fail(at, "expected a vertex index in " + range + ", got " + v.dump());
+      if (i < 0 || i >= vertex_count) p.fail(at, "expected a vertex index in " + range + ", got " + v.dump());
       out(k, static_cast<Eigen::Index>(r)) = static_cast<int>(i);
       for (int m = 0; m < k; ++m)
         if (out(m, static_cast<Eigen::Index>(r)) == i)
@@ -137,10 +137,10 @@ Eigen::Matrix3Xd inline_vertices(const Params& p) {
 Mesh parse_inline_mesh(const Params& p) {
   Mesh m;
   m.positions = inline_vertices(p);
-  const Eigen::Index n = m.vertex_count();
-  m.triangles = index_rows<3>(p, "triangles", n, "triangle");
-  m.segments = index_rows<2>(p, "segments", n, "segment");
-  m.tetrahedra = index_rows<4>(p, "tetrahedra", n, "tetrahedron");
+  const Eigen::Index vertex_count = m.vertex_count();
+  m.triangles = index_rows<3>(p, "triangles", vertex_count, "triangle");
+  m.segments = index_rows<2>(p, "segments", vertex_count, "segment");
+  m.tetrahedra = index_rows<4>(p, "tetrahedra", vertex_count, "tetrahedron");
   if (m.tetrahedra.cols() > 0) {
     for (const char* key : {"triangles", "segments"})
       if (p.has(key))

@@ -50,7 +50,7 @@ void parse_bodies(const Params& root, const std::filesystem::path& base, Simulat
 /// The JSON path of `effects[k]`.
 std::string entry_path(std::size_t k) { return "effects[" + std::to_string(k) + "]"; }
 
-/// Every entry of `effects` (at least one) read before anything is built: its registered
+/// Every entry of `effects`, read before anything is built: its registered
 /// type, the command line's `hessian` written into a contact entry that takes it, and what
 /// it covers (its `meshes`; an obstacle_contact entry's `obstacles`).
 std::vector<EffectEntry> read_entries(nlohmann::json& effects, const std::string& file, const SceneOverrides& overrides,
