@@ -11,6 +11,8 @@
 #include <pce/sim/scene.hpp>
 #include <pce/sim/usd.hpp>
 
+#include "util/names.hpp"  // src/sim's
+
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/optional.h>
 #include <nanobind/stl/pair.h>
@@ -104,10 +106,8 @@ class LoadedScene {
 
   /// The obstacle named `name`; ValueError when there is none.
   const Obstacle& obstacle(const std::string& name) const {
-    for (const Obstacle& o : scene_->simulation.obstacles)
-      if (o.name == name) return o;
-    std::string names;
-    for (const Obstacle& o : scene_->simulation.obstacles) names += (names.empty() ? "'" : ", '") + o.name + "'";
+    if (const Obstacle* o = find_named(scene_->simulation.obstacles, name)) return *o;
+    const std::string names = names_of(scene_->simulation.obstacles, "'");
     throw nb::value_error(("name: no obstacle named '" + name +
                            "' (the obstacles: " + (names.empty() ? std::string("none") : names) + ")")
                               .c_str());
@@ -150,9 +150,7 @@ void check_output(const std::string& what, const std::string& path) {
 
 /// The names of `values` (enumerators), separated by ", ".
 template <class Values> std::string plain_names(const Values& values) {
-  std::string list;
-  for (const auto v : values) list += (list.empty() ? "" : ", ") + std::string(pce::name_of(v));
-  return list;
+  return join_names(values, "", [](const auto v) { return pce::name_of(v); });
 }
 
 /// The names of `values` (enumerators), in their order.

@@ -300,6 +300,29 @@ TEST(EffectMeshes, OverlapsGapsAndMeshesWithoutTheElementsNameTheEntries) {
             std::string::npos);
 }
 
+TEST(EffectMeshes, CoverageIsCheckedBeforeTheFirstEffectIsBuilt) {
+  // effects[0]'s own field is wrong as well: its loader would refuse it when building the
+  // first effect, so the coverage error arriving instead shows that no loader ran before the
+  // checks between the entries.
+  json s = two_strips(20, 80);
+  s["effects"][0]["acceleration"] = "down";
+  EXPECT_NE(error_of(s).find("meshes.json: effects[0].acceleration: "), std::string::npos) << error_of(s);
+  s["effects"][2]["meshes"] = {"b", "a"};
+  EXPECT_EQ(error_of(s),
+            "meshes.json: effects[2].meshes: mesh \"a\" is also covered by effects[1] (stretching): each takes one "
+            "stretching entry (name each entry's \"meshes\")");
+  // An obstacle_contact entry's obstacles are read with its meshes, before the checks: an
+  // unknown name is reported as such, not as the meshes it leaves in no entry.
+  s = two_strips(20, 80);
+  s["obstacles"] = {{{"name", "ball"}, {"shape", "sphere"}, {"radius", 0.1}, {"position", {0, 0, -5}}}};
+  const json penalty = {{"type", "quadratic"}, {"stiffness", 10.0}, {"distance", 0.01}};
+  s["effects"].push_back({{"type", "obstacle_contact"}, {"penalty", penalty}, {"obstacles", {"nope"}}});
+  EXPECT_EQ(error_of(s),
+            "meshes.json: effects[5].obstacles[0]: unknown obstacle \"nope\" (the scene's obstacles: \"ball\")");
+  s["effects"][5]["obstacles"] = {"ball"};
+  EXPECT_EQ(error_of(s), "");
+}
+
 TEST(EffectMeshes, ASceneWithMeshEntriesAndItsCppTranscriptionSimulateBitForBitAlike) {
   // The self-contact floor scene (entries per mesh pair with their own friction) and two
   // stretching materials, 12 frames, built from the scene and by hand with

@@ -58,12 +58,11 @@ Model hair(int count = 2, int segments = 4, double curl = 0.0) {
   return model;
 }
 
-std::unique_ptr<Effect> build(EffectFactory factory, const std::string& text, const Model& model, double dt = 0.01) {
+std::unique_ptr<Effect> build(EffectFactory factory, const std::string& text, const Model& model) {
   const nlohmann::json j = nlohmann::json::parse(text);
   const Params p(j, "test.json", "effects[0]");
   BuildContext ctx;
   ctx.model = &model;
-  ctx.dt = dt;
   return factory(p, ctx);
 }
 
@@ -757,7 +756,7 @@ TEST(Pins, BadParameters) {
 TEST(Damping, DragOnTheStepVelocity) {
   Model m = cloth(2, 2);
   m.mass.setLinSpaced(m.mass.size(), 1.0, 3.0);
-  auto e = build(load_damping, R"({"type":"damping","coefficient":0.5})", m, 0.01);
+  auto e = build(load_damping, R"({"type":"damping","coefficient":0.5})", m);
   const Matrix3Xd start = perturbed(m.rest, 0.1, 7);
   StepContext step;
   step.frame = 1;

@@ -598,7 +598,6 @@ std::unique_ptr<pce::sim::ContactEffect> build(const Scene& s, double time) {
   pce::sim::BuildContext ctx;
   ctx.model = &s.model;
   ctx.obstacles = &s.obstacles;
-  ctx.dt = 0.1;
   const pce::sim::Params p(s.effects[0], "scene.json", "effects[0]");
   auto effect = pce::sim::load_obstacle_contact(p, ctx);
   pce::sim::StepContext step;

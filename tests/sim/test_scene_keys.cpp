@@ -390,11 +390,13 @@ const std::vector<SceneObject>& objects() {
   return list;
 }
 
-/// The keys of every `only({...})` list in the loader's sources, one set per call.
+/// The keys of every `only({...})` list in the loader's sources (every .cpp of
+/// src/sim/scene), one set per call.
 std::vector<Keys> source_only_lists() {
   std::vector<Keys> lists;
-  for (const char* file : {"scene.cpp", "effect_loaders.cpp", "params.cpp"}) {
-    const std::string text = read_text(fs::path(PCE_SOURCE_DIR) / "src" / "sim" / "scene" / file);
+  for (const fs::directory_entry& file : fs::directory_iterator(fs::path(PCE_SOURCE_DIR) / "src" / "sim" / "scene")) {
+    if (file.path().extension() != ".cpp") continue;
+    const std::string text = read_text(file.path());
     for (std::size_t at = text.find("only({"); at != std::string::npos; at = text.find("only({", at + 1)) {
       const std::string list = text.substr(at, text.find("})", at) - at);
       static const std::regex quoted("\"([^\"]*)\"");

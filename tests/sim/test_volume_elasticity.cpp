@@ -48,7 +48,6 @@ std::unique_ptr<Effect> elasticity(const Model& model, const std::string& hessia
   const Params p(j, "test.json", "effects[0]");
   BuildContext ctx;
   ctx.model = &model;
-  ctx.dt = 0.01;
   return load_volume_elasticity(p, ctx);
 }
 

@@ -11,6 +11,7 @@
 #include "pins.hpp"
 
 #include "arguments.hpp"
+#include "util/names.hpp"
 
 #include <pce/sim/effects.hpp>
 
@@ -159,11 +160,7 @@ class Pins final : public PinsEffect {
 
 }  // namespace
 
-const MeshRange* find_mesh(const Model& model, const std::string& name) {
-  const auto it =
-      std::find_if(model.meshes.begin(), model.meshes.end(), [&](const MeshRange& r) { return r.name == name; });
-  return it == model.meshes.end() ? nullptr : &*it;
-}
+const MeshRange* find_mesh(const Model& model, const std::string& name) { return find_named(model.meshes, name); }
 
 std::vector<int> vertices_in_box(const Model& model, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                                  const std::string& mesh) {

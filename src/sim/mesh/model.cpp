@@ -3,6 +3,8 @@
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/model.hpp>
 
+#include "util/names.hpp"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -121,13 +123,12 @@ Model build_model(const std::vector<ModelMesh>& meshes) {
 Model restrict_to_meshes(const Model& model, const std::vector<std::string>& meshes) {
   if (meshes.empty()) throw ArgumentError("meshes", "expected at least one mesh name");
   std::vector<char> keep(model.meshes.size(), 0);
-  std::string known;
-  for (const MeshRange& r : model.meshes) known += (known.empty() ? "" : ", ") + r.name;
   for (const std::string& name : meshes) {
-    std::size_t k = 0;
-    while (k < model.meshes.size() && model.meshes[k].name != name) ++k;
-    if (k == model.meshes.size())
-      throw ArgumentError("meshes", "unknown mesh \"" + name + "\" (the model's meshes: " + known + ")");
+    const MeshRange* r = find_named(model.meshes, name);
+    if (!r)
+      throw ArgumentError("meshes",
+                          "unknown mesh \"" + name + "\" (the model's meshes: " + names_of(model.meshes, "") + ")");
+    const std::size_t k = static_cast<std::size_t>(r - model.meshes.data());
     if (keep[k]) throw ArgumentError("meshes", "mesh \"" + name + "\" is named twice");
     keep[k] = 1;
   }

@@ -6,13 +6,15 @@
 #include "effect_loaders.hpp"
 
 #include "../effects/arguments.hpp"
-#include "../effects/pins.hpp"
+#include "../util/names.hpp"
+#include "coverage.hpp"
+#include "motion.hpp"
+#include "obstacles.hpp"
 #include "scene_names.hpp"
 
 #include <pce/sim/effects.hpp>
 
 #include <algorithm>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -132,33 +134,22 @@ std::unique_ptr<Effect> load_pins(const Params& params, const BuildContext& ctx)
   params.only({"type", "meshes", "stiffness", "groups"});
   const double k = params.positive("stiffness", 1e5);
   const Model& model = *ctx.model;
-  // `meshes`: the meshes its groups may pin (every mesh without the key).
-  std::vector<const MeshRange*> allowed;
-  std::string allowed_names;
-  if (params.has("meshes")) {
-    const nlohmann::json& names = params.array("meshes");
-    if (names.empty()) params.fail("meshes", "expected at least one mesh name (leave the field out for every mesh)");
-    for (std::size_t j = 0; j < names.size(); ++j) {
-      const std::string where = params.path_of("meshes") + "[" + std::to_string(j) + "]";
-      if (!names[j].is_string()) throw InputError(params.file(), where, "expected a mesh name (a string)");
-      const MeshRange* r = find_mesh(model, names[j].get<std::string>());
-      if (!r) throw InputError(params.file(), where, "no mesh named \"" + names[j].get<std::string>() + "\"");
-      if (std::find(allowed.begin(), allowed.end(), r) != allowed.end())
-        throw InputError(params.file(), where, "mesh \"" + r->name + "\" named twice");
-      allowed.push_back(r);
-      allowed_names += (allowed_names.empty() ? "\"" : ", \"") + r->name + "\"";
-    }
-  }
+  // `meshes`: the meshes its groups may pin (every mesh without the key), read as the scene
+  // loader reads the other types' `meshes`.
+  std::vector<MeshRange> allowed;
+  for (const int m : read_meshes(params, model, false).meshes)
+    allowed.push_back(model.meshes[static_cast<std::size_t>(m)]);
+  const std::string allowed_names = names_of(allowed);
   const auto pinnable = [&](int v) {
     if (allowed.empty()) return true;
-    for (const MeshRange* r : allowed)
-      if (v >= r->first_vertex && v < r->first_vertex + r->vertex_count) return true;
+    for (const MeshRange& r : allowed)
+      if (v >= r.first_vertex && v < r.first_vertex + r.vertex_count) return true;
     return false;
   };
-  const std::size_t count = params.array("groups", true).size();
-  if (count == 0) params.fail("groups", "expected at least one pin group");
+  const std::size_t group_count = params.array("groups", true).size();
+  if (group_count == 0) params.fail("groups", "expected at least one pin group");
   std::vector<PinGroup> groups;
-  for (std::size_t gi = 0; gi < count; ++gi) {
+  for (std::size_t gi = 0; gi < group_count; ++gi) {
     const Params g = params.element("groups", gi);
     g.only({"vertices", "box", "mesh", "release_frame", "motion"});
     PinGroup group;
@@ -168,7 +159,7 @@ std::unique_ptr<Effect> load_pins(const Params& params, const BuildContext& ctx)
     int first = 0, size = model.vertex_count();
     const std::string mesh = g.has("mesh") ? g.string("mesh") : std::string();
     if (g.has("mesh")) {
-      const MeshRange* r = find_mesh(model, mesh);
+      const MeshRange* r = find_named(model.meshes, mesh);
       if (!r) g.fail("mesh", "no mesh named \"" + mesh + "\"");
       if (!pinnable(r->first_vertex))
         g.fail("mesh", "mesh \"" + mesh + "\" is not one of the entry's meshes (" + allowed_names + ")");
@@ -232,29 +223,8 @@ std::unique_ptr<Effect> load_obstacle_contact(const Params& params, const BuildC
   if (params.has("friction")) spec.friction = parse_friction(params.object("friction"));
   static const std::vector<Obstacle> none;
   const std::vector<Obstacle>& all = ctx.obstacles ? *ctx.obstacles : none;
-  std::vector<Obstacle> chosen;
-  if (!params.has("obstacles")) {
-    chosen = all;
-  } else {
-    const nlohmann::json& names = params.array("obstacles");
-    if (names.empty()) params.fail("obstacles", "expected at least one obstacle name (leave the field out for all)");
-    std::set<std::string> seen;
-    for (std::size_t k = 0; k < names.size(); ++k) {
-      const std::string where = params.path_of("obstacles") + "[" + std::to_string(k) + "]";
-      if (!names[k].is_string()) throw InputError(params.file(), where, "expected an obstacle name (a string)");
-      const std::string name = names[k].get<std::string>();
-      const auto it = std::find_if(all.begin(), all.end(), [&](const Obstacle& o) { return o.name == name; });
-      if (it == all.end()) {
-        std::string known;
-        for (const Obstacle& o : all) known += (known.empty() ? "" : ", ") + ("\"" + o.name + "\"");
-        throw InputError(
-            params.file(), where,
-            "unknown obstacle \"" + name + "\" (the scene's obstacles: " + (known.empty() ? "none" : known) + ")");
-      }
-      if (!seen.insert(name).second) throw InputError(params.file(), where, "obstacle \"" + name + "\" listed twice");
-      chosen.push_back(*it);
-    }
-  }
+  std::vector<Obstacle> chosen;  // its `obstacles`, already checked by the scene loader before any effect was built
+  for (const int o : listed_obstacles(params, all)) chosen.push_back(all[static_cast<std::size_t>(o)]);
   return params.build([&] { return make_obstacle_contact(*ctx.model, chosen, spec); });
 }
 

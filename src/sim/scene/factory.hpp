@@ -20,25 +20,18 @@
 
 namespace pce::sim {
 
-/// What a factory may read: the built model (masses included), the obstacles, the scene's
-/// step size, the broad phase to use and the thread count.
+/// What a factory may read: the built model (masses included), the obstacles, the broad
+/// phase to use and a self-contact entry's mesh pairs.
 struct BuildContext {
   /// The model the effect acts on: the scene's, or `restrict_to_meshes` of it for an entry
   /// with `meshes`.
   const Model* model = nullptr;
   const std::vector<Obstacle>* obstacles = nullptr;
-  double dt = 0;
   BroadPhaseKind broad_phase = BroadPhaseKind::fcl;
-  int threads = 1;
   /// A self-contact entry's `meshes` given as pairs (`ContactSettings::mesh_pairs`); empty:
   /// every pair of `model`'s meshes.
   std::vector<std::array<std::string, 2>> mesh_pairs;
 };
-
-/// Reads a `motion` object: `velocity`, `angular_velocity`, `start` and `stop`, or
-/// `keyframes` and `interpolation` (not both; the caller states which keys are allowed);
-/// defined in scene/scene.cpp, shared by obstacles and pins.
-Motion parse_motion(const Params& m);
 
 using EffectFactory = std::unique_ptr<Effect> (*)(const Params& params, const BuildContext& ctx);
 

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "params.hpp"
 
+#include "../util/names.hpp"
+
 #include <cmath>
 #include <sstream>
 
@@ -167,11 +169,7 @@ void Params::only(std::initializer_list<const char*> known) const {
   for (auto it = j_->begin(); it != j_->end(); ++it) {
     bool ok = false;
     for (const char* k : known) ok = ok || it.key() == k;
-    if (!ok) {
-      std::string list;
-      for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-      fail(it.key(), "unknown field (expected one of: " + list + ")");
-    }
+    if (!ok) fail(it.key(), "unknown field (expected one of: " + join_names(known, "") + ")");
   }
 }
 

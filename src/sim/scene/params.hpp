@@ -27,8 +27,6 @@ class Params {
   Params(const nlohmann::json& object, std::string file, std::string path);
 
   const std::string& file() const { return file_; }
-  const std::string& path() const { return path_; }
-  const nlohmann::json& json() const { return *j_; }
   bool has(const std::string& key) const;
   /// The JSON path of `key` inside this object.
   std::string path_of(const std::string& key) const;
@@ -87,6 +85,20 @@ class Params {
     } catch (const ArgumentError& e) {
       throw InputError(file_, join(e.field()), e.expected());
     }
+  }
+  /// The number at `key` (finite; `fallback` when absent) passed through a builder's argument
+  /// check `check(field, value)` (`args::length`, …, effects/arguments.hpp), whose error
+  /// names `key`'s JSON path.
+  template <class Check>
+  double checked(const std::string& key, Check check, std::optional<double> fallback = std::nullopt) const {
+    const double v = number(key, fallback);
+    return build([&] { return check(key, v); });
+  }
+  /// The 3-vector at `key` passed through `check(field, value)` (`args::position`, …).
+  template <class Check> Eigen::Vector3d checked_vec3(const std::string& key, Check check,
+                                                      std::optional<Eigen::Vector3d> fallback = std::nullopt) const {
+    const Eigen::Vector3d v = vec3(key, fallback);
+    return build([&] { return Eigen::Vector3d(check(key, v)); });
   }
   /// The JSON path of `field` (a key, `key[i].key`, `[i]`, or "" for this object) inside this object.
   std::string join(const std::string& field) const;

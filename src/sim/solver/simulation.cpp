@@ -4,6 +4,7 @@
 // accepted state and the frame's statistics.
 #include "effects/arguments.hpp"
 #include "solver/step.hpp"
+#include "util/names.hpp"
 
 #include <pce/sim/input_error.hpp>
 #include <pce/sim/simulation.hpp>
@@ -130,10 +131,9 @@ FrameStats Simulation::step() {
 }
 
 void Simulation::set_obstacle_pose(const std::string& name, const Eigen::Isometry3d& pose) {
-  const auto it = std::find_if(obstacles.begin(), obstacles.end(), [&](const Obstacle& o) { return o.name == name; });
-  if (it == obstacles.end()) {
-    std::string names;
-    for (const Obstacle& o : obstacles) names += (names.empty() ? "\"" : ", \"") + o.name + "\"";
+  Obstacle* const it = find_named(obstacles, name);
+  if (!it) {
+    const std::string names = names_of(obstacles);
     throw ArgumentError("name", "no obstacle named \"" + name +
                                     "\" (the obstacles: " + (names.empty() ? std::string("none") : names) + ")");
   }

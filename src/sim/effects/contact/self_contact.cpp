@@ -24,6 +24,7 @@
 #include "saved_state.hpp"
 #include "separation_floor.hpp"
 #include "step_bound.hpp"
+#include "util/names.hpp"
 #include "util/stopwatch.hpp"
 
 #include <pce/sim/contact_effect.hpp>
@@ -43,8 +44,7 @@ std::vector<char> allowed_mesh_pairs(const Model& model, const std::vector<std::
   if (pairs.empty()) return {};
   const std::size_t M = model.meshes.size();
   const auto index = [&](const std::string& name) {
-    for (std::size_t k = 0; k < M; ++k)
-      if (model.meshes[k].name == name) return k;
+    if (const MeshRange* r = find_named(model.meshes, name)) return static_cast<std::size_t>(r - model.meshes.data());
     throw ArgumentError("meshes", "unknown mesh \"" + name + "\"");
   };
   std::vector<char> allowed(M * M, 0);

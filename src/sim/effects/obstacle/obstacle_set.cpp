@@ -2,6 +2,8 @@
 // The obstacles of an obstacle-contact effect (obstacle_set.hpp).
 #include "obstacle_set.hpp"
 
+#include "util/names.hpp"
+
 #include <algorithm>
 #include <limits>
 
@@ -40,13 +42,8 @@ ObstacleSet::ObstacleSet(std::vector<Obstacle> obstacles, std::vector<char> surf
 
 void ObstacleSet::place(const StepContext& ctx, bool with_start) {
   for (std::size_t k = 0; k < obstacles_.size(); ++k) {
-    const Obstacle* posed = &obstacles_[k];
-    if (ctx.obstacles)
-      for (const Obstacle& o : *ctx.obstacles)
-        if (o.name == obstacles_[k].name) {
-          posed = &o;
-          break;
-        }
+    const Obstacle* found = ctx.obstacles ? find_named(*ctx.obstacles, obstacles_[k].name) : nullptr;
+    const Obstacle* posed = found ? found : &obstacles_[k];
     poses_[k] = posed->pose(ctx.time);
     if (with_start) start_poses_[k] = posed->pose(ctx.time - ctx.dt);
   }
