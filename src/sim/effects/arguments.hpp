@@ -9,8 +9,8 @@
 /// magnitude below overflow. The limits are physical upper bounds in SI units, each defined
 /// once: lengths and coordinates (`kMaxCoordinate`, pce/sim/mesh.hpp), stiffnesses,
 /// accelerations, damping rates and speeds here, densities in pce/sim/model.hpp, the
-/// scene's time step and transform scale in the scene parser, scene.cpp (docs/fuzzing.md,
-/// "Limits").
+/// scene's time step in scene/solver_settings.cpp and its transform scale in
+/// scene/motion.cpp (docs/fuzzing.md, "Limits").
 #pragma once
 
 #include <pce/sim/input_error.hpp>

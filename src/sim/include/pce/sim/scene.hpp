@@ -6,7 +6,8 @@
 ///
 /// Every invalid input is reported by one `InputError` naming the file, the JSON path and
 /// what was expected (`hammock.json: effects[3].penalty.distance: expected a number > 0,
-/// got -1`); nothing is built or written before the whole scene is accepted.
+/// got -1`); every check of an effect entry's fields and of which meshes the entries cover
+/// ends before the first effect is built, and on any error nothing is returned or written.
 #pragma once
 
 #include <pce/energy/projection.hpp>
