@@ -6,8 +6,9 @@
 ///
 /// Every invalid input is reported by one `InputError` naming the file, the JSON path and
 /// what was expected (`hammock.json: effects[3].penalty.distance: expected a number > 0,
-/// got -1`); every check of an effect entry's fields and of which meshes the entries cover
-/// ends before the first effect is built, and on any error nothing is returned or written.
+/// got -1`). The effect entries' types, meshes and obstacles, and which meshes they cover,
+/// are checked before the first effect is built; each entry's own fields by its builder
+/// before that effect is built; on any error nothing is returned or written.
 #pragma once
 
 #include <pce/energy/projection.hpp>
