@@ -75,7 +75,7 @@ std::vector<EffectEntry> read_entries(nlohmann::json& effects, const std::string
 
 /// Builds each of `entries` (read from `effects`) by its registered loader, in scene order,
 /// into `scene`: an entry with `meshes` on the model restricted to them (kept in
-/// `Scene::effect_models`), a self-contact entry with its named mesh pairs.
+/// `Simulation::effect_models`), a self-contact entry with its named mesh pairs.
 void build_effects(const nlohmann::json& effects, const std::vector<EffectEntry>& entries, const std::string& file,
                    BroadPhaseKind broad_phase, Scene& scene) {
   Simulation& sim = scene.simulation;
@@ -88,8 +88,8 @@ void build_effects(const nlohmann::json& effects, const std::vector<EffectEntry>
     if (e.meshes.given) {
       std::vector<std::string> names;
       for (const int m : e.meshes.meshes) names.push_back(mesh_name(m));
-      scene.effect_models.push_back(std::make_unique<Model>(restrict_to_meshes(sim.model, names)));
-      ctx.model = scene.effect_models.back().get();
+      sim.effect_models.push_back(std::make_unique<Model>(restrict_to_meshes(sim.model, names)));
+      ctx.model = sim.effect_models.back().get();
       for (const auto& [a, b] : e.meshes.pairs) ctx.mesh_pairs.push_back({mesh_name(a), mesh_name(b)});
     }
     sim.effects.push_back(e.type->make(Params(effects[e.index], file, entry_path(e.index)), ctx));

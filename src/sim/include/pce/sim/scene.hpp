@@ -46,10 +46,6 @@ struct SceneOverrides {
 struct Scene {
   /// The scene file it was loaded from (the name used in errors for a text).
   std::filesystem::path file;
-  /// The models effect entries with `meshes` act on (`restrict_to_meshes` of the
-  /// simulation's model; the effects point into them, so they are declared first and
-  /// outlive them).
-  std::vector<std::unique_ptr<Model>> effect_models;
   /// The simulation the scene declares, at frame 0.
   Simulation simulation;
   int output_every = 1;  ///< write every k-th frame's mesh (the last always)

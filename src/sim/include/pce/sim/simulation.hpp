@@ -200,7 +200,8 @@ class SimulationError : public std::runtime_error {
 
 /// A whole simulation: the model, its obstacles, the declared effects, the solver settings
 /// and the current state; `step()` advances it by one time step (one frame). Effects point
-/// into `model`, so a Simulation is neither copied nor moved (hold it by `std::unique_ptr`).
+/// into `model` or into `effect_models`, so a Simulation is neither copied nor moved (hold
+/// it by `std::unique_ptr`).
 class Simulation {
  public:
   Simulation() = default;
@@ -209,6 +210,10 @@ class Simulation {
   ~Simulation() = default;
   /// The deformable vertices and elements.
   Model model;
+  /// The models the effects restricted to some meshes act on (`restrict_to_meshes` of
+  /// `model`; a scene's entries with `meshes`): the effects point into them, so they are
+  /// declared before `effects` and outlive them.
+  std::vector<std::unique_ptr<Model>> effect_models;
   /// The scene's rigid obstacles.
   std::vector<Obstacle> obstacles;
   /// The scene's effects, in scene order: the whole incremental potential.
