@@ -1,13 +1,17 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// The dense symmetric eigensolvers of the fuzz body, compiled in translation units of
-/// their own, one per scalar type (`fuzz_eigensolvers_float.cpp`,
-/// `fuzz_eigensolvers_double.cpp`, `fuzz_eigensolvers_long_double.cpp`, same sanitizer
-/// flags), so that the parts of the fuzz target build in parallel: Eigen's
-/// `SelfAdjointEigenSolver` is the most expensive template the body instantiates (once per
-/// scalar and size through `pce::project_psd`: 12×12 for the plane kinds and
-/// closest-feature evaluation, 9×9 for point_edge, 6×6 for point_point; once more for the
-/// long double checker, which pads every matrix to 12×12).
+/// The dense symmetric eigensolvers of the fuzz body. Eigen's `SelfAdjointEigenSolver` is the
+/// most expensive template the body instantiates (through `pce::project_psd`, once per scalar
+/// and size: 12×12 for the plane kinds and closest-feature evaluation, 9×9 for point_edge,
+/// 6×6 for point_point). Those instantiations are the ones `pce::precompiled` compiles
+/// (`pce/core/precompiled.hpp`); the fuzz targets declare them extern here and link that
+/// library's archive (not the target: its `PCE_PRECOMPILED` would also take the run-time
+/// `projected_hessian` dispatch, the code under test, out of the sanitized units). So
+/// `project_psd`, Eigen's eigensolver behind `Projection::numerical`, runs unsanitized and
+/// without Eigen's assertions, as it does in `pce-scene-fuzz`; every strategy of every pair
+/// kind up to that call, and the checks, are compiled with the sanitizers. The checks' own long
+/// double eigensolver (`min_eigenvalue`, which also reports convergence) is compiled with the
+/// body's flags in `fuzz_min_eigenvalue.cpp`.
 #pragma once
 
 #include <pce/energy/psd_projection.hpp>
@@ -23,14 +27,11 @@ MinEig min_eigenvalue(const Eigen::Matrix<long double, 12, 12>& M);
 
 }  // namespace pce_fuzz
 
+#if !defined(PCE_PRECOMPILED)
 namespace pce {
-// 12×12: the plane kinds and closest-feature evaluation; 9×9 and 6×6: point_edge and
-// point_point.
-#define PCE_FUZZ_PROJECT_PSD(EXTERN, S)                         \
-  EXTERN template Mat12<S> project_psd<S, 12>(const Mat12<S>&); \
-  EXTERN template Mat9<S> project_psd<S, 9>(const Mat9<S>&);    \
-  EXTERN template Mat6<S> project_psd<S, 6>(const Mat6<S>&);
-PCE_FUZZ_PROJECT_PSD(extern, float)
-PCE_FUZZ_PROJECT_PSD(extern, double)
-PCE_FUZZ_PROJECT_PSD(extern, long double)
+// project_psd (12×12, 9×9, 6×6) and symmetric_eigenvalues, from pce::precompiled's archive.
+PCE_PSD_PROJECTION_INSTANCES(extern, float)
+PCE_PSD_PROJECTION_INSTANCES(extern, double)
+PCE_PSD_PROJECTION_INSTANCES(extern, long double)
 }  // namespace pce
+#endif

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file
-/// `pce::project_psd` in long double, and the long double eigensolver of the PSD checks,
-/// which shares its 12×12 instantiation of `Eigen::SelfAdjointEigenSolver` (see
-/// `fuzz_eigensolvers.hpp`).
+/// The long double eigensolver of the PSD checks (`min_eigenvalue`, see
+/// `fuzz_eigensolvers.hpp`), compiled with the fuzz body's sanitizer flags in a translation
+/// unit of its own.
 #include "fuzz_eigensolvers.hpp"
 
 namespace pce_fuzz {
@@ -16,7 +16,3 @@ MinEig min_eigenvalue(const Eigen::Matrix<long double, 12, 12>& M) {
 }
 
 }  // namespace pce_fuzz
-
-namespace pce {
-PCE_FUZZ_PROJECT_PSD(, long double)
-}  // namespace pce
