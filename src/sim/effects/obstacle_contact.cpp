@@ -15,13 +15,11 @@
 /// Area weighting (`area_weighted`): vertex i's energy is Aᵢ ψ(d), Aᵢ its lumped rest area. A
 /// vertex inside a volume (`Model::surface_vertex`) takes part in no obstacle contact: only a
 /// volume's surface does.
-#include "effects/friction.hpp"
 #include "effects/obstacle/obstacle_bounds.hpp"
 #include "effects/obstacle/obstacle_floor.hpp"
 #include "effects/obstacle/obstacle_friction.hpp"
 #include "effects/obstacle/obstacle_penalties.hpp"
 #include "effects/obstacle/obstacle_set.hpp"
-#include "util/stopwatch.hpp"
 
 #include <pce/sim/contact_effect.hpp>
 #include <pce/sim/effects.hpp>

@@ -53,9 +53,6 @@ class ObstacleBounds {
   /// Block descent: lowers bound[i] to vertex i's room at x to every obstacle.
   void vertex_bounds(const Eigen::Matrix3Xd& x, Eigen::VectorXd& bound) const;
 
-  /// Vertices per chunk of the parallel passes.
-  static constexpr long kChunk = 1024;
-
  private:
   /// Pair (i, k)'s part of line_search_bound at distance d0 (a pair its lower bound did not
   /// rule out), lowering the running minimum `t`.

@@ -46,11 +46,10 @@ void ObstacleFriction::freeze(const Eigen::Matrix3Xd& x, bool at_start) {
   const double reach = penalties_->penalty().distance;
   const bool barrier = penalties_->penalty().barrier();
   const long n = x.cols();
-  constexpr long chunk = ObstaclePenalties::kChunk;
-  const std::size_t chunks = contact::chunk_count(n, chunk);
+  const std::size_t chunks = contact::chunk_count(n, kChunk);
   if (parts_.size() < chunks) parts_.resize(chunks);
   visit_penalty(penalties_->penalty(), [&](const auto& penalty) {
-    contact::for_each_chunk(n, chunk, [&](std::size_t c, long begin, long end) {
+    contact::for_each_chunk(n, kChunk, [&](std::size_t c, long begin, long end) {
       parts_[c].clear();
       for (long i = begin; i < end; ++i) {
         if (!set_->takes_part(i)) continue;  // inside a volume

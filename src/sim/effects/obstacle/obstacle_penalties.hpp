@@ -55,9 +55,6 @@ class ObstaclePenalties {
   /// The smallest distance (or lower bound of it) at the last evaluation.
   double min_distance() const { return min_distance_; }
 
-  /// Vertices per chunk of the parallel passes.
-  static constexpr long kChunk = 1024;
-
  private:
   /// The active pairs at x with their terms (terms_, in vertex then obstacle order) and the
   /// minimum distance; true when a barrier's domain is left.

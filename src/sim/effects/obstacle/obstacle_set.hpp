@@ -21,6 +21,9 @@
 
 namespace pce::sim::obstacle {
 
+/// Vertices per chunk of every parallel pass of an obstacle-contact effect.
+inline constexpr long kChunk = 1024;
+
 /// A pair (vertex i, obstacle k) is numbered i·K + k, K the effect's obstacle count.
 using PairIndex = std::size_t;
 
