@@ -255,6 +255,33 @@ TEST(LaggedFriction, TheModelForceIsTheGradientPlusTheHessianTimesTheStep) {
   EXPECT_NEAR(friction_model_force(f, slid, Vec3<double>(f.static_slip * f.basis.col(0))).norm(), f.mu_lambda, 1e-15);
 }
 
+TEST(LaggedFriction, TheForceIsTheGradientInTheSlipCoordinatesAndTheModelErrorIsSecondOrder) {
+  // Σⱼ wⱼ ∇Dⱼ = (Σⱼ wⱼ²) T F, |F| ≤ μλ, in both regimes; the model's error over a step,
+  // φ(dx, t·ddx) − F(dx + t·ddx), shrinks as t² (Newton's model is exact to first order).
+  std::mt19937 rng(17);
+  for (int i = 0; i < 30; ++i) {
+    const LaggedFriction<double, 4> f =
+        frozen(VecN<double, 4>(0.3, 0.7, -0.6, -0.4), Vec3<double>(0.2, 0.1, 1).normalized());
+    const VecN<double, 12> dx = displacement<4>(rng, f.static_slip, i),
+                           ddx = displacement<4>(rng, f.static_slip, i + 1);
+    const VecN<double, 12> g = friction_gradient(f, dx);
+    Vec3<double> sum = Vec3<double>::Zero();
+    for (int j = 0; j < 4; ++j) sum += f.weights[j] * g.segment<3>(3 * j);
+    const Eigen::Vector2d F = friction_force(f, dx);
+    EXPECT_NEAR((sum - f.weights.squaredNorm() * (f.basis * F)).norm(), 0.0, 1e-12 * f.mu_lambda) << i;
+    EXPECT_LE(F.norm(), f.mu_lambda * (1 + 1e-15));
+    // F is C¹ with a Lipschitz derivative (f₁′ is continuous at ε), so the error is O(t²) everywhere.
+    const auto error = [&](double t) {
+      const VecN<double, 12> step = t * ddx;
+      return (friction_model_force(f, dx, step) - friction_force(f, VecN<double, 12>(dx + step))).norm();
+    };
+    const double e1 = error(1e-3), e2 = error(5e-4);
+    if (e1 > 1e-12 * f.mu_lambda) {
+      EXPECT_LT(e2, 0.3 * e1) << i;
+    }
+  }
+}
+
 TEST(LaggedFriction, TheMajorizerBlockBoundsTheHessianAndThePotential) {
   // μλ (f₁/y) T Tᵀ ⪰ the Hessian's tangent block, and the quadratic with it (and the
   // gradient) lies above D for a move of one vertex, in both regimes and across y = 0.

@@ -61,8 +61,10 @@ TEST(Run, RecordsEveryFrameWithoutWritingUntilOpened) {
   EXPECT_EQ(record["newton_iterations"], r.stats.newton_iterations);
   EXPECT_EQ(record["stop"], to_string(r.stats.stop));
   EXPECT_EQ(record["friction_load"], r.stats.friction_load);
+  EXPECT_EQ(record["friction_residual"], r.stats.friction_residual);
   ASSERT_EQ(record["iterations"].size(), r.stats.iterations.size());
   EXPECT_EQ(record["iterations"][0]["friction_load"], r.stats.iterations[0].friction_load);
+  EXPECT_EQ(record["iterations"][0]["friction_residual"], r.stats.iterations[0].friction_residual);
   EXPECT_EQ(record["intersecting_triangle_pairs"], 0);
   EXPECT_EQ(record["new_intersections"], 0);
   EXPECT_EQ(scene->simulation.frame, 1);

@@ -180,6 +180,19 @@ Eigen::Matrix<Scalar, 2, 1> friction_model_force(const LaggedFriction<Scalar, N>
   return f.mu_lambda * phi;
 }
 
+/// The tangential friction force at displacements `dx`, in the basis T (Coulomb's force
+/// once sliding, the static spring below ε):
+///
+///     F = μλ (f₁(y)/y) u,   |F| = μλ f₁(y) ≤ μλ,
+///
+/// the gradient ∇D = (w ⊗ T) F in the slip coordinates. `friction_model_force(f, dx, ddx)`
+/// minus this at dx + ddx is the error of Newton's quadratic model of D over the step ddx.
+template <class Scalar, int N> Eigen::Matrix<Scalar, 2, 1> friction_force(const LaggedFriction<Scalar, N>& f,
+                                                                          const Eigen::Matrix<Scalar, 3 * N, 1>& dx) {
+  const Eigen::Matrix<Scalar, 2, 1> u = friction_slip(f, dx);
+  return f.mu_lambda * friction_mollifier(u.norm(), f.static_slip).f1_over_y * u;
+}
+
 /// ∇²D, positive semidefinite: (w wᵀ) ⊗ `friction_tangent_block` (3N×3N).
 template <class Scalar, int N>
 Eigen::Matrix<Scalar, 3 * N, 3 * N> friction_hessian(const LaggedFriction<Scalar, N>& f,

@@ -33,6 +33,7 @@ json frame_record(const FrameStats& s, long intersections) {
   r["newton_iterations"] = s.newton_iterations;
   if (s.sweeps > 0) r["sweeps"] = s.sweeps;
   r["residual"] = s.residual;
+  r["friction_residual"] = s.friction_residual;
   r["friction_load"] = s.friction_load;
   r["stop"] = std::string(name_of(s.stop));
   r["energy"] = s.energy;
@@ -67,6 +68,7 @@ json frame_record(const FrameStats& s, long intersections) {
   json iterations = json::array();
   for (const NewtonIteration& it : s.iterations)
     iterations.push_back({{"residual", it.residual},
+                          {"friction_residual", it.friction_residual},
                           {"friction_load", it.friction_load},
                           {"step_limit", it.step_limit},
                           {"limited_by", it.limited_by},

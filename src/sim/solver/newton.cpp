@@ -6,8 +6,8 @@
 // PSD Hessian, H Δx = −g is solved, the hooks cover the step and bound it as the line search
 // begins, the backtracking (Armijo) line search takes a trial, the hooks hear where it
 // ended, and the effects whose candidates went stale (Requery) query again. A solve ends at
-// a direction below the tolerance (with friction: within Coulomb's bound), a failed line
-// search or the cap; the hooks' end_solve may ask for another solve from its result.
+// a direction below the tolerance (with friction: whose friction residual is too), a failed
+// line search or the cap; the hooks' end_solve may ask for another solve from its result.
 #include "solver/linear_state.hpp"
 #include "solver/step.hpp"
 
@@ -48,10 +48,12 @@ class Newton final : public StepSolver {
   bool end_line_search(Step& s);
   void refresh(Step& s);
   bool end_solve(Step& s);
-  /// maxₖ |φₖ|/(μλ)ₖ over the hooks' frozen friction contacts: the friction force Newton's
-  /// model assigns to contact k after `step` from the iterate (displacements from xⁿ), in
-  /// units of its Coulomb bound (`pce::friction_model_force`); 0 without friction.
-  double friction_load(const Step& s, const Eigen::Matrix3Xd& step) const;
+  /// The friction test at the step `step` from the iterate (displacements from xⁿ), over the
+  /// hooks' frozen friction contacts: returns friction's residual, maxᵢ |δfᵢ| h/(mᵢ ℓ) with
+  /// δfᵢ = Σₖ wₖᵢ T (φₖ − Fₖ) the error of Newton's model of the friction force at vertex i
+  /// (`pce::friction_model_force` minus `pce::friction_force` after the step), and sets
+  /// `load` to maxₖ |φₖ|/(μλ)ₖ (docs/simulation.md §5.2).
+  double friction_residual(const Step& s, const Eigen::Matrix3Xd& step, double& load);
   /// Whether any hook froze a friction contact for this step.
   bool has_friction() const;
 
@@ -59,6 +61,7 @@ class Newton final : public StepSolver {
   std::vector<std::pair<std::size_t, NewtonHooks*>> hooks_;  ///< this step's, with their effects' indices
   std::vector<std::pair<std::size_t, Requery*>> requery_;    ///< this step's, with their effects' indices
   Eigen::Matrix3Xd g_, dxm_, y1_;                            ///< the iterate's gradient, the direction, a trial
+  Eigen::Matrix3Xd friction_error_;                          ///< the friction test's δf per vertex
   Eigen::VectorXd dx_, rhs_;                                 ///< the direction and −g as vectors
   double E_ = 0;                                             ///< the energy at y with the current candidates
   bool covered_ = false;                                     ///< a hook queried again over this iteration's step
@@ -81,8 +84,9 @@ void Newton::solve(Step& s) {
   while (end_solve(s));
 }
 
-double Newton::friction_load(const Step& s, const Eigen::Matrix3Xd& step) const {
-  double load = 0;
+double Newton::friction_residual(const Step& s, const Eigen::Matrix3Xd& step, double& load) {
+  load = 0;
+  friction_error_.setZero(3, s.n);
   Eigen::Matrix<double, 12, 1> dx, ddx;
   for (const auto& [k, e] : hooks_)
     for (const FrozenFriction& c : e->frozen_friction()) {
@@ -91,9 +95,20 @@ double Newton::friction_load(const Step& s, const Eigen::Matrix3Xd& step) const 
         dx.segment<3>(3 * j) = s.y.col(v) - s.x_start.col(v);
         ddx.segment<3>(3 * j) = step.col(v);
       }
-      load = std::max(load, friction_model_force(c.friction, dx, ddx).norm() / c.friction.mu_lambda);
+      const Eigen::Vector2d model = friction_model_force(c.friction, dx, ddx);
+      load = std::max(load, model.norm() / c.friction.mu_lambda);
+      const Eigen::Matrix<double, 12, 1> moved = dx + ddx;
+      const Eigen::Vector3d error = c.friction.basis * (model - friction_force(c.friction, moved));
+      for (int j = 0; j < 4; ++j)
+        friction_error_.col(c.vertices[static_cast<std::size_t>(j)]) += c.friction.weights[j] * error;
     }
-  return load;
+  // |δfᵢ| / (mᵢ/h²) is the move the error asks of vertex i if only its inertia resisted;
+  // over h ℓ, in the residual's units.
+  double residual = 0;
+  for (int i = 0; i < s.n; ++i)
+    if (const double m = s.inertia.vertex_mass(i); m > 0)
+      residual = std::max(residual, friction_error_.col(i).norm() / m);
+  return residual / (s.settings.dt * s.scale);
 }
 
 bool Newton::has_friction() const {
@@ -118,7 +133,7 @@ void Newton::rebuild_pattern(Step& s) {
 }
 
 /// One solve: Newton iterations from y until a direction below the tolerance (with friction:
-/// within Coulomb's bound, docs/simulation.md §5.2), a failed line search or the cap.
+/// and friction's residual, docs/simulation.md §5.2), a failed line search or the cap.
 void Newton::newton(Step& s) {
   static const bool trace = std::getenv("PCE_SIM_TRACE") != nullptr;  // one line per Newton iteration on stderr
   const SolverSettings& solver = s.settings;
@@ -129,8 +144,8 @@ void Newton::newton(Step& s) {
     assemble(s, it);
     solve_direction(s, it);
     s.E_accepted = E_;
-    // A step below the tolerance ends the iterations, unless Newton's model asked a frozen
-    // friction contact for more than Coulomb's μλ over it: static friction's Hessian
+    // A step below the tolerance ends the iterations, unless Newton's model of the friction
+    // force erred over it by more than the tolerance allows: static friction's Hessian
     // (2μλ/(ε_v h)) holds over a slip of ε_v h only, so it makes a step small far from the
     // solution when the contact must slide (docs/simulation.md §5.2).
     const bool small_step = st.residual < solver.tolerance;
@@ -140,10 +155,10 @@ void Newton::newton(Step& s) {
     if (trace)
       std::fprintf(
           stderr,
-          "  it %d E %.9g slope %.3g alpha %.3g residual %.3g friction_load %.3g accepted %d factorizations %d "
-          "cg_iterations %d covered %d\n",
-          it, E_, -rhs_.dot(dx_), st.iterations.back().alpha, st.residual, st.iterations.back().friction_load, accepted,
-          static_cast<int>(ls_.counters.at(Counter::factorizations)),
+          "  it %d E %.9g slope %.3g alpha %.3g residual %.3g friction_residual %.3g friction_load %.3g accepted %d "
+          "factorizations %d cg_iterations %d covered %d\n",
+          it, E_, -rhs_.dot(dx_), st.iterations.back().alpha, st.residual, st.iterations.back().friction_residual,
+          st.iterations.back().friction_load, accepted, static_cast<int>(ls_.counters.at(Counter::factorizations)),
           static_cast<int>(ls_.counters.at(Counter::cg_iterations)), int(covered_));
     if (!accepted) {
       // A direction below the tolerance whose trial does not pass Armijo is rounding, not a
@@ -275,8 +290,9 @@ bool Newton::line_search(Step& s, int it, bool small_step, bool& converged) {
     s.evaluated_at_y = false;
     if (std::isfinite(E1) && E1 <= E_ + 1e-4 * alpha * slope) {
       if (small_step && has_friction()) {
-        record.friction_load = st.friction_load = friction_load(s, alpha * dxm_);
-        converged = st.friction_load <= 1 + kCoulombMargin;
+        record.friction_residual = st.friction_residual = friction_residual(s, alpha * dxm_, record.friction_load);
+        st.friction_load = record.friction_load;
+        converged = st.friction_residual < s.settings.tolerance;
       }
       s.y = y1_;
       s.E_accepted = E1;

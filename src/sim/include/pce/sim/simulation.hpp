@@ -95,8 +95,13 @@ struct SolverSettings {
 /// `iterations`): how far the direction went and what cut it short.
 struct NewtonIteration {
   double residual = 0;  ///< max|Δx|/(h·ℓ) of this iteration's direction
-  /// The friction test's largest |φ|/(μλ) over the frozen contacts at the accepted step
-  /// (`pce::friction_model_force`), when the direction was below the tolerance; else 0.
+  /// The friction test's residual at the accepted step, when the direction was below the
+  /// tolerance (else 0): maxᵢ |δfᵢ| h/(mᵢ ℓ), δfᵢ the error of Newton's model of the friction
+  /// force at vertex i over the step (docs/simulation.md §5.2); the step ended if it was below
+  /// the tolerance.
+  double friction_residual = 0;
+  /// The largest |φ|/(μλ) over the frozen contacts at that step (`pce::friction_model_force`;
+  /// above 1 the model asked a contact for more than Coulomb allows); else 0.
   double friction_load = 0;
   double step_limit = 1;        ///< the largest fraction of Δx every effect allowed (`begin_line_search`)
   const char* limited_by = "";  ///< the effect that set step_limit ("" when it is 1)
@@ -109,15 +114,10 @@ struct SweepRecord {
   long bound_clamps = 0;  ///< vertices the sweep moved to their bound
 };
 
-/// How far above Coulomb's μλ Newton's model may load a frozen friction contact at a step that
-/// ends the iterations (docs/simulation.md §5.2): a sliding contact's model force exceeds μλ
-/// by ½(Δu⊥/y)² when the step turns its slip by Δu⊥/y.
-inline constexpr double kCoulombMargin = 1e-3;
-
 /// Why a step's solve ended (`stats.json`'s `stop`, docs/simulation.md §5.2): Newton's
 /// reasons, or `sweeps` for block descent.
 enum class StopReason {
-  tolerance,      ///< a direction below the tolerance was taken (within Coulomb's bound, with friction)
+  tolerance,      ///< a direction below the tolerance was taken (with friction: its friction residual too)
   rounding,       ///< a direction below the tolerance whose trial failed by rounding
   line_search,    ///< the line search found no decrease (`line_search_failures`)
   iteration_cap,  ///< `max_iterations` were used up (`hit_iteration_cap`)
@@ -153,9 +153,11 @@ struct FrameStats {
   int sweeps = 0;
   /// max|Δx|/(h·ℓ) of the last Newton direction, or of the last sweep's largest move.
   double residual = 0;
-  /// The friction test's largest |φ|/(μλ) at the last direction below the tolerance that was
-  /// taken (0 without friction or without such a direction): above 1 + `kCoulombMargin` it
-  /// did not end the step.
+  /// The friction test's residual at the last direction below the tolerance that was taken
+  /// (0 without friction or without such a direction): at or above the tolerance it did not
+  /// end the step (`NewtonIteration::friction_residual`).
+  double friction_residual = 0;
+  /// The largest |φ|/(μλ) at that direction (`NewtonIteration::friction_load`).
   double friction_load = 0;
   StopReason stop = StopReason::iteration_cap;  ///< why the solve ended
   double energy = 0;                            ///< incremental potential at the accepted state
