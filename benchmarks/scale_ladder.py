@@ -94,8 +94,8 @@ OBSTACLE_FRICTION = {"coefficient": 0.4, "slip_velocity": 0.001}  # drape.json's
 TOLERANCE = 0.01
 MAX_ITERATIONS = 30
 
-# benchmarks/run_all's scale step runs PLANS["full"] (PLANS["quick"] with --quick); `run --plan
-# NAME` runs the same. Change the ladder here.
+# benchmarks/run_all's scale step runs plan_groups("full") (plan_groups("quick") with --quick);
+# `run --plan full` runs the same. Change the ladder here.
 NEWTON_FRAMES = 12                # every Newton run's frames (the drop: first contact frame 3-4, landing ~10)
 NEWTON_WINDOW = (5, 12)           # Newton's means: frames 5..12 (in contact with the sphere)
 NEWTON_LEVELS = ["8k", "32k", "128k"]
@@ -521,7 +521,7 @@ def run_ladder(exe, results, levels=(), modes=(), threads=(1,), frames=None, tim
     returns the summary dict (None with `dry_run`, which prints the commands). Either `levels`,
     `modes` (MODE[:N][/LINEAR[@TOL]][+mu0]), `threads`, `frames`, `window` ((A, B) or 'A-B'; None:
     every frame) and `only` ({mode or label: [levels]}: that mode only at those levels), or
-    `groups`, a list of such dicts (PLANS' form) whose runs are run together as one ladder."""
+    `groups`, a list of such dicts (plan_groups' form) whose runs are run together as one ladder."""
     exe = Path(exe).resolve()
     results = Path(results).resolve()
     results.mkdir(parents=True, exist_ok=True)
@@ -802,6 +802,11 @@ def md_table(header, rows):
     return "\n".join(out) + "\n"
 
 
+def counter_mean(r, key, counter):
+    """r[key], or (results written before it had the key) the counter's mean in counters_per_frame."""
+    return r[key] if key in r else (r.get("counters_per_frame") or {}).get(counter)
+
+
 def windows_sentence(runs):
     """Which frames each run's means cover, from the runs' own `window` keys."""
     by = {}
@@ -862,8 +867,8 @@ def markdown(res, title="# Scale ladder", sub="##"):
         rows.append([r["level"], fmt(r["vertices"]), r["mode_label"], r["threads"],
                      f"{r['frames_done']}" + ("" if r["status"] == "ok" else f" ({r['status']})"),
                      fmt(r["ms_per_frame"])] + [fmt(r[k]) for k in cols] +
-                    [fmt(r["iterations_per_frame"]), fmt(r.get("linear_iterations_per_frame")),
-                     fmt(r.get("factorizations_per_frame")), fmt(r["queries_per_frame"]),
+                    [fmt(r["iterations_per_frame"]), fmt(counter_mean(r, "linear_iterations_per_frame", "cg_iterations")),
+                     fmt(counter_mean(r, "factorizations_per_frame", "factorizations")), fmt(r["queries_per_frame"]),
                      fmt(r["max_intersecting_pairs"]), fmt(r["first_obstacle_contact_frame"]),
                      fmt(r["peak_memory_mib"])])
     A(md_table(["level", "vertices", "mode", "threads", "frames", "ms/frame"] + [STAGE_NAMES[k] for k in STAGES] +
@@ -901,7 +906,7 @@ def markdown(res, title="# Scale ladder", sub="##"):
           "without a window has; *own frames*: each run's mean as in the runs table.\n")
         A(md_table(["mode", "threads", "levels", "frames", "p (ms/frame)", "p (own frames)", "p (ms/iteration)",
                     "p (it/frame)"] + [f"p ({STAGE_NAMES[k]})" for k in cols],
-                   [[e["mode"], e["threads"], ", ".join(e["levels"]), window_text(e["fit_window"]).replace("-", "–"),
+                   [[e["mode"], e["threads"], ", ".join(e["levels"]), window_text(e.get("fit_window") or [1, e["window_frames"]]).replace("-", "–"),
                      fmt(e["ms_per_frame"]), fmt(e["ms_per_frame_own_frames"]), fmt(e["ms_per_iteration"]),
                      fmt(e["iterations_per_frame"])] + [fmt(e[k]) for k in cols] for e in res["exponents"]]))
     if res["speedups"]:
@@ -943,7 +948,7 @@ def main(argv=None):
     r.add_argument("--window", default=None, metavar="A-B",
                    help="every mean over frames A..B (1-based, inclusive) instead of all frames")
     r.add_argument("--plan", default=None, choices=["full", "quick"],
-                   help="run benchmarks/run_all's plan (PLANS: full, or quick as --quick); replaces --levels, "
+                   help="run benchmarks/run_all's plan (plan_groups: full, or quick as run_all --quick); replaces --levels, "
                         "--modes, --threads, --frames, --window and --newton-levels")
     a = ap.parse_args(argv)
 
