@@ -1,50 +1,97 @@
 #!/usr/bin/env python3
 """The scale ladder: one generated cloth scene at several mesh sizes, to measure how pce-sim's
-cost grows with the vertex count, per solver mode and thread count.
+cost grows with the vertex count, per solver mode, linear solver, friction and thread count.
 
-    benchmarks/scale_ladder.py scene --vertices 8000 --out DIR [--frames F] [--mode MODE[:N]]
+    benchmarks/scale_ladder.py scene --vertices 8000 --out DIR [--frames F] [--mode VARIANT]
     benchmarks/scale_ladder.py run --pce-sim PATH --results DIR [--levels 8k,32k,128k]
-                                   [--modes newton,block_descent:20] [--threads 1,2] [--frames F]
-                                   [--timeout S] [--dry-run]
+                                   [--modes newton,newton/amg,newton/direct+mu0,block_descent:20]
+                                   [--threads 1,2] [--frames F] [--window A-B] [--newton-levels L]
+                                   [--timeout S] [--note TEXT] [--dry-run]
+    benchmarks/scale_ladder.py run --pce-sim PATH --results DIR --plan full|quick [--dry-run]
 
 The scene (`scene`): a 1 m x 1 m cloth of N x N quads (the scene format's `grid` generator,
 so nothing but the JSON is written) dropped from 3 cm above a sphere (radius 0.2 m, its top
 0.3 m above a floor box, slightly off the sheet's centre so the drape is not symmetric),
 dt = 0.025 s. Effects: gravity, stretching, bending, damping, self_vertex_face and
 self_edge_edge (closest features, unsigned, area weighted) and obstacle_contact (area
-weighted), all three contacts with friction. The contact distance is half the edge length,
-d = 1/(2N), and each penalty's stiffness is k = C/d, so the contact pressure at a given
-fraction of d (2 k (d - L)) is the same at every level: the levels simulate the same physics
-at finer resolution. The sheet touches the sphere at t = 0.078 s (frame 4; contact forces act
-from frame 3, within d), its free parts land on the floor at frame ~10 and fold onto
-themselves from frame ~11 (self contact), so the first 15 frames hold all three contacts.
+weighted), all three contacts with friction (mu 0.4, slip velocity 1 mm/s). The contact
+distance is half the edge length, d = 1/(2N), and each penalty's stiffness is k = C/d, so the
+contact pressure at a given fraction of d (2 k (d - L)) is the same at every level: the levels
+simulate the same physics at finer resolution. The sheet touches the sphere at t = 0.078 s
+(frame 4; contact forces act from frame 3, within d), its free parts land on the floor at
+frame ~10 and fold onto themselves from frame ~11 (self contact), so the first 15 frames hold
+all three contacts.
 
 Levels (vertices = (N + 1)^2): 2k (N = 45, 2 116: a smoke test), 8k (N = 90, 8 281),
-32k (N = 180, 32 761), 128k (N = 360, 130 321). `scene --vertices V` writes the level whose
-vertex count is closest to V (on a log scale) as DIR/scale_<level>.json and prints its path.
+32k (N = 180, 32 761), 128k (N = 360, 130 321), or nN for any N x N. `scene --vertices V`
+writes the level whose vertex count is closest to V (on a log scale) as DIR/scale_<level>.json
+(DIR/scale_<level>_<variant>.json with a /LINEAR or +mu0 variant, below) and prints its path.
 
-`run` writes each level's scene into RESULTS/scenes/, then runs pce-sim once per (level,
-mode, threads), one run at a time, with --no-frames (only the last frame's OBJ), into
-RESULTS/runs/scale_<level>_<mode>_t<threads>/, and reads its stats.jsonl and summary.json. It
-writes RESULTS/scale_ladder.json (every run's numbers, the commands, the scene parameters),
-RESULTS/scale_ladder.csv (one row per run) and RESULTS/scale_ladder.md (the tables):
-per run vertices, mean ms per frame and its split (broad_phase_ms, pair_ms, assembly_ms,
-solve_ms, line_search_ms; other = the rest of wall_ms), iterations per frame
-(newton_iterations; for block descent its sweeps), broad-phase queries per frame (counters.broad_phase_queries, both
-contact effects together) and the largest intersecting_triangle_pairs of any frame (pce-sim's
-exact end-of-frame count, docs/simulation.md section 6.1); then per mode and thread count the
-growth exponent p of ms/frame ~ c * vertices^p (least squares in log-log) and per level and
-mode the speed-up of each thread count above 1 over 1 thread.
+Modes and their variants (`--modes`, comma-separated; `scene --mode`):
 
-Frames: by default 30 (2k, 8k), 20 (32k), 15 (128k); --frames F sets every level's. Levels
+    MODE[:N][/LINEAR[@TOL]][+mu0]
+
+  MODE     newton, single_solve or block_descent; `:N` its iterations (block descent's sweeps),
+           passed as --iterations N. pce-sim is given `--mode MODE [--iterations N]` when its
+           --help lists --mode; an older pce-sim without it runs `newton` with no option and
+           `single_solve` as --single-solve, and a mode it cannot select is reported as not run
+           (the other runs go on).
+  /LINEAR  writes solver.linear_solver = LINEAR into the run's scene (direct, factor_reuse,
+           ldlt, cg; newer pce-sim also pcg and amg: docs/simulation.md section 5.3). Without
+           it the scene has no linear_solver key (pce-sim's default, direct). The name is not
+           checked here: a solver pce-sim rejects makes the run fail, reported with pce-sim's
+           error line (the other runs go on).
+  @TOL     also writes solver.linear_tolerance = TOL, a number in (0, 1) (the iterative
+           solvers' relative residual; a pce-sim without the key rejects the scene).
+  +mu0     friction off: the run's scene has no `friction` key on any contact effect, so
+           pce-sim builds, evaluates and reports no friction at all (docs/simulation.md
+           section 2.6; a `coefficient` of 0 would still freeze every active contact each
+           step, at zero force).
+
+e.g. newton, block_descent:20, newton/amg, newton/pcg@1e-6, newton/direct+mu0, newton+mu0.
+The label (the spec as written, normalised) names the run in every table; a variant's scene is
+RESULTS/scenes/scale_<level>_<variant>.json (variant: LINEAR[_tolTOL][_mu0], e.g. `amg`,
+`direct_mu0`, `mu0`; scale_<level>.json for none: modes that differ only in MODE share a
+scene, the mode is on the command line) and its run folder
+RESULTS/runs/scale_<level>_<MODE><N>[_<variant>]_t<threads>/, e.g. scale_8k_newton_amg_mu0_t1.
+
+`run` writes each (level, variant)'s scene into RESULTS/scenes/, then runs pce-sim once per
+(level, mode variant, threads), one run at a time, the smaller levels first, with --no-frames
+(only the last frame's OBJ), and reads its stats.jsonl and summary.json. It writes
+RESULTS/scale_ladder.json (every run's numbers, the commands, the window, the plan's groups,
+the scene parameters), RESULTS/scale_ladder.csv (one row per run) and RESULTS/scale_ladder.md
+(the tables): per run vertices, mean ms per frame and its split (broad_phase_ms, pair_ms,
+assembly_ms, solve_ms, line_search_ms; other = the rest of wall_ms), iterations per frame
+(newton_iterations; for block descent its sweeps), linear iterations per frame
+(counters.cg_iterations; n/a when the records have no such counter), factorisations per frame
+(counters.factorizations), broad-phase queries per frame (counters.broad_phase_queries, both
+contact effects together), the largest intersecting_triangle_pairs of any frame (pce-sim's
+exact end-of-frame count, docs/simulation.md section 6.1), the first frame with obstacle
+contacts and summary.json's peak_memory_mib; block descent's and the linear solver's other
+counters per frame; then *friction's cost in iterations*: for every run with friction that has
+a +mu0 twin (same level, mode, linear solver and tolerance, threads), it/frame with friction /
+it/frame without, and ms/frame likewise; per label (mode, linear solver, +mu0: each fitted on
+its own) and thread count the growth exponent p of ms/frame ~ c * vertices^p (least squares in
+log-log); per level and label the speed-up of each thread count above 1 over 1 thread; and
+(in the JSON, shown by run_all) the RMS distance of each run's last frame to a Newton run's.
+
+Frames: by default 30 (2k, 8k), 20 (32k), 15 (128k); --frames F sets every level's.
+--window A-B (1-based, inclusive, e.g. 5-12) computes every mean (ms/frame, the stages, the
+iterations, the counters) over frames A..B instead of all frames, and the growth exponents
+over the same frames; the largest and first-of values (intersecting pairs, the first contact
+frame, iteration caps, line-search failures) still cover every frame; it is recorded in the
+JSON (`window`, and per run) and printed in the markdown's preamble. Without a window, levels
 run for different numbers of frames cover different parts of the drop, so the exponent is
-fitted on the frames every run of the ladder completed (frames 1..W, W the smallest number
-of completed frames), and the tables also show each run's own mean.
+fitted on the frames every run of the ladder completed (frames 1..W, W the smallest number of
+completed frames), and the tables show each run's own mean.
 
-Modes: `newton`, `single_solve` or `block_descent`, each optionally `:N` (iterations, passed
-as --iterations N). pce-sim is given `--mode MODE [--iterations N]` when its --help lists
---mode; an older pce-sim without it runs `newton` with no option and `single_solve` as
---single-solve, and a mode it cannot select is reported as not run (the other runs go on).
+Plans: `--plan full` runs benchmarks/run_all's scale step (`plan_groups("full")`: Newton for
+NEWTON_FRAMES frames with window NEWTON_WINDOW at NEWTON_LEVELS, each linear solver of
+LINEAR_LEVELS at its levels, 1 and 2 threads, and `+mu0` with each level's DEFAULT_LINEAR at 1
+thread; BLOCK_DESCENT at BLOCK_LEVELS at the levels' default frames, 1 and 2 threads),
+`--plan quick` run_all --quick's (2k, 3 frames: newton/direct, newton/direct+mu0,
+block_descent:20). The constants next to plan_groups are the one place to change them.
+--dry-run prints the pce-sim commands (and each run's window) and writes only the scenes.
 
 Only the Python standard library is used. Timings are comparable only within one run of this
 script on an otherwise idle machine.
