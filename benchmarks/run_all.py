@@ -36,12 +36,18 @@ Steps, in this order (each writes JSON/CSV into the results folder):
                compiler of the build folder's CMakeCache.txt; --quick: the three fast ones.
                It needs no executable, and run alone it leaves machine.json as it is (its own
                JSON records compiler, commit and date); --note TEXT is kept in its JSON.
-  scale        scale_ladder.json/.csv: benchmarks/scale_ladder.py, a generated 1 m cloth dropped
-               onto a sphere and a floor at 8k, 32k and 128k vertices (frames 30, 20, 15), full
-               Newton and block descent (20 iterations; reported as not run by a pce-sim without
-               --mode), 1 and 2 threads, each run alone: ms per frame and its split, iterations,
-               queries, intersecting pairs, the growth exponent of ms/frame in the vertex count
-               per mode, the 2-thread speed-up per level; --quick: 2k vertices, Newton, 3 frames
+  scale        scale_ladder.json/.csv/.md: benchmarks/scale_ladder.py, a generated 1 m cloth dropped
+               onto a sphere and a floor, each run alone, the plan scale_ladder.plan_groups("full"):
+               full Newton at 8k, 32k and 128k vertices with linear solvers direct (8k, 32k),
+               amg and pcg (every level), 1 and 2 threads, and friction off (+mu0) with each
+               level's default linear solver (direct; amg at 128k), 1 thread, all 12 frames with
+               means over frames 5-12; block descent (20 iterations; reported as not run by a
+               pce-sim without --mode) at 8k, 32k, 128k, 1 and 2 threads, frames 30, 20, 15.
+               ms per frame and its split, iterations, linear iterations, factorisations,
+               queries, intersecting pairs, peak memory, the growth exponent of ms/frame in
+               the vertex count per label, the 2-thread speed-up, friction's cost (with ÷
+               without); --quick: 2k vertices, newton/direct, newton/direct+mu0 and block
+               descent, 3 frames
 then draws the PNG plots (next to the docs file, in images/benchmarks/) and writes the docs
 file, whose last section is benchmarks/guidance.md with its numbers recomputed from the
 results folder by benchmarks/guidance_numbers.py (when the results folder is
@@ -612,30 +618,61 @@ def step_friction(ctx):
 
 
 def scale_plan(quick):
-    """Levels, modes (MODE or MODE:N), thread counts and frames (None: each level's default) of the
-    scale step."""
-    if quick:
-        return {"levels": ["2k"], "modes": ["newton", "block_descent:20"], "threads": [1], "frames": 3, "only": None}
-    # Newton's 128k level factorises for seconds per iteration (minutes a frame): 8k and 32k only.
-    return {"levels": ["8k", "32k", "128k"], "modes": ["newton", "block_descent:20"],
-            "threads": [1, 2] if (os.cpu_count() or 1) >= 2 else [1], "frames": None,
-            "only": {"newton": ["8k", "32k"]}}
+    """The scale step's plan: scale_ladder.plan_groups('quick' or 'full'), where the levels, modes
+    (MODE[:N][/LINEAR][+mu0]), thread counts, frames and windows are set (one place: the
+    NEWTON_* / LINEAR_LEVELS / DEFAULT_LINEAR / BLOCK_* constants there). Returns {name, groups,
+    and levels, modes, threads: every group's together}."""
+    name = "quick" if quick else "full"
+    groups = scale_ladder.plan_groups(name)
+    return {"name": name, "groups": groups,
+            "levels": list(dict.fromkeys(lv for g in groups for lv in g["levels"])),
+            "modes": list(dict.fromkeys(m for g in groups for m in g["modes"])),
+            "threads": sorted({t for g in groups for t in g["threads"]})}
 
 
 def step_scale(ctx):
-    """The scale ladder (benchmarks/scale_ladder.py): its generated cloth drop at each level, mode and
-    thread count, one run at a time; scenes into scenes/scale_<level>.json, runs into runs/scale_*,
-    scale_ladder.json/.csv/.md into the results folder. A mode this pce-sim cannot select is
-    reported as not run; a failed run is reported, and fails the step in quick mode."""
+    """The scale ladder (benchmarks/scale_ladder.py): its generated cloth drop at each level, mode
+    variant and thread count of the plan, one run at a time; scenes into scenes/scale_<level>[_<variant>].json,
+    runs into runs/scale_*, scale_ladder.json/.csv/.md into the results folder. A mode this pce-sim
+    cannot select is reported as not run; a failed run (a linear solver pce-sim rejects, too) is
+    reported, and fails the step in quick mode."""
     plan = scale_plan(ctx.quick)
-    log(f"  scale: levels {', '.join(plan['levels'])}, modes {', '.join(plan['modes'])}, "
+    log(f"  scale: plan {plan['name']}: levels {', '.join(plan['levels'])}, modes {', '.join(plan['modes'])}, "
         f"threads {', '.join(map(str, plan['threads']))}")
-    res = scale_ladder.run_ladder(ctx.exe("pce-sim"), ctx.results, plan["levels"], plan["modes"], plan["threads"],
-                                  plan["frames"], note=ctx.note, only=plan["only"])
+    res = scale_ladder.run_ladder(ctx.exe("pce-sim"), ctx.results, note=ctx.note, groups=plan["groups"])
     failed = [r for r in res["runs"] if r.get("status") not in ("ok", "not run")]
     if failed and ctx.quick:
         raise RuntimeError("scale runs failed: " + "; ".join(f"{r['tag']}: {r.get('reason')}" for r in failed))
     return dict(res, plan=plan)
+
+
+def scale_plan_sentence(plan):
+    """The plan's groups in words, from the plan itself: '`newton/direct` at 8k, 32k, 1 and 2
+    threads, 12 frames, means over frames 5–12; ...'."""
+    out = []
+    for g in plan["groups"]:
+        w = g.get("window")
+        frames = (f"{g['frames']} frames" if g.get("frames") else
+                  "each level's frames (" + ", ".join(f"{lv} {scale_ladder.DEFAULT_FRAMES.get(lv, 20)}"
+                                                      for lv in g["levels"]) + ")")
+        out.append(f"{', '.join(f'`{m}`' for m in g['modes'])} at {', '.join(g['levels'])}, "
+                   f"{' and '.join(map(str, g['threads']))} thread{'s' if g['threads'] != [1] else ''}, {frames}, "
+                   + (f"means over frames {w[0]}–{w[1]}" if w else "means over all frames"))
+    return "; ".join(out)
+
+
+def window_contact_sentence(runs):
+    """Whether the windowed runs' obstacle contact began before their windows (the runs' own
+    first_obstacle_contact_frame), in words; '' without windowed runs."""
+    win = [r for r in runs if r.get("window") and r.get("frames_done")]
+    if not win:
+        return ""
+    before = [r for r in win if r.get("first_obstacle_contact_frame") and
+              r["first_obstacle_contact_frame"] < r["window"][0]]
+    if len(before) == len(win):
+        return " In every windowed run the obstacle contact began before its window (the *contact* column)."
+    return (f" In {len(win) - len(before)} of the {len(win)} windowed runs the obstacle contact did not begin before "
+            "the window (the *contact* column).")
 
 
 def write_scale_section(A, scale, accuracy=None):
@@ -645,25 +682,47 @@ def write_scale_section(A, scale, accuracy=None):
         A("Not measured: the results folder has no `step_scale.json` (`benchmarks/run_all --steps scale` measures "
           "it).\n")
         return
-    A("How the cost of a frame grows with the mesh: `benchmarks/scale_ladder.py` (its docstring has the scene) "
-      "runs one generated scene, a 1 m cloth of N × N quads dropped onto a sphere and a floor with self and "
-      "obstacle contact (area weighted, contact distance half an edge) and friction, at several sizes, each run "
-      "alone; `benchmarks/scale_ladder.py run --pce-sim build/src/sim/pce-sim --results DIR --levels %s --modes %s "
-      "--threads %s` repeats it (`scale_ladder.csv` has every run).\n"
-      % (",".join(scale["plan"]["levels"]), ",".join(scale["plan"]["modes"]),
-         ",".join(map(str, scale["plan"]["threads"]))))
+    plan = scale["plan"]
+    intro = ("How the cost of a frame grows with the mesh: `benchmarks/scale_ladder.py` (its docstring has the "
+             "scene) runs one generated scene, a 1 m cloth of N × N quads dropped onto a sphere and a floor with self "
+             "and obstacle contact (area weighted, contact distance half an edge) and friction, at several sizes, "
+             "each run alone.")
+    if plan.get("groups"):
+        has_linear = any("/" in m for m in plan["modes"])
+        has_mu0 = any("+mu0" in m for m in plan["modes"])
+        A(intro + " The runs: " + scale_plan_sentence(plan) + ". A label is the mode (`MODE[:N]`)"
+          + (", then `/LINEAR`, the scene's `solver.linear_solver` (docs/simulation.md §5.3)" if has_linear else "")
+          + (", then `+mu0`: the same scene with no friction key on any contact (pce-sim builds no friction)"
+             if has_mu0 else "")
+          + "; growth exponents and speed-ups are per label, so each linear solver is fitted on its own"
+          + ("; *Friction's cost in iterations* divides each run with friction by its `+mu0` twin" if has_mu0 else "")
+          + "." + (" A window (frames A–B) leaves the frames before A and after B out of every mean of its runs; "
+                   "*max ∩* and *contact* still cover every frame." + window_contact_sentence(scale["runs"])
+                   if any(g.get("window") for g in plan["groups"]) else "")
+          + " `benchmarks/scale_ladder.py run --pce-sim build/src/sim/pce-sim --results DIR --plan %s` repeats it "
+            "(`scale_ladder.csv` has every run; the plan is `plan_groups` in `scale_ladder.py`).\n" % plan["name"])
+    else:  # a step_scale.json from before the plan had groups
+        A(intro + " `benchmarks/scale_ladder.py run --pce-sim build/src/sim/pce-sim --results DIR --levels %s --modes %s "
+          "--threads %s` repeats it (`scale_ladder.csv` has every run).\n"
+          % (",".join(plan["levels"]), ",".join(plan["modes"]), ",".join(map(str, plan["threads"]))))
     A(scale_ladder.markdown(scale, title="", sub="###").lstrip("\n"))
     if scale.get("agreement"):
-        A("### Block descent against Newton\n")
-        A("The frames block descent computes are not Newton's: its sweeps stop before each step's minimiser (a "
-          "stiff sheet's bulk motion converges slowest under Gauss–Seidel) and the difference carries from step to "
-          "step, so the sheet lands and folds elsewhere. RMS over vertices of the distance between each run's last "
-          "frame and Newton's (same level and frames), and the lowest point of each:\n")
-        A("| level | mode | threads | frame | RMS to Newton (mm) | lowest z (mm) | Newton's lowest z (mm) |")
-        A("|---|---|---:|---:|---:|---:|---:|")
+        A("### Last frames against Newton's\n")
+        A(("The frames block descent computes are not Newton's: its sweeps stop before each step's minimiser (a "
+           "stiff sheet's bulk motion converges slowest under Gauss–Seidel) and the difference carries from step "
+           "to step, so the sheet lands and folds elsewhere. "
+           if any(g["mode"].startswith("block_descent") for g in scale["agreement"]) else "") +
+          "RMS over vertices of the distance between each run's last frame and a Newton run's (same level, "
+          "friction and frames; the reference is Newton with the default or direct linear solver where the level "
+          "has one, 1 thread first), and the lowest point of each:\n")
+        A("| level | mode | threads | reference | frame | RMS to reference (mm) | lowest z (mm) | "
+          "reference's lowest z (mm) |")
+        A("|---|---|---:|---|---:|---:|---:|---:|")
         for g in scale["agreement"]:
-            A(f"| {g['level']} | {g['mode']} | {g['threads']} | {g['frame']} | {1000 * g['rms_to_newton_m']:.1f} | "
-              f"{1000 * g['lowest_z_m']:.1f} | {1000 * g['newton_lowest_z_m']:.1f} |")
+            ref = g.get("reference", "newton") + (f", {g['reference_threads']} thread(s)"
+                                                  if g.get("reference_threads") else "")
+            A(f"| {g['level']} | {g['mode']} | {g['threads']} | {ref} | {g['frame']} | "
+              f"{1000 * g['rms_to_newton_m']:.1f} | {1000 * g['lowest_z_m']:.1f} | {1000 * g['newton_lowest_z_m']:.1f} |")
         A("")
     if accuracy:
         A("### What block descent's sweeps buy on the hammock\n")
@@ -1422,6 +1481,50 @@ def self_test():
         "--mode", "block_descent", "--iterations", "20"]
     assert scale_ladder.mode_arguments("--single-solve", "newton", None) == []
     assert abs(scale_ladder.fit_exponent([2116, 8281, 32761], [2116 ** 1.3, 8281 ** 1.3, 32761 ** 1.3]) - 1.3) < 1e-12
+    # scale: the variant grammar, its labels, tags and scenes; the window; the plans.
+    v = scale_ladder.parse_variant("newton/amg+mu0")
+    assert v == {"mode": "newton", "iterations": None, "linear": "amg", "linear_tolerance": None, "mu0": True}, v
+    assert scale_ladder.variant_label(v) == "newton/amg+mu0" and scale_ladder.variant_tag(v) == "newton_amg_mu0"
+    v = scale_ladder.parse_variant("block_descent:20/pcg@1e-6")
+    assert (v["iterations"], v["linear"], v["linear_tolerance"], v["mu0"]) == (20, "pcg", 1e-6, False), v
+    assert scale_ladder.variant_label(v) == "block_descent:20/pcg@1e-06"
+    assert scale_ladder.parse_mode("block_descent:20") == ("block_descent", 20)
+    assert scale_ladder.variant_label(scale_ladder.parse_variant("newton+mu0")) == "newton+mu0"
+    for bad in ("newton:0", "newton/", "newton/amg@2", "newton+mu1", "Newton", "newton/amg/pcg"):
+        try:
+            scale_ladder.parse_variant(bad)
+        except ValueError:
+            pass
+        else:
+            raise AssertionError(f"parse_variant accepted {bad!r}")
+    sc = scale_ladder.make_scene("2k", 45, 3, linear="amg", linear_tolerance=1e-6, mu0=True)
+    assert sc["solver"]["linear_solver"] == "amg" and sc["solver"]["linear_tolerance"] == 1e-6
+    assert not any("friction" in e for e in sc["effects"]), sc["effects"]
+    sc = scale_ladder.make_scene("2k", 45, 3)
+    assert "linear_solver" not in sc["solver"] and sum("friction" in e for e in sc["effects"]) == 3
+    assert scale_ladder.parse_window("5-12") == (5, 12) and scale_ladder.parse_window(None) is None
+    for bad in ("0-3", "5-4", "5", "a-b"):
+        try:
+            scale_ladder.parse_window(bad)
+        except ValueError:
+            pass
+        else:
+            raise AssertionError(f"parse_window accepted {bad!r}")
+    recs = [{"frame": i, "wall_ms": 10.0 * i, "newton_iterations": i, "counters": {"factorizations": 2 * i}}
+            for i in range(1, 6)]
+    w = scale_ladder.summarise_run(recs, {}, (2, 3))
+    assert w["ms_per_frame"] == 25.0 and w["iterations_per_frame"] == 2.5 and w["factorizations_per_frame"] == 5
+    assert w["frames_done"] == 5 and w["frames_averaged"] == 2 and w["linear_iterations_per_frame"] != \
+        w["linear_iterations_per_frame"]  # nan: no cg_iterations counter
+    assert scale_ladder.summarise_run(recs, {})["ms_per_frame"] == 30.0
+    full = scale_ladder.expand(scale_ladder.plan_groups("full", cores=2))
+    labels = {(lv, scale_ladder.variant_label(v), t) for lv, _, _, _, v, t in full}
+    assert ("128k", "newton/direct", 1) not in labels and ("128k", "newton/amg+mu0", 1) in labels
+    assert ("32k", "newton/direct+mu0", 1) in labels and ("32k", "newton/direct+mu0", 2) not in labels
+    assert all(f == 12 and win == (5, 12) for lv, _, f, win, v, _ in full if v["mode"] == "newton")
+    assert [lv for lv, *_ in full] == sorted((lv for lv, *_ in full), key=["8k", "32k", "128k"].index)
+    quick = [scale_ladder.variant_label(v) for *_, v, _ in scale_ladder.expand(scale_ladder.plan_groups("quick"))]
+    assert any("/" in q for q in quick) and any(q.endswith("+mu0") for q in quick), quick
     print("run_all self-test: ok")
 
 
