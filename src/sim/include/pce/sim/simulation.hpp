@@ -100,10 +100,10 @@ struct SolverSettings {
   int reuse_max_cg_iterations = 10;
   /// pcg, amg: the Krylov solve stops at ‖H Δx + g‖ ≤ η ‖g‖, this η in (0, 1) (scene key
   /// `solver.linear_tolerance`); the direct solvers ignore it.
-  double linear_tolerance = 1e-3;
+  double linear_tolerance = 1e-2;
   /// pcg, amg: iterations before the solve fails (not a scene key; the run then ends with a
   /// SimulationError).
-  int linear_max_iterations = 5000;
+  int linear_max_iterations = 20000;
   /// amg: Newton iterations of a step that reuse the BoomerAMG hierarchy of an earlier
   /// iteration's H (same pattern) before it is set up again; 0 sets it up at every solve (not a scene key).
   int amg_setup_reuse = 0;
