@@ -7,7 +7,7 @@
 # supernodes, so it is the serial one).
 # ffmpeg (with ffprobe) encodes pce-sim's --video movies, run as a child process (nothing
 # links it); the tests count a movie's frames with ffprobe.
-PCE_DEBIAN_PACKAGES="g++ cmake ninja-build pkg-config libeigen3-dev libboost-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev libfcl-dev libccd-dev libcgal-dev libsuitesparse-dev libcli11-dev libstb-dev libopenblas0-serial libbullet-dev python3-matplotlib python3-dev python3-venv doxygen clang-format clang-tidy ccache ffmpeg"
+PCE_DEBIAN_PACKAGES="g++ cmake ninja-build pkg-config libeigen3-dev libboost-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev libfcl-dev libccd-dev libcgal-dev libsuitesparse-dev libcli11-dev libstb-dev libopenblas0-serial libbullet-dev libhypre-dev python3-matplotlib python3-dev python3-venv doxygen clang-format clang-tidy ccache ffmpeg"
 
 pce_install_deps() {
   local sudo=""

@@ -62,7 +62,7 @@ TEST(SceneNames, TablesListEveryEnumerator) {
   EXPECT_EQ(kPenaltyNames.size(), static_cast<std::size_t>(ContactPenalty::Kind::log_barrier) + 1);
   EXPECT_EQ(kShapeNames.size(), static_cast<std::size_t>(ShapeKind::mesh) + 1);
   EXPECT_EQ(kBroadPhaseNames.size(), static_cast<std::size_t>(BroadPhaseKind::brute) + 1);
-  EXPECT_EQ(kLinearSolverNames.size(), static_cast<std::size_t>(LinearSolver::cg) + 1);
+  EXPECT_EQ(kLinearSolverNames.size(), static_cast<std::size_t>(LinearSolver::amg) + 1);
   EXPECT_EQ(kStopReasonNames.size(), static_cast<std::size_t>(StopReason::sweeps) + 1);
   EXPECT_EQ(kGeneratorNames.size(), static_cast<std::size_t>(GeneratorKind::tet_ball) + 1);
 }
@@ -78,7 +78,7 @@ TEST(SceneNames, ToStringAgreesWithTheTables) {
 }
 
 TEST(SceneNames, QuotedNamesListTheTableInOrder) {
-  EXPECT_EQ(pce::quoted_names<LinearSolver>(), R"("direct", "factor_reuse", "ldlt", "cg")");
+  EXPECT_EQ(pce::quoted_names<LinearSolver>(), R"("direct", "factor_reuse", "ldlt", "cg", "pcg", "amg")");
   EXPECT_EQ(pce::quoted_names(kContactHessians), R"("analytic", "exact", "numerical", "gauss_newton", "abs")");
   for (const pce::Projection p : kContactHessians) EXPECT_NE(p, pce::Projection::none);
 }

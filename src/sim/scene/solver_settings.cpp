@@ -18,7 +18,8 @@ constexpr double kMinDt = 1e-6, kMaxDt = 1.0;
 
 /// The `solver` object into `solver`; returns its `broad_phase`.
 BroadPhaseKind parse_solver(const Params& s, SolverSettings& solver) {
-  s.only({"mode", "iterations", "tolerance", "max_iterations", "linear_solver", "threads", "broad_phase"});
+  s.only({"mode", "iterations", "tolerance", "max_iterations", "linear_solver", "linear_tolerance", "threads",
+          "broad_phase"});
   solver.mode = s.choice<SolverMode>("mode", SolverMode::newton);
   if (s.has("iterations") && solver.mode != SolverMode::block_descent)
     s.fail("iterations",
@@ -28,6 +29,14 @@ BroadPhaseKind parse_solver(const Params& s, SolverSettings& solver) {
   solver.tolerance = s.positive("tolerance", solver.tolerance);
   solver.max_iterations = static_cast<int>(s.integer("max_iterations", 50L, 1, 100000));
   solver.linear = s.choice<LinearSolver>("linear_solver", LinearSolver::direct);
+  if (!linear_solver_available(solver.linear))
+    s.fail("linear_solver", "\"" + std::string(name_of(solver.linear)) +
+                                "\" needs hypre, and this pce::sim was built without it (CMake found no "
+                                "libHYPRE; docs/simulation.md section 5.3)");
+  solver.linear_tolerance = s.number("linear_tolerance", solver.linear_tolerance, 0, 1);
+  if (!(solver.linear_tolerance > 0 && solver.linear_tolerance < 1))
+    s.fail("linear_tolerance", "expected a number in (0, 1) (the Krylov solvers' relative residual), got " +
+                                   args::text(solver.linear_tolerance));
   solver.threads = static_cast<int>(s.integer("threads", 0L, 0, 1024));
   return s.choice<BroadPhaseKind>("broad_phase", BroadPhaseKind::fcl);
 }

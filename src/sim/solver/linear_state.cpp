@@ -122,11 +122,53 @@ template <class Factorization> bool LinearState::reuse_solve(Factorization& f, c
   return f.info() == Eigen::Success;
 }
 
-/// Solves H dx = rhs; false when the factorisation or the iteration fails.
-bool LinearState::solve(const SolverSettings& settings, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx) {
+bool LinearState::krylov_solve(const SolverSettings& settings, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx,
+                               double eta) {
   const SparseMatrix& A = H.matrix();
+  if (!analyzed || !csr.fits(A)) {
+    const ScopedTimer timer(counters, Counter::analyze_ms);
+    csr.build(A);
+    counters[Counter::analyses] += 1;
+    analyzed = true;
+  }
+  csr.update(A);
+  const Preconditioner* M = &jacobi;
+  if (settings.linear == LinearSolver::amg) {
+    // A hierarchy of an earlier iteration of this step (any pattern of the same size) is
+    // reused for up to amg_setup_reuse further solves.
+    const bool reuse = amg.ready() && amg_age >= 0 && amg_age < settings.amg_setup_reuse;
+    if (reuse) {
+      ++amg_age;
+    } else {
+      const ScopedTimer timer(counters, Counter::preconditioner_ms);
+      counters[Counter::preconditioner_setups] += 1;
+      if (!amg.setup(csr)) return false;
+      amg_age = 0;
+    }
+    M = &amg;
+  } else {
+    const ScopedTimer timer(counters, Counter::preconditioner_ms);
+    counters[Counter::preconditioner_setups] += 1;
+    if (!jacobi.setup(csr)) return false;
+  }
+  return krylov.solve(csr, *M, rhs, eta, settings.linear_max_iterations, dx, counters[Counter::cg_iterations]);
+}
+
+/// Solves H dx = rhs; false when the factorisation or the iteration fails.
+bool LinearState::solve(const SolverSettings& settings, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx, double eta) {
+  const SparseMatrix& A = H.matrix();
+  if (dump) dump->write(A, rhs);
+  if (settings.linear != last) {
+    analyzed = false;  // another solver's analysis, or none
+    last = settings.linear;
+  }
+  if (settings.linear == LinearSolver::pcg || settings.linear == LinearSolver::amg)
+    return krylov_solve(settings, rhs, dx, eta);
   const SerialRegions serial;
   switch (settings.linear) {
+    case LinearSolver::pcg:
+    case LinearSolver::amg:
+      return false;  // solved above
     case LinearSolver::factor_reuse:
 #ifdef PCE_SIM_HAVE_CHOLMOD
       return reuse_solve(cholmod, A, rhs, settings.reuse_tolerance, settings.reuse_max_cg_iterations, dx);
@@ -157,3 +199,9 @@ bool LinearState::solve(const SolverSettings& settings, const Eigen::VectorXd& r
 }
 
 }  // namespace pce::sim::solver
+
+namespace pce::sim {
+
+bool linear_solver_available(LinearSolver solver) { return solver != LinearSolver::amg || solver::hypre_available(); }
+
+}  // namespace pce::sim

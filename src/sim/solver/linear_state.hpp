@@ -3,9 +3,14 @@
 /// The Newton system's matrix and the linear solvers of `SolverSettings::linear`, kept
 /// between steps (internal to Newton's solver, solver/newton.cpp): a factorisation every iteration (CHOLMOD when
 /// built with it, else Eigen's LDLᵀ), factor_reuse's conjugate gradients preconditioned by a
-/// kept factor, or Eigen's diagonally preconditioned conjugate gradients
-/// (docs/simulation.md §5.3).
+/// kept factor, Eigen's diagonally preconditioned conjugate gradients, or conjugate gradients
+/// preconditioned by block Jacobi (pcg) or BoomerAMG (amg; solver/krylov.hpp,
+/// solver/hypre_amg.hpp) (docs/simulation.md §5.3).
 #pragma once
+
+#include "solver/hypre_amg.hpp"
+#include "solver/krylov.hpp"
+#include "solver/system_dump.hpp"
 
 #include <pce/sim/block_hessian.hpp>
 #include <pce/sim/simulation.hpp>
@@ -35,22 +40,38 @@ struct LinearState {
   /// another pattern), or null: what factor_reuse may precondition with.
   const void* factored = nullptr;
   /// This step's counters: `analyze_ms`, `factorize_ms` (timed), `analyses`,
-  /// `factorizations` and `cg_iterations` (factor_reuse, cg); `start_step` zeroes them.
+  /// `factorizations`, `cg_iterations` (factor_reuse, cg, pcg, amg) and
+  /// `preconditioner_setups`, `preconditioner_ms` (pcg, amg); `start_step` zeroes them.
   Counters counters;
-  /// Zeroes the step's counters (each is reported, 0 when nothing happened).
+  /// Zeroes the step's counters (each is reported, 0 when nothing happened) and starts the
+  /// step's count of amg's setup reuse.
   void start_step() {
     for (const Counter c : {Counter::analyze_ms, Counter::factorize_ms, Counter::analyses, Counter::factorizations,
-                            Counter::cg_iterations})
+                            Counter::cg_iterations, Counter::preconditioner_setups, Counter::preconditioner_ms})
       counters[c] = 0;
+    amg_age = -1;
+    if (dump) dump->start_step();
   }
   Eigen::VectorXd r, z, p, q;  ///< factor_reuse's CG vectors
   int reuse_failures = 0;      ///< factor_reuse: CG failures since the last CG success
   int reuse_skip = 0;          ///< factor_reuse: solves still to refactor without trying CG
+  BlockCsr csr;                ///< pcg, amg: H as a full block-CSR matrix
+  BlockJacobi jacobi;          ///< pcg's preconditioner
+  HypreAmg amg;                ///< amg's preconditioner
+  Krylov krylov;               ///< pcg's and amg's vectors
+  /// amg: solves of this step since the hierarchy was set up (-1: none this step).
+  int amg_age = -1;
+  /// The solver of the last solve (a change of solver analyses again).
+  LinearSolver last = LinearSolver::direct;
+  /// Writes each system solved when PCE_SIM_DUMP_SYSTEM is set (solver/system_dump.hpp).
+  std::unique_ptr<SystemDump> dump = SystemDump::from_environment();
 
   /// Solves H dx = rhs with `settings.linear`; false when the factorisation, its solve or the
   /// iteration fails. OpenMP's parallel regions are inactive meanwhile (SerialRegions in
   /// linear_state.cpp).
-  bool solve(const SolverSettings& settings, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx);
+  /// pcg and amg stop at ‖rhs − H dx‖ ≤ `eta` ‖rhs‖ (Newton's forcing term); the direct
+  /// solvers ignore `eta`.
+  bool solve(const SolverSettings& settings, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx, double eta);
 
  private:
   /// Symbolic analysis when the pattern changed, then the numerical factorisation, each
@@ -61,6 +82,9 @@ struct LinearState {
                                                         const Eigen::VectorXd& rhs, double eta, int max_iterations,
                                                         Eigen::VectorXd& dx);
   /// factor_reuse with the factor object `f` (linear_state.cpp).
+  /// pcg and amg: CG preconditioned by block Jacobi or BoomerAMG, in parallel (outside
+  /// SerialRegions).
+  bool krylov_solve(const SolverSettings& settings, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx, double eta);
   template <class Factorization> bool reuse_solve(Factorization& f, const SparseMatrix& A, const Eigen::VectorXd& rhs,
                                                   double eta, int max_iterations, Eigen::VectorXd& dx);
 };

@@ -221,7 +221,7 @@ void Newton::solve_direction(Step& s, int it) {
   {
     const ScopedTimer timer(st.solve_ms);
     rhs_ = -Eigen::Map<const Eigen::VectorXd>(g_.data(), g_.size());
-    solved = ls_.solve(s.settings, rhs_, dx_);
+    solved = ls_.solve(s.settings, rhs_, dx_, s.settings.linear_tolerance);
   }
   if (!solved || !dx_.allFinite())
     throw SimulationError(st.frame, "", -1,

@@ -43,6 +43,13 @@ void Simulation::check() const {
   if (!(std::isfinite(solver.reuse_tolerance) && solver.reuse_tolerance > 0))
     throw ArgumentError("solver.reuse_tolerance", "expected a finite number > 0");
   if (solver.reuse_max_cg_iterations < 0) throw ArgumentError("solver.reuse_max_cg_iterations", "expected at least 0");
+  if (!(std::isfinite(solver.linear_tolerance) && solver.linear_tolerance > 0 && solver.linear_tolerance < 1))
+    throw ArgumentError("solver.linear_tolerance", "expected a finite number in (0, 1)");
+  if (solver.linear_max_iterations < 1) throw ArgumentError("solver.linear_max_iterations", "expected at least 1");
+  if (solver.amg_setup_reuse < 0) throw ArgumentError("solver.amg_setup_reuse", "expected at least 0");
+  if (!linear_solver_available(solver.linear))
+    throw ArgumentError("solver.linear", "\"" + std::string(name_of(solver.linear)) +
+                                             "\" needs hypre, and this pce::sim was built without it");
   for (std::size_t k = 0; k < effects.size(); ++k)
     if (!effects[k]) throw ArgumentError("effects[" + std::to_string(k) + "]", "expected an effect, got null");
 }

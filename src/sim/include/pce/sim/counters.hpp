@@ -78,6 +78,8 @@ namespace pce::sim {
   X(analyses, sum)                                                             \
   X(factorizations, sum)                                                       \
   X(cg_iterations, sum)                                                        \
+  X(preconditioner_setups, sum)                                                \
+  X(preconditioner_ms, sum)                                                    \
   /* block descent */                                                          \
   X(colours, sum)                                                              \
   X(colourings, sum)                                                           \

@@ -41,19 +41,29 @@ class StepSolver;
 /// else Eigen's LDLᵀ), `factor_reuse` (conjugate gradients preconditioned by the last
 /// Cholesky factor, kept across iterations and steps, refactored when they do not converge
 /// fast; the kept factor is not in a checkpoint, so a resumed run differs slightly), `ldlt` (Eigen's sparse LDLᵀ every
-/// iteration) or `cg` (conjugate gradients, diagonal preconditioner).
-enum class LinearSolver { factor_reuse, direct, ldlt, cg };
+/// iteration), `cg` (conjugate gradients, diagonal preconditioner), `pcg` (conjugate
+/// gradients preconditioned by the inverted 3×3 diagonal blocks, to `linear_tolerance`,
+/// parallel and the same bits for any thread count) or `amg` (the same loop preconditioned
+/// by one V-cycle of hypre's BoomerAMG; only when built with hypre,
+/// `linear_solver_available`).
+enum class LinearSolver { factor_reuse, direct, ldlt, cg, pcg, amg };
 
 /// The linear solvers' names, in the order the scene format lists them.
-inline constexpr EnumNames<LinearSolver, 4> kLinearSolverNames{{
+inline constexpr EnumNames<LinearSolver, 6> kLinearSolverNames{{
     {LinearSolver::direct, "direct"},
     {LinearSolver::factor_reuse, "factor_reuse"},
     {LinearSolver::ldlt, "ldlt"},
     {LinearSolver::cg, "cg"},
+    {LinearSolver::pcg, "pcg"},
+    {LinearSolver::amg, "amg"},
 }};
 
 /// The table of `LinearSolver`'s names (for `pce::name_of` and `pce::parse`).
-constexpr const EnumNames<LinearSolver, 4>& enum_names(LinearSolver) { return kLinearSolverNames; }
+constexpr const EnumNames<LinearSolver, 6>& enum_names(LinearSolver) { return kLinearSolverNames; }
+
+/// Whether this build of pce::sim has `solver` (`amg` needs hypre, found when pce::sim was
+/// built; every other solver is always there).
+bool linear_solver_available(LinearSolver solver);
 
 /// How a time step is solved (scene key `solver.mode`, docs/simulation.md §5): projected
 /// Newton to the tolerance (`newton`), one linearised solve per step (`single_solve`, the
@@ -88,6 +98,15 @@ struct SolverSettings {
   /// factor_reuse: CG iterations before it gives up and refactors (not a scene key; 0
   /// refactors every iteration: the directions, and so the run, of `direct`).
   int reuse_max_cg_iterations = 10;
+  /// pcg, amg: the Krylov solve stops at ‖H Δx + g‖ ≤ η ‖g‖, this η in (0, 1) (scene key
+  /// `solver.linear_tolerance`); the direct solvers ignore it.
+  double linear_tolerance = 1e-2;
+  /// pcg, amg: iterations before the solve fails (not a scene key; the run then ends with a
+  /// SimulationError).
+  int linear_max_iterations = 20000;
+  /// amg: Newton iterations of a step that reuse the BoomerAMG hierarchy of an earlier
+  /// iteration's H (same pattern) before it is set up again; 0 sets it up at every solve (not a scene key).
+  int amg_setup_reuse = 0;
   int threads = 0;  ///< 0: OpenMP's default
 };
 
