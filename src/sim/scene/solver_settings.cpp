@@ -32,7 +32,7 @@ BroadPhaseKind parse_solver(const Params& s, SolverSettings& solver) {
   if (!linear_solver_available(solver.linear))
     s.fail("linear_solver", "\"" + std::string(name_of(solver.linear)) +
                                 "\" needs hypre, and this pce::sim was built without it (CMake found no "
-                                "libHYPRE; docs/simulation.md section 5.3)");
+                                "hypre or no MPI; docs/simulation.md section 5.3)");
   solver.linear_tolerance = s.number("linear_tolerance", solver.linear_tolerance, 0, 1);
   if (!(solver.linear_tolerance > 0 && solver.linear_tolerance < 1))
     s.fail("linear_tolerance", "expected a number in (0, 1) (the Krylov solvers' relative residual), got " +
