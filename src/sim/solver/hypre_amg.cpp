@@ -16,6 +16,9 @@
 #include <HYPRE_parcsr_ls.h>
 #include <mpi.h>
 
+#include <Eigen/Geometry>
+
+#include <array>
 #include <cstdlib>
 #include <mutex>
 #include <string>
@@ -66,6 +69,8 @@ double env_number(const char* name, double fallback) {
 struct HypreAmg::State {
   HYPRE_IJMatrix A = nullptr;
   HYPRE_IJVector b = nullptr, x = nullptr;
+  std::array<HYPRE_IJVector, 3> modes{};  ///< the rotation modes, while the size stays
+  bool have_modes = false;                ///< `modes` hold this setup's rotations
   HYPRE_Solver amg = nullptr;
   HYPRE_BigInt size = 0;
   std::vector<HYPRE_Int> row_sizes;
@@ -84,7 +89,11 @@ struct HypreAmg::State {
     release();
     if (b) HYPRE_IJVectorDestroy(b);
     if (x) HYPRE_IJVectorDestroy(x);
+    for (HYPRE_IJVector& m : modes)
+      if (m) HYPRE_IJVectorDestroy(m);
   }
+  /// modes[k] = eₖ × (xᵢ − x̄) at every vertex i (rotations about the centroid x̄).
+  void set_modes(const Eigen::Matrix3Xd& positions);
   /// A vector of `size` entries on MPI_COMM_SELF.
   HYPRE_IJVector make_vector() const {
     HYPRE_IJVector v = nullptr;
@@ -163,6 +172,15 @@ bool HypreAmg::State::setup_amg() {
   HYPRE_BoomerAMGSetCoarsenType(amg, static_cast<HYPRE_Int>(env_integer("PCE_SIM_AMG_COARSEN", 10)));
   HYPRE_BoomerAMGSetInterpType(amg, static_cast<HYPRE_Int>(env_integer("PCE_SIM_AMG_INTERP", 6)));
   HYPRE_BoomerAMGSetPMaxElmts(amg, static_cast<HYPRE_Int>(env_integer("PCE_SIM_AMG_PMAX", 4)));
+  std::array<HYPRE_ParVector, 3> parmodes{};
+  if (have_modes) {
+    // Interpolation vectors need nodal coarsening (hypre's BoomerAMGSetInterpVectors).
+    for (std::size_t k = 0; k < 3; ++k) HYPRE_IJVectorGetObject(modes[k], reinterpret_cast<void**>(&parmodes[k]));
+    HYPRE_BoomerAMGSetNodal(amg, static_cast<HYPRE_Int>(env_integer("PCE_SIM_AMG_RBM_NODAL", 4)));
+    HYPRE_BoomerAMGSetInterpVectors(amg, 3, parmodes.data());
+    HYPRE_BoomerAMGSetInterpVecVariant(amg, static_cast<HYPRE_Int>(env_integer("PCE_SIM_AMG_RBM_VARIANT", 2)));
+    HYPRE_BoomerAMGSetInterpVecQMax(amg, static_cast<HYPRE_Int>(env_integer("PCE_SIM_AMG_RBM_QMAX", 4)));
+  }
   const HYPRE_Int error = HYPRE_BoomerAMGSetup(amg, parcsr, pb, px);
   HYPRE_ClearAllErrors();
   return error == 0;
@@ -171,7 +189,22 @@ bool HypreAmg::State::setup_amg() {
 HypreAmg::HypreAmg() : state_(std::make_unique<State>()) {}
 HypreAmg::~HypreAmg() = default;
 
-bool HypreAmg::setup(const BlockCsr& H) {
+void HypreAmg::State::set_modes(const Eigen::Matrix3Xd& positions) {
+  const Eigen::Vector3d centre = positions.rowwise().mean();
+  std::vector<double> v(static_cast<std::size_t>(size));
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (!modes[k]) modes[k] = make_vector();
+    const Eigen::Vector3d axis = Eigen::Vector3d::Unit(static_cast<Eigen::Index>(k));
+    for (Eigen::Index i = 0; i < positions.cols(); ++i) {
+      const Eigen::Vector3d m = axis.cross(positions.col(i) - centre);
+      for (Eigen::Index c = 0; c < 3; ++c) v[static_cast<std::size_t>(3 * i + c)] = m[c];
+    }
+    HYPRE_IJVectorSetValues(modes[k], static_cast<HYPRE_Int>(size), index.data(), v.data());
+  }
+  have_modes = true;
+}
+
+bool HypreAmg::setup(const BlockCsr& H, const Eigen::Matrix3Xd* positions) {
   if (!start_mpi()) return false;
   State& s = *state_;
   const HYPRE_BigInt size = 3 * static_cast<HYPRE_BigInt>(H.vertex_count());
@@ -179,12 +212,18 @@ bool HypreAmg::setup(const BlockCsr& H) {
   if (size != s.size || !s.b) {
     if (s.b) HYPRE_IJVectorDestroy(s.b);
     if (s.x) HYPRE_IJVectorDestroy(s.x);
+    for (HYPRE_IJVector& m : s.modes) {
+      if (m) HYPRE_IJVectorDestroy(m);
+      m = nullptr;
+    }
     s.size = size;
     s.b = s.make_vector();
     s.x = s.make_vector();
     s.index.resize(static_cast<std::size_t>(size));
     for (HYPRE_BigInt i = 0; i < size; ++i) s.index[static_cast<std::size_t>(i)] = i;
   }
+  s.have_modes = false;
+  if (positions && 3 * positions->cols() == size && env_integer("PCE_SIM_AMG_RBM", 1) != 0) s.set_modes(*positions);
   s.copy(H);
   if (!s.assemble() || !s.setup_amg()) {
     s.release();
@@ -218,7 +257,7 @@ bool hypre_available() { return false; }
 struct HypreAmg::State {};
 HypreAmg::HypreAmg() : state_(std::make_unique<State>()) {}
 HypreAmg::~HypreAmg() = default;
-bool HypreAmg::setup(const BlockCsr&) { return false; }
+bool HypreAmg::setup(const BlockCsr&, const Eigen::Matrix3Xd*) { return false; }
 bool HypreAmg::ready() const { return false; }
 void HypreAmg::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const { z = r; }
 

@@ -23,9 +23,11 @@ class HypreAmg final : public Preconditioner {
   HypreAmg(const HypreAmg&) = delete;
   HypreAmg& operator=(const HypreAmg&) = delete;
   /// Copies `H` into hypre's matrix and sets BoomerAMG up on it (systems AMG with 3
-  /// unknowns per vertex); initialises MPI first if nobody did. False when hypre reports an
-  /// error (or there is no hypre).
-  bool setup(const BlockCsr& H);
+  /// unknowns per vertex); with `positions` (3 × n, the state H was linearised at) the three
+  /// infinitesimal rotations about their centroid join the interpolation (the rigid-body
+  /// modes beside the translations each unknown's coarsening keeps). Initialises MPI first if
+  /// nobody did. False when hypre reports an error (or there is no hypre).
+  bool setup(const BlockCsr& H, const Eigen::Matrix3Xd* positions = nullptr);
   /// Whether a hierarchy is set up.
   bool ready() const;
   void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const override;

@@ -142,7 +142,7 @@ bool LinearState::krylov_solve(const SolverSettings& settings, const Eigen::Vect
     } else {
       const ScopedTimer timer(counters, Counter::preconditioner_ms);
       counters[Counter::preconditioner_setups] += 1;
-      if (!amg.setup(csr)) return false;
+      if (!amg.setup(csr, positions)) return false;
       amg_age = 0;
     }
     M = &amg;

@@ -58,7 +58,9 @@ struct LinearState {
   BlockCsr csr;                ///< pcg, amg: H as a full block-CSR matrix
   BlockJacobi jacobi;          ///< pcg's preconditioner
   HypreAmg amg;                ///< amg's preconditioner
-  Krylov krylov;               ///< pcg's and amg's vectors
+  /// The positions the system was linearised at (3 × n), or null: amg's rotation modes.
+  const Eigen::Matrix3Xd* positions = nullptr;
+  Krylov krylov;  ///< pcg's and amg's vectors
   /// amg: solves of this step since the hierarchy was set up (-1: none this step).
   int amg_age = -1;
   /// The solver of the last solve (a change of solver analyses again).

@@ -221,6 +221,7 @@ void Newton::solve_direction(Step& s, int it) {
   {
     const ScopedTimer timer(st.solve_ms);
     rhs_ = -Eigen::Map<const Eigen::VectorXd>(g_.data(), g_.size());
+    ls_.positions = &s.y;
     solved = ls_.solve(s.settings, rhs_, dx_, s.settings.linear_tolerance);
   }
   if (!solved || !dx_.allFinite())
