@@ -5,6 +5,7 @@
 // with one and two OpenMP threads; their exits on a breakdown or the cap are failures; a
 // scene run with them reaches the state direct reaches, and a resumed one the uninterrupted
 // one's bits; the scene keys are parsed and checked.
+#include "drop_scene.hpp"
 #include "solver/krylov.hpp"
 #include "solver/system_dump.hpp"
 
@@ -26,34 +27,9 @@
 using namespace pce::sim;
 using nlohmann::json;
 using pce::name_of;
+using pce::sim::fixtures::drop;
 
 namespace {
-
-/// test_linear_solver.cpp's drop: an upper sheet onto a lower one pinned at two corners, over
-/// a sphere (self contact of both kinds and obstacle contact from the third step on).
-json drop(const char* linear_solver, double tolerance) {
-  json j = json::parse(R"({
-    "dt": 0.02, "frames": 12,
-    "meshes": [
-      {"name": "lower", "generator": {"type": "grid", "width": 0.5, "height": 0.5, "nx": 8, "ny": 8},
-       "transform": {"translation": [0, 0, 0.12]}},
-      {"name": "upper", "generator": {"type": "grid", "width": 0.4, "height": 0.4, "nx": 7, "ny": 7},
-       "transform": {"translation": [0.01, 0.02, 0.15]}}
-    ],
-    "obstacles": [{"name": "ball", "shape": "sphere", "radius": 0.1}],
-    "effects": [
-      {"type": "gravity"},
-      {"type": "stretching", "stiffness": 50},
-      {"type": "bending", "stiffness": 0.001},
-      {"type": "pins", "groups": [{"mesh": "lower", "vertices": [0, 8]}]},
-      {"type": "self_vertex_face", "penalty": {"type": "quadratic", "stiffness": 1000, "distance": 0.01}},
-      {"type": "self_edge_edge", "penalty": {"type": "quadratic", "stiffness": 1000, "distance": 0.01}},
-      {"type": "obstacle_contact", "penalty": {"type": "quadratic", "stiffness": 1000, "distance": 0.01}}
-    ]
-  })");
-  j["solver"] = {{"linear_solver", linear_solver}, {"tolerance", tolerance}, {"threads", 1}};
-  return j;
-}
 
 std::unique_ptr<Scene> load(const json& j) { return load_scene_text(j.dump(), "scene.json", PCE_TEST_TMP); }
 
