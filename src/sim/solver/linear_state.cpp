@@ -63,41 +63,15 @@ template <class Factorization> bool LinearState::factor(Factorization& f, const 
   return true;
 }
 
-/// factor_reuse: solves H dx = rhs by conjugate gradients preconditioned by `f`, the
-/// factor of an earlier H (one forward and back substitution per iteration), from dx = 0.
-/// True when ‖rhs − H dx‖ ≤ `eta` ‖rhs‖ within `max_iterations` and dx is a descent
-/// direction (rhsᵀdx > 0, rhs = −g); false when it is not, or when pᵀHp or rᵀz is not > 0
-/// (the preconditioned operator is not SPD along the search direction, or a value is not
-/// finite). The loop is written out rather than Eigen's ConjugateGradient with an
-/// adapter preconditioner class pointing at the factor: twenty lines in which every exit
-/// (converged, breakdown, cap) is explicit and counted, where Eigen's loop reports only
-/// success or no convergence and does not stop at pᵀHp ≤ 0.
-template <class Factorization> bool LinearState::preconditioned_cg(const Factorization& f, const SparseMatrix& A,
-                                                                   const Eigen::VectorXd& rhs, double eta,
-                                                                   int max_iterations, Eigen::VectorXd& dx) {
-  const double target = eta * rhs.norm();
-  dx.setZero(rhs.size());
-  if (rhs.norm() == 0) return true;
-  r = rhs;
-  z = f.solve(r);
-  p = z;
-  double rz = r.dot(z);
-  for (int k = 0; k < max_iterations; ++k) {
-    q.noalias() = A.selfadjointView<Eigen::Upper>() * p;
-    const double pq = p.dot(q);
-    if (!(pq > 0) || !(rz > 0)) return false;
-    const double alpha = rz / pq;
-    dx += alpha * p;
-    r -= alpha * q;
-    counters[Counter::cg_iterations] += 1;
-    if (r.norm() <= target) return rhs.dot(dx) > 0;
-    z = f.solve(r);
-    const double rz_next = r.dot(z);
-    p = z + (rz_next / rz) * p;
-    rz = rz_next;
-  }
-  return false;
-}
+/// A factor object as CG's preconditioner: z = f⁻¹ r (one forward and back substitution).
+template <class Factorization> class FactorPreconditioner final : public Preconditioner {
+ public:
+  explicit FactorPreconditioner(const Factorization& f) : f_(f) {}
+  void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const override { z = f_.solve(r); }
+
+ private:
+  const Factorization& f_;
+};
 
 /// factor_reuse with the factor object `f`: CG preconditioned by the kept factor; when
 /// there is none, or CG does not converge, a new factorisation of the current H, whose
@@ -108,7 +82,10 @@ template <class Factorization> bool LinearState::reuse_solve(Factorization& f, c
                                                              const Eigen::VectorXd& rhs, double eta, int max_iterations,
                                                              Eigen::VectorXd& dx) {
   if (factored == &f && reuse_skip == 0) {
-    if (preconditioned_cg(f, A, rhs, eta, max_iterations, dx)) {
+    // The kept factor is an SPD operator on vectors of size 3n, whatever H's pattern now.
+    prepare_csr();
+    if (krylov.solve(csr, FactorPreconditioner<Factorization>(f), rhs, eta, max_iterations, dx,
+                     counters[Counter::cg_iterations])) {
       reuse_failures = 0;
       return true;
     }
@@ -122,16 +99,20 @@ template <class Factorization> bool LinearState::reuse_solve(Factorization& f, c
   return f.info() == Eigen::Success;
 }
 
-bool LinearState::krylov_solve(const SolverSettings& settings, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx,
-                               double eta) {
+void LinearState::prepare_csr() {
   const SparseMatrix& A = H.matrix();
-  if (!analyzed || !csr.fits(A)) {
+  if (!csr_current || !csr.fits(A)) {
     const ScopedTimer timer(counters, Counter::analyze_ms);
     csr.build(A);
     counters[Counter::analyses] += 1;
-    analyzed = true;
+    csr_current = true;
   }
   csr.update(A);
+}
+
+bool LinearState::krylov_solve(const SolverSettings& settings, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx,
+                               double eta) {
+  prepare_csr();
   const Preconditioner* M = &jacobi;
   if (settings.linear == LinearSolver::amg) {
     // A hierarchy of an earlier iteration of this step (any pattern of the same size) is

@@ -28,9 +28,14 @@ namespace pce::sim::solver {
 struct LinearState {
   using SparseMatrix = Eigen::SparseMatrix<double>;
   BlockHessian H;
-  /// The factor object's symbolic analysis is that of H's current pattern (cleared when the
-  /// pattern changes; `factor` analyses again before it factorises).
+  /// The factor object's symbolic analysis is that of H's current pattern (cleared by
+  /// `pattern_changed`; `factor` analyses again before it factorises).
   bool analyzed = false;
+  /// H's pattern changed: the factor's analysis and `csr`'s structure are stale.
+  void pattern_changed() {
+    analyzed = false;
+    csr_current = false;
+  }
 #ifdef PCE_SIM_HAVE_CHOLMOD
   Eigen::CholmodDecomposition<SparseMatrix, Eigen::Upper> cholmod;
 #endif
@@ -52,12 +57,13 @@ struct LinearState {
     amg_age = -1;
     if (dump) dump->start_step();
   }
-  Eigen::VectorXd r, z, p, q;  ///< factor_reuse's CG vectors
-  int reuse_failures = 0;      ///< factor_reuse: CG failures since the last CG success
-  int reuse_skip = 0;          ///< factor_reuse: solves still to refactor without trying CG
-  BlockCsr csr;                ///< pcg, amg: H as a full block-CSR matrix
-  BlockJacobi jacobi;          ///< pcg's preconditioner
-  HypreAmg amg;                ///< amg's preconditioner
+  int reuse_failures = 0;  ///< factor_reuse: CG failures since the last CG success
+  int reuse_skip = 0;      ///< factor_reuse: solves still to refactor without trying CG
+  BlockCsr csr;            ///< the CG solvers' H as a full block-CSR matrix
+  /// `csr`'s structure is that of H's current pattern (cleared with `analyzed`).
+  bool csr_current = false;
+  BlockJacobi jacobi;  ///< pcg's preconditioner
+  HypreAmg amg;        ///< amg's preconditioner
   /// The positions the system was linearised at (3 × n), or null: amg's rotation modes.
   const Eigen::Matrix3Xd* positions = nullptr;
   Krylov krylov;  ///< pcg's and amg's vectors
@@ -79,14 +85,14 @@ struct LinearState {
   /// Symbolic analysis when the pattern changed, then the numerical factorisation, each
   /// timed; false when the factorisation fails.
   template <class Factorization> bool factor(Factorization& f, const SparseMatrix& A);
-  /// factor_reuse: CG on H preconditioned by `f`, the factor of an earlier H (linear_state.cpp).
-  template <class Factorization> bool preconditioned_cg(const Factorization& f, const SparseMatrix& A,
-                                                        const Eigen::VectorXd& rhs, double eta, int max_iterations,
-                                                        Eigen::VectorXd& dx);
-  /// factor_reuse with the factor object `f` (linear_state.cpp).
+  /// `csr` holds H's current values, its structure rebuilt (and counted as an analysis)
+  /// when the pattern changed since it was built.
+  void prepare_csr();
   /// pcg and amg: CG preconditioned by block Jacobi or BoomerAMG, in parallel (outside
   /// SerialRegions).
   bool krylov_solve(const SolverSettings& settings, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx, double eta);
+  /// factor_reuse with the factor object `f`: the same CG (`Krylov::solve`) preconditioned by
+  /// `f`, the factor of an earlier H (linear_state.cpp).
   template <class Factorization> bool reuse_solve(Factorization& f, const SparseMatrix& A, const Eigen::VectorXd& rhs,
                                                   double eta, int max_iterations, Eigen::VectorXd& dx);
 };

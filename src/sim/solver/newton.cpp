@@ -125,7 +125,7 @@ void Newton::rebuild_pattern(Step& s) {
     const ScopedTimer timer(ms);
     Pattern pattern;
     for (const auto& e : s.effects) e->declare(pattern);
-    if (ls_.H.set_pattern(s.n, pattern)) ls_.analyzed = false;
+    if (ls_.H.set_pattern(s.n, pattern)) ls_.pattern_changed();
   }
   s.st.assembly_ms += ms;
   s.st.counters[Counter::pattern_ms] += ms;

@@ -94,7 +94,7 @@ void LinearSystem::set_matrix(const Eigen::SparseMatrix<double>& upper) {
                     std::equal(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros(), upper.innerIndexPtr());
   A = upper;
   A.makeCompressed();
-  if (!same) state_->analyzed = false;
+  if (!same) state_->pattern_changed();
 }
 
 bool LinearSystem::solve(const SolverSettings& settings, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx, double eta) {
