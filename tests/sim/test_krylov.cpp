@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <omp.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -40,10 +41,12 @@ struct System {
 };
 
 /// The Newton systems of the drop's steps 4-8 (in contact), written by a direct run with
-/// PCE_SIM_DUMP_SYSTEM and read back.
+/// PCE_SIM_DUMP_SYSTEM and read back. ctest runs each test as its own process, several at
+/// once, so each process writes to a folder of its own and removes it after reading.
 const std::vector<System>& systems() {
   static const std::vector<System> captured = [] {
-    const std::filesystem::path dir = std::filesystem::path(PCE_TEST_TMP) / "krylov_systems";
+    const std::filesystem::path dir =
+        std::filesystem::path(PCE_TEST_TMP) / ("krylov_systems_" + std::to_string(getpid()));
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     setenv("PCE_SIM_DUMP_SYSTEM", dir.c_str(), 1);
@@ -58,6 +61,7 @@ const std::vector<System>& systems() {
     std::vector<System> out(files.size());
     for (std::size_t k = 0; k < files.size(); ++k)
       if (!solver::read_system(files[k], out[k].H, out[k].rhs)) ADD_FAILURE() << "cannot read " << files[k];
+    std::filesystem::remove_all(dir);
     return out;
   }();
   return captured;

@@ -5,6 +5,11 @@
 /// query only rewrites the objects' boxes and refits the tree (`update()`); a new topology
 /// (primitive count or indices) rebuilds it.
 ///
+/// **Threads:** a query splits the traversal of the two trees (vertex-face) or of one tree
+/// with itself (edge-edge) as FCL's recursion does, into 64 pieces per thread that partition
+/// the leaf pairs, and the threads take pieces as they come free, each with its own list;
+/// the lists are joined and sorted, so the result is the same for any thread count.
+///
 /// **Why the result is exactly `brute_force_candidates`'s:** FCL sees boxes grown by
 /// h = d/2 + pad (a superset of the brute-force pairs whatever the rounding), each reported
 /// pair is re-tested with the brute force's own expressions and the result is sorted — the
@@ -24,6 +29,9 @@
 #include <fcl/geometry/shape/box.h>
 #include <fcl/narrowphase/collision_object.h>
 
+#include <omp.h>
+
+#include <algorithm>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -46,6 +54,8 @@ class Primitive final : public fcl::CollisionObject<double> {
  private:
   int index_;
 };
+
+using Node = fcl::DynamicAABBTreeCollisionManager<double>::DynamicAABBNode;
 
 /// A tree over one kind of primitive, refitted while the count stays the same.
 class Tree {
@@ -76,6 +86,8 @@ class Tree {
     }
   }
   fcl::DynamicAABBTreeCollisionManager<double>* manager() { return manager_.get(); }
+  /// The tree's root (after commit; the manager keeps the tree, this only reads it).
+  Node* root() const { return manager_->getTree().getRoot(); }
   bool empty() const { return objects_.empty(); }
 
  private:
@@ -125,6 +137,75 @@ bool edge_edge_pair(fcl::CollisionObject<double>* a, fcl::CollisionObject<double
   return false;
 }
 
+/// One piece of a tree traversal: the leaf pairs of two subtrees (`b` set), or of one
+/// subtree with itself (`b` null).
+struct Task {
+  Node* a;
+  Node* b;
+};
+
+/// Splits a traversal (two trees, or one with itself) into at least `want` pieces (fewer
+/// only when the leaves are reached), each split as FCL's own recursion splits it
+/// (`collisionRecurse`, `selfCollisionRecurse`): the pieces partition the leaf pairs, so
+/// each overlapping pair is visited exactly once, whichever piece and thread visits it.
+std::vector<Task> split(Node* a, Node* b, std::size_t want) {
+  std::vector<Task> tasks{{a, b}}, next;
+  for (bool split_any = true; split_any && tasks.size() < want;) {
+    split_any = false;
+    next.clear();
+    for (const Task& t : tasks) {
+      if (t.b == nullptr) {  // self: both halves with themselves, and with each other
+        if (t.a->isLeaf()) continue;
+        next.push_back({t.a->children[0], nullptr});
+        next.push_back({t.a->children[1], nullptr});
+        next.push_back({t.a->children[0], t.a->children[1]});
+        split_any = true;
+      } else if (!t.a->bv.overlap(t.b->bv)) {
+        continue;
+      } else if (t.a->isLeaf() && t.b->isLeaf()) {
+        next.push_back(t);
+      } else if (t.b->isLeaf() || (!t.a->isLeaf() && t.a->bv.size() > t.b->bv.size())) {
+        next.push_back({t.a->children[0], t.b});
+        next.push_back({t.a->children[1], t.b});
+        split_any = true;
+      } else {
+        next.push_back({t.a, t.b->children[0]});
+        next.push_back({t.a, t.b->children[1]});
+        split_any = true;
+      }
+    }
+    tasks.swap(next);
+  }
+  return tasks;
+}
+
+/// Runs the pieces of a traversal on every thread (dynamic schedule), each thread
+/// reporting through `callback` with its own copy of `query` (whose `out` it fills); the
+/// threads' pairs are gathered into `out` (unsorted).
+template <class Query> void traverse(const std::vector<Task>& tasks, const Query& query,
+                                     fcl::CollisionCallBack<double> callback, std::vector<std::array<int, 2>>& out) {
+  const int threads = omp_get_max_threads();
+  std::vector<std::vector<std::array<int, 2>>> found(static_cast<std::size_t>(threads));
+  const long count = static_cast<long>(tasks.size());
+#pragma omp parallel if (threads > 1 && count > 1)
+  {
+    Query q = query;
+    q.out = &found[static_cast<std::size_t>(omp_get_thread_num())];
+#pragma omp for schedule(dynamic, 1)
+    for (long k = 0; k < count; ++k) {
+      const Task& t = tasks[static_cast<std::size_t>(k)];
+      if (t.b == nullptr)
+        fcl::detail::dynamic_AABB_tree::selfCollisionRecurse<double>(t.a, &q, callback);
+      else
+        fcl::detail::dynamic_AABB_tree::collisionRecurse<double>(t.a, t.b, &q, callback);
+    }
+  }
+  for (const auto& f : found) out.insert(out.end(), f.begin(), f.end());
+}
+
+/// Enough pieces for the threads to share a traversal evenly (64 per thread).
+std::size_t pieces() { return 64 * static_cast<std::size_t>(omp_get_max_threads()); }
+
 class FclBroadPhase final : public BroadPhase {
  public:
   using BroadPhase::edge_edge;
@@ -153,8 +234,8 @@ class FclBroadPhase final : public BroadPhase {
     }
     vertices_.commit();
     triangles_.commit();
-    VertexFaceQuery q{&x0, &x1, &triangles, distance, &out};
-    triangles_.manager()->collide(vertices_.manager(), &q, vertex_face_pair);
+    const VertexFaceQuery q{&x0, &x1, &triangles, distance, nullptr};
+    traverse(split(triangles_.root(), vertices_.root(), pieces()), q, vertex_face_pair, out);
     box_rule::sort_pairs(out, n, scratch_, start_);
   }
 
@@ -176,8 +257,8 @@ class FclBroadPhase final : public BroadPhase {
       edges_.object(e).set_box(lo, hi);
     }
     edges_.commit();
-    EdgeEdgeQuery q{&x0, &x1, &edges, distance, &out};
-    edges_.manager()->collide(&q, edge_edge_pair);
+    const EdgeEdgeQuery q{&x0, &x1, &edges, distance, nullptr};
+    traverse(split(edges_.root(), nullptr, pieces()), q, edge_edge_pair, out);
     box_rule::sort_pairs(out, m, scratch_, start_);
   }
 

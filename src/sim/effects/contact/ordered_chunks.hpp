@@ -39,13 +39,20 @@ template <class Body> void for_each_chunk(long n, long chunk, const Body& body) 
 }
 
 /// for_each_chunk whose body also lowers a minimum: `body(c, begin, end, t)` gets its
-/// thread's running minimum t (which starts at +∞) and may lower it. Returns the smallest of
-/// `start` and every thread's minimum (the same whatever the order: a minimum is exact).
+/// chunk's running minimum t, which starts at `start` in every chunk, and may lower it.
+/// Returns the smallest of `start` and every chunk's minimum. What a body sees depends on
+/// its chunk alone, never on which chunks its thread ran before, so what it records on
+/// the way (the pairs whose limit was below the running minimum, say) is the same for any
+/// thread count and schedule; so is the result (a minimum is exact).
 template <class Body> double min_over_chunks(long n, long chunk, double start, const Body& body) {
   const auto chunks = static_cast<long>(chunk_count(n, chunk));
   double t = start;
 #pragma omp parallel for schedule(dynamic, 1) reduction(min : t) if (chunks > 1)
-  for (long c = 0; c < chunks; ++c) body(static_cast<std::size_t>(c), c * chunk, std::min(n, (c + 1) * chunk), t);
+  for (long c = 0; c < chunks; ++c) {
+    double running = start;
+    body(static_cast<std::size_t>(c), c * chunk, std::min(n, (c + 1) * chunk), running);
+    t = std::min(t, running);
+  }
   return t;
 }
 

@@ -48,7 +48,7 @@ template <bool VF> class StepBound {
     held_.clear();
   }
   /// The candidates whose limit in the last max_step was set by their floor (or that started
-  /// it below their floor) and was below the running minimum: those the step may have brought
+  /// it below their floor) and was below its chunk's running minimum: those the step may have brought
   /// to their floor (ascending).
   const std::vector<FloorLimit>& held() const { return held_; }
 
