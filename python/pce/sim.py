@@ -33,6 +33,7 @@ keep_freed_memory = _pce.keep_freed_memory
 _HESSIANS = tuple(_pce._contact_hessians())
 _BROAD_PHASES = tuple(_pce._broad_phases())
 _MODES = tuple(_pce._solver_modes())
+_ACCELERATIONS = tuple(_pce._accelerations())
 
 
 def _numbers(name, value, shape):
@@ -67,6 +68,8 @@ def load(
     tolerance: Optional[float] = None,
     mode: Optional[str] = None,
     iterations: Optional[int] = None,
+    substeps: Optional[int] = None,
+    acceleration: Optional[str] = None,
 ) -> "Simulation":
     """Loads a scene file (JSON, docs/simulation.md §2) at frame 0.
 
@@ -75,14 +78,17 @@ def load(
     ``broad_phase`` (``--broad-phase``: "fcl", "bullet", "brute"), ``threads`` (``--threads``,
     0: all), ``single_solve`` (``--single-solve``), ``tolerance`` (``--tolerance``),
     ``mode`` (``--mode``: "newton", "single_solve", "block_descent"; wins over
-    ``single_solve``), ``iterations`` (``--iterations``: block descent's sweeps per step).
+    ``single_solve``), ``iterations`` (``--iterations``: block descent's sweeps per step),
+    ``substeps`` (``--substeps``: time steps per frame, 1 to 1000), ``acceleration``
+    (``--acceleration``: block descent's, "none" or "chebyshev").
 
     Raises :class:`SceneError` (the message ``pce-sim`` prints) for an invalid scene, and
     for a start state with intersecting meshes unless the scene allows it.
     """
     if not isinstance(scene, (str, os.PathLike)):
         raise TypeError(f"scene: expected a path, got {scene!r}")
-    options = _overrides(frames, hessian, broad_phase, threads, single_solve, tolerance, mode, iterations)
+    options = _overrides(frames, hessian, broad_phase, threads, single_solve, tolerance, mode, iterations, substeps,
+                         acceleration)
     return Simulation(_pce._load(os.fspath(scene), *options))
 
 
@@ -98,6 +104,8 @@ def from_dict(
     tolerance: Optional[float] = None,
     mode: Optional[str] = None,
     iterations: Optional[int] = None,
+    substeps: Optional[int] = None,
+    acceleration: Optional[str] = None,
 ) -> "Simulation":
     """Loads a scene given as a dict (the scene format of docs/simulation.md §2) at frame 0.
 
@@ -115,7 +123,8 @@ def from_dict(
     """
     if not isinstance(base, (str, os.PathLike)):
         raise TypeError(f"base: expected a directory path, got {base!r}")
-    options = _overrides(frames, hessian, broad_phase, threads, single_solve, tolerance, mode, iterations)
+    options = _overrides(frames, hessian, broad_phase, threads, single_solve, tolerance, mode, iterations, substeps,
+                         acceleration)
     text = scene_json(scene)
     return Simulation(_pce._load_text(text, "<dict>", os.fsdecode(os.fspath(base)), *options))
 
@@ -205,7 +214,8 @@ def _plain(value, path, checked):
     )
 
 
-def _overrides(frames, hessian, broad_phase, threads, single_solve, tolerance, mode, iterations):
+def _overrides(frames, hessian, broad_phase, threads, single_solve, tolerance, mode, iterations, substeps,
+               acceleration):
     """The keyword overrides of :func:`load`, checked, in the order ``_pce._load`` takes them."""
     frames = _optional_int("frames", frames, 1, 10_000_000)
     threads = _optional_int("threads", threads, 0, 1024)
@@ -217,10 +227,15 @@ def _overrides(frames, hessian, broad_phase, threads, single_solve, tolerance, m
     if broad_phase is not None and broad_phase not in _BROAD_PHASES:
         raise ValueError(f"broad_phase: expected one of {', '.join(_BROAD_PHASES)}, got {broad_phase!r}")
     iterations = _optional_int("iterations", iterations, 1, 100_000)
+    substeps = _optional_int("substeps", substeps, 1, 1000)
     if mode is not None and not isinstance(mode, str):
         raise TypeError(f"mode: expected a string, got {mode!r}")
     if mode is not None and mode not in _MODES:
         raise ValueError(f"mode: expected one of {', '.join(_MODES)}, got {mode!r}")
+    if acceleration is not None and not isinstance(acceleration, str):
+        raise TypeError(f"acceleration: expected a string, got {acceleration!r}")
+    if acceleration is not None and acceleration not in _ACCELERATIONS:
+        raise ValueError(f"acceleration: expected one of {', '.join(_ACCELERATIONS)}, got {acceleration!r}")
     if single_solve is not None and not isinstance(single_solve, bool):
         raise TypeError(f"single_solve: expected True or False, got {single_solve!r}")
     if tolerance is not None:
@@ -229,7 +244,7 @@ def _overrides(frames, hessian, broad_phase, threads, single_solve, tolerance, m
         if not 0 < tolerance < float("inf"):
             raise ValueError(f"tolerance: expected a finite number > 0, got {tolerance!r}")
         tolerance = float(tolerance)
-    return frames, hessian, broad_phase, threads, single_solve, tolerance, mode, iterations
+    return frames, hessian, broad_phase, threads, single_solve, tolerance, mode, iterations, substeps, acceleration
 
 
 class Simulation:

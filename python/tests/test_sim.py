@@ -138,6 +138,10 @@ def test_scene_errors_carry_pce_sims_message(pce_sim, scenes, tmp_path):
         ({"mode": 1}, TypeError, "mode"),
         ({"mode": "vbd"}, ValueError, "mode"),
         ({"mode": "block_descent", "iterations": 0}, ValueError, "iterations"),
+        ({"substeps": 0}, ValueError, "substeps"),
+        ({"substeps": 2.5}, TypeError, "substeps"),
+        ({"mode": "block_descent", "acceleration": "momentum"}, ValueError, "acceleration"),
+        ({"mode": "block_descent", "acceleration": 1}, TypeError, "acceleration"),
     ],
 )
 def test_bad_load_arguments(scenes, kwargs, error, name):
@@ -190,6 +194,22 @@ def test_block_descent_is_pce_sims(pce_sim, scenes, tmp_path):
     s.run(out=py)
     assert (py / "frame_0003.obj").read_bytes() == (cli / "frame_0003.obj").read_bytes()
     assert s.stats["stop"] == "sweeps" and s.stats["sweeps"] == 4 and s.stats["newton_iterations"] == 0
+
+
+def test_substeps_and_acceleration_are_pce_sims(pce_sim, scenes, tmp_path):
+    """substeps= and acceleration= are pce-sim's --substeps and --acceleration: the same frames, bit for bit."""
+    path = str(scenes / "twist.json")
+    cli, py = tmp_path / "cli", tmp_path / "py"
+    subprocess.run([str(pce_sim), path, "--frames", "2", "--threads", "1", "--mode", "block_descent", "--iterations",
+                    "3", "--substeps", "2", "--acceleration", "chebyshev", "--out", str(cli)], check=True,
+                   capture_output=True)  # fmt: skip
+    s = pce.sim.load(path, frames=2, threads=1, mode="block_descent", iterations=3, substeps=2,
+                     acceleration="chebyshev")  # fmt: skip
+    s.run(out=py)
+    assert (py / "frame_0002.obj").read_bytes() == (cli / "frame_0002.obj").read_bytes()
+    assert s.stats["substeps"] == 2 and s.stats["sweeps"] == 6
+    assert [r["substep"] for r in s.stats["sweep_records"]] == [0, 0, 0, 1, 1, 1]
+    assert all("energy" in r for r in s.stats["sweep_records"])
 
 
 def small_scene(tmp_path):

@@ -168,31 +168,35 @@ pce::Projection contact_hessian(const std::string& name) {
   throw nb::value_error(("hessian: expected one of " + plain_names(kContactHessians) + ", got '" + name + "'").c_str());
 }
 
+/// The enumerator of `Enum` named `value` (a `load` keyword `key`), none when absent;
+/// ValueError naming the key and the accepted names for an unknown name.
+template <class Enum> std::optional<Enum> enumerator(const char* key, const std::optional<std::string>& value) {
+  if (!value) return std::nullopt;
+  const std::optional<Enum> e = pce::parse<Enum>(*value);
+  if (!e)
+    throw nb::value_error(
+        (std::string(key) + ": expected one of " + plain_names(pce::enumerators<Enum>()) + ", got '" + *value + "'")
+            .c_str());
+  return e;
+}
+
 /// `load`'s keyword overrides as SceneOverrides; ValueError for an unknown name.
 SceneOverrides overrides(std::optional<int> frames, std::optional<std::string> hessian,
                          std::optional<std::string> broad_phase, std::optional<int> threads,
                          std::optional<bool> single_solve, std::optional<double> tolerance,
-                         std::optional<std::string> mode, std::optional<int> iterations) {
+                         std::optional<std::string> mode, std::optional<int> iterations, std::optional<int> substeps,
+                         std::optional<std::string> acceleration) {
   SceneOverrides o;
   o.frames = frames;
   if (hessian) o.hessian = contact_hessian(*hessian);
-  if (broad_phase) {
-    o.broad_phase = pce::parse<BroadPhaseKind>(*broad_phase);
-    if (!o.broad_phase)
-      throw nb::value_error(("broad_phase: expected one of " + plain_names(pce::enumerators<BroadPhaseKind>()) +
-                             ", got '" + *broad_phase + "'")
-                                .c_str());
-  }
+  o.broad_phase = enumerator<BroadPhaseKind>("broad_phase", broad_phase);
   o.threads = threads;
   o.single_solve = single_solve;
   o.tolerance = tolerance;
-  if (mode) {
-    o.mode = pce::parse<SolverMode>(*mode);
-    if (!o.mode)
-      throw nb::value_error(
-          ("mode: expected one of " + plain_names(pce::enumerators<SolverMode>()) + ", got '" + *mode + "'").c_str());
-  }
+  o.mode = enumerator<SolverMode>("mode", mode);
   o.iterations = iterations;
+  o.substeps = substeps;
+  o.acceleration = enumerator<Acceleration>("acceleration", acceleration);
   return o;
 }
 
@@ -310,32 +314,37 @@ void bind_simulation(nb::module_& m) {
       "_load",
       [](const std::string& file, std::optional<int> frames, std::optional<std::string> hessian,
          std::optional<std::string> broad_phase, std::optional<int> threads, std::optional<bool> single_solve,
-         std::optional<double> tolerance, std::optional<std::string> mode, std::optional<int> iterations) {
-        return std::make_unique<LoadedScene>(
-            file, overrides(frames, hessian, broad_phase, threads, single_solve, tolerance, mode, iterations));
+         std::optional<double> tolerance, std::optional<std::string> mode, std::optional<int> iterations,
+         std::optional<int> substeps, std::optional<std::string> acceleration) {
+        return std::make_unique<LoadedScene>(file, overrides(frames, hessian, broad_phase, threads, single_solve,
+                                                             tolerance, mode, iterations, substeps, acceleration));
       },
       nb::arg("file"), nb::arg("frames").none(), nb::arg("hessian").none(), nb::arg("broad_phase").none(),
       nb::arg("threads").none(), nb::arg("single_solve").none(), nb::arg("tolerance").none(), nb::arg("mode").none(),
-      nb::arg("iterations").none());
+      nb::arg("iterations").none(), nb::arg("substeps").none(), nb::arg("acceleration").none());
   m.def(
       "_load_text",
       [](const std::string& text, const std::string& name, const std::string& base, std::optional<int> frames,
          std::optional<std::string> hessian, std::optional<std::string> broad_phase, std::optional<int> threads,
          std::optional<bool> single_solve, std::optional<double> tolerance, std::optional<std::string> mode,
-         std::optional<int> iterations) {
-        return std::make_unique<LoadedScene>(
-            text, name, base,
-            overrides(frames, hessian, broad_phase, threads, single_solve, tolerance, mode, iterations));
+         std::optional<int> iterations, std::optional<int> substeps, std::optional<std::string> acceleration) {
+        return std::make_unique<LoadedScene>(text, name, base,
+                                             overrides(frames, hessian, broad_phase, threads, single_solve, tolerance,
+                                                       mode, iterations, substeps, acceleration));
       },
       nb::arg("text"), nb::arg("name"), nb::arg("base"), nb::arg("frames").none(), nb::arg("hessian").none(),
       nb::arg("broad_phase").none(), nb::arg("threads").none(), nb::arg("single_solve").none(),
-      nb::arg("tolerance").none(), nb::arg("mode").none(), nb::arg("iterations").none(),
+      nb::arg("tolerance").none(), nb::arg("mode").none(), nb::arg("iterations").none(), nb::arg("substeps").none(),
+      nb::arg("acceleration").none(),
       "Loads a scene from its JSON text: name stands for the file in errors, base is where relative mesh files are.");
   m.def("_check_output", &check_output, nb::arg("what"), nb::arg("path"),
         "Checks run()'s video= or usd= file: ValueError if it cannot be written, RuntimeError without ffmpeg.");
   m.def(
       "_solver_modes", [] { return names(pce::enumerators<SolverMode>()); },
       "The solver modes' names, in pce::sim::kSolverModeNames' order.");
+  m.def(
+      "_accelerations", [] { return names(pce::enumerators<Acceleration>()); },
+      "Block descent's accelerations' names, in pce::sim::kAccelerationNames' order.");
 }
 
 }  // namespace pce_python

@@ -22,6 +22,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <vector>
 
 using namespace pce::sim;
 using nlohmann::json;
@@ -302,6 +303,23 @@ TEST(BlockDescent, SceneKeysAreChecked) {
   EXPECT_NE(error_of(R"({"iterations": 7})").find("solver.iterations"), std::string::npos);
   EXPECT_NE(error_of(R"({"mode": "block_descent", "iterations": 0})").find("solver.iterations"), std::string::npos);
   EXPECT_NE(error_of(R"({"mode": "vbd"})").find("block_descent"), std::string::npos);
+  EXPECT_EQ(error_of(R"({"mode": "block_descent", "substeps": 5, "acceleration": "chebyshev", "chebyshev_rho": 0.9,
+      "sweep_tolerance": 0.01})"),
+            "(no error)");
+  EXPECT_EQ(error_of(R"({"substeps": 3})"), "(no error)");  // Newton takes substeps too
+  EXPECT_NE(error_of(R"({"substeps": 0})").find("solver.substeps"), std::string::npos);
+  EXPECT_NE(error_of(R"({"substeps": 1001})").find("solver.substeps"), std::string::npos);
+  EXPECT_NE(error_of(R"({"acceleration": "chebyshev"})").find("solver.acceleration"), std::string::npos);
+  EXPECT_NE(error_of(R"({"mode": "block_descent", "acceleration": "momentum"})").find("solver.acceleration"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"mode": "block_descent", "chebyshev_rho": 0.9})").find("solver.chebyshev_rho"),
+            std::string::npos);  // without the acceleration it would do nothing
+  EXPECT_NE(error_of(R"({"mode": "block_descent", "acceleration": "chebyshev", "chebyshev_rho": 1})")
+                .find("solver.chebyshev_rho"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"sweep_tolerance": 0.01})").find("solver.sweep_tolerance"), std::string::npos);
+  EXPECT_NE(error_of(R"({"mode": "block_descent", "sweep_tolerance": -1})").find("solver.sweep_tolerance"),
+            std::string::npos);
   // --iterations (an override) on a Newton scene names the key it would replace
   SceneOverrides o;
   o.iterations = 5;
@@ -381,4 +399,123 @@ TEST(BlockDescent, ConvergesToNewtonsStepAsSweepsGrow) {
   }
   // (measured: 131 mm at 20 sweeps, 70 mm at 200, 3.1 mm at 2 000)
   EXPECT_LT(previous, 5e-3);
+}
+
+namespace {
+
+/// The hanging sheet of ConvergesToNewtonsStepAsSweepsGrow after `frames` frames, solved as
+/// `o` says.
+Eigen::Matrix3Xd hanging_sheet(const SceneOverrides& o, const std::string& solver = "{}", int frames = 10) {
+  json j = json::parse(R"({"dt": 0.025, "frames": 10,
+    "meshes": [{"name": "sheet", "generator": {"type": "grid", "width": 0.3, "height": 0.3, "nx": 12, "ny": 12}}],
+    "effects": [{"type": "gravity"}, {"type": "stretching", "stiffness": 60}, {"type": "bending", "stiffness": 2e-5},
+      {"type": "damping", "coefficient": 0.2},
+      {"type": "pins", "stiffness": 1e4, "groups": [{"mesh": "sheet", "box": {"min": [-1, 0.14, -1], "max": [1, 1, 1]}}]}]})");
+  j["solver"] = json::parse(solver);
+  auto s = load_scene_text(j.dump(), "hang.json", PCE_TEST_TMP, o);
+  for (int f = 0; f < frames; ++f) s->simulation.step();
+  return s->simulation.x;
+}
+
+}  // namespace
+
+class Accelerations : public testing::TestWithParam<const char*> {};
+
+TEST_P(Accelerations, ConvergeToNewtonsStepsAsSubstepsAndSweepsGrow) {
+  // With S substeps a frame, block descent's frames approach Newton's with the same
+  // substeps (tolerance 10⁻⁶) as the sweeps per substep grow, with and without Chebyshev's
+  // acceleration; and with S = 4 they get closer with fewer sweeps than one step does.
+  const std::string solver = std::string(R"({"mode": "block_descent", "acceleration": ")") + GetParam() + "\"}";
+  std::vector<double> last;
+  for (const int substeps : {1, 4}) {
+    SceneOverrides newton;
+    newton.tolerance = 1e-6;
+    newton.substeps = substeps;
+    const Eigen::Matrix3Xd reference = hanging_sheet(newton);
+    double previous = std::numeric_limits<double>::infinity();
+    for (const int sweeps : {10, 50, 250}) {
+      SceneOverrides o;
+      o.iterations = sweeps;
+      o.substeps = substeps;
+      const double error = (hanging_sheet(o, solver) - reference).colwise().norm().maxCoeff();
+      EXPECT_LT(error, previous) << substeps << " substeps, " << sweeps << " sweeps";
+      previous = error;
+    }
+    last.push_back(previous);
+  }
+  EXPECT_LT(last[1], last[0]);  // 4 × 250 sweeps of dt/4 are closer than 250 of dt
+}
+
+TEST_P(Accelerations, SubstepsAndTheAccelerationDoNotDependOnTheThreadCount) {
+  const std::string base =
+      std::string(R"("mode": "block_descent", "iterations": 6, "substeps": 3, "acceleration": ")") + GetParam() + "\"";
+  auto a = crumpled_sheets(0.003, 0.001, 5, "{" + base + R"(, "threads": 1})");
+  auto b = crumpled_sheets(0.003, 0.001, 5, "{" + base + R"(, "threads": 2})");
+  for (int f = 1; f <= 8; ++f) {
+    const FrameStats sa = a->simulation.step(), sb = b->simulation.step();
+    ASSERT_EQ(a->simulation.x, b->simulation.x) << "frame " << f;
+    EXPECT_EQ(sa.sweeps, 18);
+    EXPECT_EQ(sa.substeps, 3);
+    EXPECT_EQ(sa.sweep_records.size(), 18u);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(BlockDescent, Accelerations, testing::Values("none", "chebyshev"),
+                         [](const testing::TestParamInfo<const char*>& i) { return std::string(i.param); });
+
+TEST(BlockDescent, ChebyshevKeepsNoExtrapolationThatRaisesTheEnergy) {
+  // Sheets landing on each other and the ball with ρ = 0.99 (an overestimate: extrapolations
+  // overshoot): every kept extrapolation's energy is at most the iterate's before it, some
+  // are undone, some are kept, and no pair crosses.
+  auto s = crumpled_sheets(0.006, 0.0, 7,
+                           R"({"mode": "block_descent", "iterations": 15, "acceleration": "chebyshev",
+                               "chebyshev_rho": 0.99})");
+  Simulation& sim = s->simulation;
+  sim.x.row(2).array() += 0.03;
+  const auto pairs = all_pairs(sim.model);
+  double kept = 0, undone = 0;
+  for (int f = 1; f <= 25; ++f) {
+    const Eigen::Matrix3Xd before = sim.x;
+    const FrameStats st = sim.step();
+    for (std::size_t k = 1; k < st.sweep_records.size(); ++k) {
+      const SweepRecord& r = st.sweep_records[k];
+      ASSERT_TRUE(std::isfinite(r.energy)) << "frame " << f << ", sweep " << k;
+      if (r.accelerated) {
+        EXPECT_LE(r.energy, st.sweep_records[k - 1].energy) << "frame " << f << ", sweep " << k;
+      }
+    }
+    kept += st.counters.at(Counter::accelerated_sweeps) - st.counters.at(Counter::acceleration_restarts);
+    undone += st.counters.at(Counter::acceleration_restarts);
+    expect_kept(sim.model, before, sim.x, pairs, "frame " + std::to_string(f));
+    if (HasFailure()) return;
+  }
+  EXPECT_GT(kept, 0);
+  EXPECT_GT(undone, 0);
+}
+
+TEST(BlockDescent, ASweepWithinTheSweepToleranceEndsTheStep) {
+  // The hanging sheet settles: with a sweep tolerance some of its steps end early (stop
+  // "tolerance", fewer sweeps than the cap, the last sweep's residual within it); the
+  // others take every sweep.
+  SceneOverrides o;
+  o.iterations = 400;
+  const std::string with = R"({"mode": "block_descent", "sweep_tolerance": 0.002})";
+  json j = json::parse(R"({"dt": 0.025, "frames": 10,
+    "meshes": [{"name": "sheet", "generator": {"type": "grid", "width": 0.3, "height": 0.3, "nx": 12, "ny": 12}}],
+    "effects": [{"type": "gravity"}, {"type": "stretching", "stiffness": 60},
+      {"type": "pins", "stiffness": 1e4, "groups": [{"mesh": "sheet", "box": {"min": [-1, 0.14, -1], "max": [1, 1, 1]}}]}]})");
+  j["solver"] = json::parse(with);
+  auto s = load_scene_text(j.dump(), "hang.json", PCE_TEST_TMP, o);
+  int early = 0;
+  for (int f = 0; f < 10; ++f) {
+    const FrameStats st = s->simulation.step();
+    if (st.stop == StopReason::tolerance) {
+      ++early;
+      EXPECT_LT(st.sweeps, 400);
+      EXPECT_LE(st.sweep_records.back().residual, 0.002);
+    } else {
+      EXPECT_EQ(st.sweeps, 400);
+    }
+  }
+  EXPECT_GT(early, 0);
 }

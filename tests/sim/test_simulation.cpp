@@ -6,7 +6,9 @@
 #include <pce/sim/scene.hpp>
 
 #include <gtest/gtest.h>
+#include <algorithm>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 
@@ -192,4 +194,91 @@ TEST(Simulation, NonFiniteGradientNamesTheFrameTheEffectAndTheVertexAndKeepsTheL
   EXPECT_EQ(sim.frame, 2);  // the failed step changed nothing
   EXPECT_TRUE((sim.x.array() == x.array()).all());
   EXPECT_TRUE((sim.v.array() == v.array()).all());
+}
+
+TEST(Simulation, AFrameOfSubstepsIsThatManyStepsOfTheirSize) {
+  // A frame of 4 substeps of dt/4 ends on the bits of 4 frames of dt/4 (dt/4 is exact, and
+  // nothing here depends on the time), in Newton and in block descent; the frame's
+  // statistics sum the steps' work and describe the last step's state.
+  const json effects = json::parse(R"([{"type": "gravity"}, {"type": "stretching", "stiffness": 20},
+      {"type": "bending", "stiffness": 1e-4}, {"type": "pins", "groups": [{"vertices": [0, 6]}]},
+      {"type": "self_vertex_face", "penalty": {"type": "quadratic", "stiffness": 10, "distance": 0.01}}])");
+  for (const char* mode : {"newton", "block_descent"}) {
+    SCOPED_TRACE(mode);
+    json whole = cloth(effects), parts = cloth(effects);
+    whole["solver"] = {{"mode", mode}, {"substeps", 4}};
+    parts["solver"] = {{"mode", mode}};
+    parts["dt"] = 0.005;
+    auto a = load(whole), b = load(parts);
+    EXPECT_EQ(a->simulation.solver.substeps, 4);
+    for (int f = 1; f <= 2; ++f) {
+      const FrameStats sa = a->simulation.step();
+      int iterations = 0, sweeps = 0;
+      double queries = 0, residual = 0;
+      FrameStats sb;
+      for (int k = 0; k < 4; ++k) {
+        sb = b->simulation.step();
+        iterations += sb.newton_iterations;
+        sweeps += sb.sweeps;
+        queries += sb.counters.at(Counter::broad_phase_queries);
+        residual = std::max(residual, sb.residual);
+      }
+      ASSERT_EQ(a->simulation.x, b->simulation.x) << "frame " << f;
+      ASSERT_EQ(a->simulation.v, b->simulation.v) << "frame " << f;
+      EXPECT_EQ(a->simulation.frame, f);
+      EXPECT_DOUBLE_EQ(a->simulation.time, 0.02 * f);
+      EXPECT_EQ(sa.frame, f);
+      EXPECT_EQ(sa.substeps, 4);
+      EXPECT_EQ(sa.newton_iterations, iterations);
+      EXPECT_EQ(sa.sweeps, sweeps);
+      EXPECT_EQ(sa.counters.at(Counter::broad_phase_queries), queries);  // work: summed
+      EXPECT_EQ(sa.counters.at(Counter::vertex_face_candidates),
+                sb.counters.at(Counter::vertex_face_candidates));  // state: the last
+      EXPECT_EQ(sa.energy, sb.energy);
+      EXPECT_EQ(sa.residual, residual);
+      EXPECT_EQ(sa.iterations.size() + sa.sweep_records.size(),
+                static_cast<std::size_t>(iterations) + static_cast<std::size_t>(sweeps));
+      if (!sa.iterations.empty()) {
+        EXPECT_EQ(sa.iterations.back().substep, 3);
+      }
+      if (!sa.sweep_records.empty()) {
+        EXPECT_EQ(sa.sweep_records.back().substep, 3);
+      }
+    }
+  }
+}
+
+namespace {
+/// An energy that is fine for `good_steps` time steps, then gives a NaN gradient at vertex 3.
+class BreaksAfterSteps final : public Effect {
+ public:
+  explicit BreaksAfterSteps(int good_steps) : Effect("breaks_after_steps"), good_(good_steps) {}
+  void begin_step(const StepContext& /*ctx*/) override { ++steps_; }
+  void declare(Pattern& /*pattern*/) const override {}
+  double evaluate(const Eigen::Matrix3Xd& /*x*/, Eigen::Matrix3Xd* gradient, BlockHessian* /*hessian*/) override {
+    if (gradient && steps_ > good_) (*gradient)(1, 3) += std::numeric_limits<double>::quiet_NaN();
+    return 0.0;
+  }
+
+ private:
+  int good_, steps_ = 0;
+};
+}  // namespace
+
+TEST(Simulation, AFrameWhoseSubstepFailsLeavesTheFramesStart) {
+  // 3 substeps a frame; the 5th step (frame 2's second) fails: frame, time, x and v are
+  // frame 1's.
+  json j = cloth(json::parse(R"([{"type": "gravity"}, {"type": "stretching", "stiffness": 20}])"));
+  j["solver"] = {{"substeps", 3}};
+  auto s = load(j);
+  Simulation& sim = s->simulation;
+  sim.effects.push_back(std::make_unique<BreaksAfterSteps>(4));
+  sim.step();
+  const Eigen::Matrix3Xd x = sim.x, v = sim.v;
+  const double time = sim.time;
+  EXPECT_THROW(sim.step(), SimulationError);
+  EXPECT_EQ(sim.frame, 1);
+  EXPECT_EQ(sim.time, time);
+  EXPECT_EQ(sim.x, x);
+  EXPECT_EQ(sim.v, v);
 }

@@ -52,8 +52,8 @@ template <class Values> std::vector<std::string> names(const Values& values) {
 
 /// The command line.
 struct Options {
-  std::string scene_file, out_dir, hessian, broad_phase, resume_dir, mode, video, usd;
-  int frames = 0, threads = -1, checkpoint_every = 0, iterations = 0;
+  std::string scene_file, out_dir, hessian, broad_phase, resume_dir, mode, video, usd, acceleration;
+  int frames = 0, threads = -1, checkpoint_every = 0, iterations = 0, substeps = 0;
   double tolerance = 0;
   bool single_solve = false, no_frames = false;
 
@@ -67,6 +67,8 @@ struct Options {
     if (single_solve) o.single_solve = true;
     if (!mode.empty()) o.mode = pce::parse<SolverMode>(mode);  // checked by IsMember
     if (iterations > 0) o.iterations = iterations;
+    if (substeps > 0) o.substeps = substeps;
+    if (!acceleration.empty()) o.acceleration = pce::parse<Acceleration>(acceleration);  // checked by IsMember
     if (tolerance > 0) o.tolerance = tolerance;
     return o;
   }
@@ -101,6 +103,10 @@ int parse_options(int argc, char** argv, Options& o) {
       ->check(CLI::IsMember(names(pce::enumerators<SolverMode>())));
   app.add_option("--iterations", o.iterations, "block descent: sweeps per time step (overrides the scene)")
       ->check(CLI::Range(1, 100000));
+  app.add_option("--substeps", o.substeps, "time steps per frame, each of dt/S (overrides the scene)")
+      ->check(CLI::Range(1, 1000));
+  app.add_option("--acceleration", o.acceleration, "block descent: the sweeps' acceleration (overrides the scene)")
+      ->check(CLI::IsMember(names(pce::enumerators<Acceleration>())));
   app.add_option("--tolerance", o.tolerance, "Newton tolerance on max|dx|/(h*size), 1/s")->check(CLI::PositiveNumber);
   app.add_flag("--no-frames", o.no_frames, "write no per-frame meshes (stats, picture and the last frame only)");
   app.add_option("--checkpoint-every", o.checkpoint_every, "write DIR/checkpoint_NNNN.pcecp every K frames")
@@ -215,6 +221,7 @@ Ending run_frames(const Options& o, Loaded& l, const std::filesystem::path& dir)
   run.open(output);
   std::cerr << "pce-sim: " << o.scene_file << ": " << sim.model.vertex_count() << " vertices, " << sim.effects.size()
             << " effects, " << sim.frames << " frames, dt = " << sim.solver.dt << " s";
+  if (sim.solver.substeps > 1) std::cerr << " in " << sim.solver.substeps << " steps";
   if (!l.resumed_from.empty()) std::cerr << ", resumed at frame " << sim.frame << " from " << l.resumed_from.string();
   std::cerr << "\n";
   std::signal(SIGINT, on_stop_signal);

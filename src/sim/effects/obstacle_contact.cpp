@@ -74,6 +74,7 @@ class ObstacleContact final : public ContactEffect {
         if (friction_) friction_->add_local(x, i, g, H);
         terms.gradient.col(j) += g;
         terms.hessian[static_cast<std::size_t>(j)] += H;
+        if (!g.isZero(0) || !H.isZero(0)) terms.contact[static_cast<std::size_t>(j)] = 1;
       }
     });
   }

@@ -30,6 +30,7 @@ json frame_record(const FrameStats& s, long intersections) {
   json r;
   r["frame"] = s.frame;
   r["wall_ms"] = s.wall_ms;
+  if (s.substeps > 1) r["substeps"] = s.substeps;
   r["newton_iterations"] = s.newton_iterations;
   if (s.sweeps > 0) r["sweeps"] = s.sweeps;
   r["residual"] = s.residual;
@@ -66,18 +67,26 @@ json frame_record(const FrameStats& s, long intersections) {
   for (const auto& [k, v] : s.counters.entries()) counters[k] = std::isfinite(v) ? json(v) : json(nullptr);
   r["counters"] = counters;
   json iterations = json::array();
-  for (const NewtonIteration& it : s.iterations)
+  for (const NewtonIteration& it : s.iterations) {
     iterations.push_back({{"residual", it.residual},
                           {"friction_residual", it.friction_residual},
                           {"friction_load", it.friction_load},
                           {"step_limit", it.step_limit},
                           {"limited_by", it.limited_by},
                           {"alpha", it.alpha}});
+    if (s.substeps > 1) iterations.back()["substep"] = it.substep;
+  }
   r["iterations"] = iterations;
   if (s.sweeps > 0) {
     json sweeps = json::array();
-    for (const SweepRecord& k : s.sweep_records)
+    for (const SweepRecord& k : s.sweep_records) {
       sweeps.push_back({{"residual", k.residual}, {"bound_clamps", k.bound_clamps}});
+      if (s.substeps > 1) sweeps.back()["substep"] = k.substep;
+      if (std::isfinite(k.energy)) {
+        sweeps.back()["energy"] = k.energy;
+        sweeps.back()["accelerated"] = k.accelerated;
+      }
+    }
     r["sweep_records"] = sweeps;
   }
   return r;
@@ -119,8 +128,12 @@ json summary_of(const Simulation& sim, const std::string& scene_file, const json
   summary["triangles"] = sim.model.triangles.cols();
   summary["segments"] = sim.model.segments.cols();
   summary["dt"] = sim.solver.dt;
+  summary["substeps"] = sim.solver.substeps;
   summary["mode"] = std::string(name_of(sim.solver.mode));
-  if (sim.solver.mode == SolverMode::block_descent) summary["iterations"] = sim.solver.iterations;
+  if (sim.solver.mode == SolverMode::block_descent) {
+    summary["iterations"] = sim.solver.iterations;
+    summary["acceleration"] = std::string(name_of(sim.solver.acceleration));
+  }
   summary["total_s"] = total_s;
   summary["peak_memory_mib"] = peak_memory_mib();
   summary["failure"] = failure.empty() ? json(nullptr) : json(failure);
@@ -157,6 +170,8 @@ std::string physics_key_of_text(const std::string& scene_text, const SceneOverri
   if (o.single_solve && *o.single_solve) key += "\n--single-solve";
   if (o.mode) key += "\n--mode " + std::string(name_of(*o.mode));
   if (o.iterations) key += "\n--iterations " + std::to_string(*o.iterations);
+  if (o.substeps) key += "\n--substeps " + std::to_string(*o.substeps);
+  if (o.acceleration) key += "\n--acceleration " + std::string(name_of(*o.acceleration));
   if (o.tolerance) key += "\n--tolerance " + json(*o.tolerance).dump();
   return key;
 }

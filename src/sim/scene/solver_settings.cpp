@@ -15,17 +15,31 @@ namespace {
 /// slow-motion sequence; a step's free fall g·dt² stays ≤ kMaxCoordinate). Keeps M/dt²,
 /// v = Δx/dt and the time frames·dt (≤ 1e7 s) finite and normal.
 constexpr double kMinDt = 1e-6, kMaxDt = 1.0;
+/// Time steps per frame: at most this many (dt/substeps stays ≥ 1e-9 s, a thousandth of kMinDt).
+constexpr long kMaxSubsteps = 1000;
 
 /// The `solver` object into `solver`; returns its `broad_phase`.
 BroadPhaseKind parse_solver(const Params& s, SolverSettings& solver) {
-  s.only({"mode", "iterations", "tolerance", "max_iterations", "linear_solver", "linear_tolerance", "threads",
-          "broad_phase"});
+  s.only({"mode", "iterations", "substeps", "acceleration", "chebyshev_rho", "sweep_tolerance", "tolerance",
+          "max_iterations", "linear_solver", "linear_tolerance", "threads", "broad_phase"});
   solver.mode = s.choice<SolverMode>("mode", SolverMode::newton);
   if (s.has("iterations") && solver.mode != SolverMode::block_descent)
     s.fail("iterations",
            "only \"mode\": \"block_descent\" takes a number of iterations (Newton's cap is "
            "\"max_iterations\")");
   solver.iterations = static_cast<int>(s.integer("iterations", long{kDefaultBlockIterations}, 1, 100000));
+  for (const char* key : {"acceleration", "chebyshev_rho", "sweep_tolerance"})
+    if (s.has(key) && solver.mode != SolverMode::block_descent)
+      s.fail(key, "only \"mode\": \"block_descent\" takes it");
+  solver.acceleration = s.choice<Acceleration>("acceleration", Acceleration::none);
+  solver.chebyshev_rho = s.number("chebyshev_rho", solver.chebyshev_rho, 0, 1);
+  if (!(solver.chebyshev_rho > 0 && solver.chebyshev_rho < 1))
+    s.fail("chebyshev_rho",
+           "expected a number in (0, 1) (a sweep's spectral radius), got " + args::text(solver.chebyshev_rho));
+  if (s.has("chebyshev_rho") && solver.acceleration != Acceleration::chebyshev)
+    s.fail("chebyshev_rho", "only \"acceleration\": \"chebyshev\" takes it");
+  solver.sweep_tolerance = s.nonnegative("sweep_tolerance", 0.0);
+  solver.substeps = static_cast<int>(s.integer("substeps", 1L, 1, kMaxSubsteps));
   solver.tolerance = s.positive("tolerance", solver.tolerance);
   solver.max_iterations = static_cast<int>(s.integer("max_iterations", 50L, 1, 100000));
   solver.linear = s.choice<LinearSolver>("linear_solver", LinearSolver::direct);
@@ -57,6 +71,19 @@ void apply_overrides(const Params& root, const SceneOverrides& overrides, Simula
                     std::string(name_of(sim.solver.mode)) + " (--mode block_descent selects it)");
     if (*overrides.iterations < 1) root.fail("solver.iterations", "expected an integer >= 1 (--iterations)");
     sim.solver.iterations = *overrides.iterations;
+  }
+  if (overrides.acceleration) {
+    if (sim.solver.mode != SolverMode::block_descent)
+      root.fail("solver.acceleration",
+                "an acceleration (--acceleration) needs the block_descent mode, and this "
+                "scene's is " +
+                    std::string(name_of(sim.solver.mode)));
+    sim.solver.acceleration = *overrides.acceleration;
+  }
+  if (overrides.substeps) {
+    if (!(*overrides.substeps >= 1 && *overrides.substeps <= kMaxSubsteps))
+      root.fail("solver.substeps", "expected an integer in [1, " + std::to_string(kMaxSubsteps) + "] (--substeps)");
+    sim.solver.substeps = *overrides.substeps;
   }
   if (overrides.tolerance) sim.solver.tolerance = *overrides.tolerance;
   if (overrides.broad_phase) broad_phase = *overrides.broad_phase;

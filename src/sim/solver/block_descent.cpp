@@ -22,6 +22,11 @@
 // cut, or an effect's candidates went stale (`Requery::still_valid`), measures the bounds
 // again at its result. The vertices of a colour read the positions of the colour's start
 // and are written after all have been computed, so nothing depends on the thread count.
+// With `Acceleration::chebyshev`, after each sweep the vertices no active contact pair acted
+// on in it are extrapolated (Chebyshev's semi-iteration, `accelerate`), cut to
+// their bounds; an extrapolation that raises the incremental potential above the last
+// accepted iterate's is undone and the recurrence restarts. A sweep whose residual is at
+// most `sweep_tolerance` ends the step.
 #include "solver/colouring.hpp"
 #include "solver/step.hpp"
 
@@ -53,7 +58,13 @@ class BlockDescent final : public StepSolver {
  private:
   void first_move(Step& s);
   void measure_bounds(Step& s);
-  void sweep(Step& s, int index);
+  /// Returns true when the sweep's residual met `sweep_tolerance`.
+  bool sweep(Step& s, int index);
+  /// Chebyshev's extrapolation of the sweep just done (from `older_`), see the file comment;
+  /// returns the vertices it moved to their bound.
+  long accelerate(Step& s, SweepRecord& record);
+  /// The incremental potential at y with candidates valid there (queried again if stale).
+  double energy_at_y(Step& s);
   /// One colour's vertices, each by its own 3×3 Newton step cut to its bound and trust
   /// region; returns the largest move and adds the vertices that used their bound to `cut`.
   double move_colour(Step& s, const std::vector<int>& colour, int index, long& cut);
@@ -71,6 +82,15 @@ class BlockDescent final : public StepSolver {
   Eigen::VectorXd moved_;   ///< per vertex: its move in the last sweep
   Eigen::VectorXd limit_;   ///< per vertex: the fraction of the first move the one-vertex effects allow
   Eigen::Matrix3Xd field_;  ///< per vertex: the state-independent acceleration (gravity), a
+  // Chebyshev's acceleration (`accelerate`):
+  Eigen::Matrix3Xd before_;     ///< the sweep's start, x⁽ᵏ⁾
+  Eigen::Matrix3Xd older_;      ///< the sweep before's start, x⁽ᵏ⁻¹⁾
+  Eigen::Matrix3Xd plain_;      ///< the sweep's own result x̄, to undo an extrapolation to
+  std::vector<char> coupled_;   ///< per vertex: a contact pair acted on it in the sweep (`LocalTerms::contact`)
+  int run_ = 0;                 ///< sweeps since the recurrence (re)started
+  double omega_ = 1;            ///< ω of the last sweep
+  double accepted_energy_ = 0;  ///< the potential at the last accepted iterate (run_ > 0)
+  bool refreshed_ = false;      ///< energy_at_y queried a candidate set again in this sweep
 };
 
 void BlockDescent::solve(Step& s) {
@@ -87,7 +107,13 @@ void BlockDescent::solve(Step& s) {
     colouring_.restart();
   }
   measure_bounds(s);
-  for (int k = 0; k < s.settings.iterations; ++k) sweep(s, k);
+  run_ = 0;
+  if (s.settings.acceleration == Acceleration::chebyshev) {  // reported, 0 or not
+    s.st.counters[Counter::accelerated_sweeps] += 0;
+    s.st.counters[Counter::acceleration_restarts] += 0;
+  }
+  bool met = false;
+  for (int k = 0; k < s.settings.iterations && !met; ++k) met = sweep(s, k);
   // The accepted state's energy and counters are to see every pair within reach there.
   for (const auto& [k, c] : requery_)
     if (!c->still_valid(s.y)) {
@@ -95,7 +121,7 @@ void BlockDescent::solve(Step& s) {
       c->refresh(s.y);
     }
   s.st.counters[Counter::colours] = static_cast<double>(colouring_.colours().size());
-  s.st.stop = StopReason::sweeps;
+  s.st.stop = met ? StopReason::tolerance : StopReason::sweeps;
   s.evaluated_at_y = false;
 }
 
@@ -105,7 +131,7 @@ void BlockDescent::solve(Step& s) {
 /// rest of its sheet.
 void BlockDescent::first_move(Step& s) {
   const int n = s.n;
-  const double h = s.settings.dt;
+  const double h = s.h;
   field_.setZero(3, n);
   for (const auto& [k, a] : s.find<AccelerationField>()) a->add_acceleration(field_);
   Eigen::Matrix3Xd dx = (s.inertia.target() - s.x_start) + h * h * field_;
@@ -137,8 +163,12 @@ void BlockDescent::measure_bounds(Step& s) {
 
 /// (3) One sweep over every colour; the bounds again after it when a vertex used its bound
 /// or a candidate set went stale.
-void BlockDescent::sweep(Step& s, int index) {
+bool BlockDescent::sweep(Step& s, int index) {
   const int n = s.n;
+  const bool chebyshev = s.settings.acceleration == Acceleration::chebyshev;
+  if (chebyshev) before_ = s.y;
+  refreshed_ = false;
+  coupled_.assign(static_cast<std::size_t>(n), 0);
   if (index == 0) moved_.setZero(n);
   reach_.resize(n);
   for (int i = 0; i < n; ++i)
@@ -157,17 +187,76 @@ void BlockDescent::sweep(Step& s, int index) {
   long cut = 0;
   for (const std::vector<int>& colour : colouring_.colours())
     largest = std::max(largest, move_colour(s, colour, index, cut));
+  SweepRecord record;
+  if (chebyshev) cut += accelerate(s, record);
   FrameStats& st = s.st;
   ++st.sweeps;
-  SweepRecord record;
-  record.residual = largest / (s.settings.dt * s.scale);
+  record.residual = largest / (s.h * s.scale);
   record.bound_clamps = cut;
   st.residual = record.residual;
   st.sweep_records.push_back(record);
   st.counters[Counter::bound_clamps] += static_cast<double>(cut);
-  bool stale = cut > 0;
+  bool stale = cut > 0 || refreshed_;
   for (const auto& [k, c] : requery_) stale = !c->still_valid(s.y) || stale;
-  if (stale && index + 1 < s.settings.iterations) measure_bounds(s);
+  const bool met = record.residual <= s.settings.sweep_tolerance;
+  if (stale && index + 1 < s.settings.iterations && !met) measure_bounds(s);
+  return met;
+}
+
+double BlockDescent::energy_at_y(Step& s) {
+  for (const auto& [k, c] : requery_)
+    if (!c->still_valid(s.y)) {
+      const ScopedTimer timer(s.effect_ms[k]);
+      c->refresh(s.y);
+      refreshed_ = true;
+    }
+  const ScopedTimer timer(s.st.line_search_ms);
+  return s.potential(s.y);
+}
+
+long BlockDescent::accelerate(Step& s, SweepRecord& record) {
+  const int n = s.n;
+  const double rho2 = s.settings.chebyshev_rho * s.settings.chebyshev_rho;
+  // ω₁ = 1 (the sweep as it is), ω₂ = 2/(2 − ρ²), ω_k = 4/(4 − ρ² ω_{k−1}).
+  const double omega = run_ == 0 ? 1.0 : run_ == 1 ? 2 / (2 - rho2) : 4 / (4 - rho2 * omega_);
+  long cut = 0;
+  if (run_ == 0) {
+    accepted_energy_ = energy_at_y(s);
+  } else {
+    plain_ = s.y;
+    for (int i = 0; i < n; ++i) {
+      if (coupled_[static_cast<std::size_t>(i)]) continue;
+      Eigen::Vector3d p = older_.col(i) + omega * (plain_.col(i) - older_.col(i));
+      const Eigen::Vector3d r = p - anchor_.col(i);
+      const double rn = r.norm();
+      if (rn > bound_[i]) {
+        p = anchor_.col(i) + (bound_[i] / rn) * r;
+        ++cut;
+      }
+      s.y.col(i) = p;
+      moved_[i] = std::max(moved_[i], (p - before_.col(i)).norm());
+    }
+    const double E = energy_at_y(s);
+    s.st.counters[Counter::accelerated_sweeps] += 1;
+    if (E > accepted_energy_ || !std::isfinite(E)) {
+      // Undone: the sweep's own result stands, and the recurrence starts again from it.
+      s.y = plain_;
+      s.st.counters[Counter::acceleration_restarts] += 1;
+      accepted_energy_ = energy_at_y(s);
+      record.energy = accepted_energy_;
+      run_ = 1;
+      omega_ = 1;
+      older_ = before_;
+      return 0;
+    }
+    accepted_energy_ = E;
+    record.accelerated = true;
+  }
+  record.energy = accepted_energy_;
+  omega_ = omega;
+  ++run_;
+  older_ = before_;
+  return cut;
 }
 
 double BlockDescent::move_colour(Step& s, const std::vector<int>& colour, int index, long& cut) {
@@ -205,6 +294,7 @@ double BlockDescent::move_colour(Step& s, const std::vector<int>& colour, int in
     if (step > reach_[i]) p = yi + (reach_[i] / step) * (p - yi);
     // the vertex used its bound: it ends on the ball's surface
     cut_[uj] = rn > bound_[i] && (p - anchor_.col(i)).norm() >= bound_[i] * (1 - 1e-9);
+    coupled_[static_cast<std::size_t>(i)] = terms_.contact[uj];
     motion_[uj] = (p - yi).norm();
     next_.col(j) = p;
   }

@@ -108,7 +108,7 @@ double Newton::friction_residual(const Step& s, const Eigen::Matrix3Xd& step, do
   for (int i = 0; i < s.n; ++i)
     if (const double m = s.inertia.vertex_mass(i); m > 0)
       residual = std::max(residual, friction_error_.col(i).norm() / m);
-  return residual / (s.settings.dt * s.scale);
+  return residual / (s.h * s.scale);
 }
 
 bool Newton::has_friction() const {
@@ -230,7 +230,7 @@ void Newton::solve_direction(Step& s, int it) {
                               std::to_string(it + 1) + (solved ? " (a non-finite direction)" : ""));
   ++st.newton_iterations;
   dxm_ = Eigen::Map<const Eigen::Matrix3Xd>(dx_.data(), 3, s.n);
-  st.residual = dxm_.colwise().norm().maxCoeff() / (s.settings.dt * s.scale);
+  st.residual = dxm_.colwise().norm().maxCoeff() / (s.h * s.scale);
 }
 
 /// Hooks whose candidates would go stale along the step query again over it (the pairs

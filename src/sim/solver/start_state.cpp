@@ -4,6 +4,7 @@
 #include <pce/sim/mesh.hpp>
 #include <pce/sim/start_state.hpp>
 
+#include <algorithm>
 #include <cstring>
 
 namespace pce::sim {
@@ -83,8 +84,8 @@ StartStateReport check_start_state(Simulation& sim) {
   // Contact already active at the start: each effect's own test, as the first step sees it.
   StepContext ctx;
   ctx.frame = sim.frame + 1;
-  ctx.time = sim.time + sim.solver.dt;
-  ctx.dt = sim.solver.dt;
+  ctx.dt = sim.solver.dt / std::max(sim.solver.substeps, 1);  // the first step's
+  ctx.time = sim.time + ctx.dt;
   ctx.model = &sim.model;
   const Eigen::Matrix3Xd x = sim.x, v = sim.v;
   ctx.x_start = &x;

@@ -60,6 +60,7 @@ struct Step {
   std::vector<double> effect_ms;      ///< per effect, in scene order
   Eigen::Matrix3Xd x_start, v_start;  ///< xⁿ and vⁿ
   Inertia inertia;
+  double h = 0;        ///< the step's size: dt/substeps (`SolverSettings`)
   double scale = 1;    ///< ℓ, the rest bounding-box diagonal (residuals are max|Δx|/(h ℓ))
   Eigen::Matrix3Xd y;  ///< the iterate: xⁿ⁺¹ when the solver returns
   /// The energy at y (valid when `evaluated_at_y`).

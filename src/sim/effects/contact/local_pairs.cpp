@@ -90,16 +90,19 @@ void LocalPairs<VF>::evaluate(const Eigen::Matrix3Xd& x, const std::vector<int>&
         if (!incidence_.has(v)) continue;
         Eigen::Vector3d g = Eigen::Vector3d::Zero();
         Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+        bool active = false;
         for (const Incident* e = incidence_.begin(v); e != incidence_.end(v); ++e) {
           PairOutcome o;
           blocks.clear();
           potential_->evaluate(x, listed_[static_cast<std::size_t>(e->item)], penalty, &blocks, o, true);
           if (!o.active || !std::isfinite(o.term.energy)) continue;
+          active = true;
           g += o.term.gradient.template segment<3>(3 * e->slot);
           if (!blocks.empty()) H += blocks.back().hessian.template block<3, 3>(3 * e->slot, 3 * e->slot);
         }
         terms.gradient.col(j) += g;
         terms.hessian[static_cast<std::size_t>(j)] += H;
+        if (active) terms.contact[static_cast<std::size_t>(j)] = 1;
       }
     }
   });

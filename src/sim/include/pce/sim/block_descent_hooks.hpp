@@ -11,6 +11,8 @@
 ///     vertex_bounds(y, bound)                   the bounds at the first move's end
 ///     per sweep:  begin_sweep(y, reach, couplings)
 ///                 Effect::evaluate_local(y, colour, terms) per colour
+///                 with Chebyshev's acceleration: Requery::still_valid / refresh and
+///                 Effect::evaluate(y) (the energy) at the extrapolated state
 ///                 Requery::still_valid(y), and vertex_bounds(y, …) again when a vertex
 ///                 used its bound or a candidate set went stale (pce/sim/requery.hpp)
 ///

@@ -2,8 +2,9 @@
 /// @file
 /// The counters of a frame's statistics (`stats.json`'s `counters`, docs/simulation.md
 /// §6.1), typed: every counter is an enumerator with one name and one rule for merging the
-/// reports of several effects (summed, or the smallest for the minimum distances), all
-/// three generated from one list (`PCE_SIM_COUNTERS`). Effects
+/// reports of several effects and of a frame's substeps (summed, the smallest for the minimum
+/// distances, or, for what describes the state, summed over effects and the last substep's),
+/// all three generated from one list (`PCE_SIM_COUNTERS`). Effects
 /// write them in `Effect::report`, the solver adds its own and merges the effects'.
 #pragma once
 
@@ -20,36 +21,37 @@
 namespace pce::sim {
 
 /// Every counter of `stats.json`, in enumerator order: `X(id, rule)` with `id` the
-/// enumerator and its key, `rule` how several reports merge (`sum`, or `minimum` for the
-/// minimum distances). The enumeration `Counter`, the names and the merge rules are all
+/// enumerator and its key, `rule` how several reports merge (`sum` for work done, `minimum`
+/// for the minimum distances, `state` for counts and measures of the accepted state). The
+/// enumeration `Counter`, the names and the merge rules are all
 /// generated from this list, so a counter cannot exist without its name and rule.
 #define PCE_SIM_COUNTERS(X)                                                    \
   /* self contact, per kind */                                                 \
-  X(vertex_face_candidates, sum)                                               \
-  X(vertex_face_declared, sum)                                                 \
-  X(vertex_face_rest_neighbours, sum)                                          \
-  X(vertex_face_fold_contacts, sum)                                            \
-  X(vertex_face_contacts, sum)                                                 \
+  X(vertex_face_candidates, state)                                             \
+  X(vertex_face_declared, state)                                               \
+  X(vertex_face_rest_neighbours, state)                                        \
+  X(vertex_face_fold_contacts, state)                                          \
+  X(vertex_face_contacts, state)                                               \
   X(vertex_face_min_distance, minimum)                                         \
-  X(edge_edge_candidates, sum)                                                 \
-  X(edge_edge_declared, sum)                                                   \
-  X(edge_edge_rest_neighbours, sum)                                            \
-  X(edge_edge_fold_contacts, sum)                                              \
-  X(edge_edge_contacts, sum)                                                   \
+  X(edge_edge_candidates, state)                                               \
+  X(edge_edge_declared, state)                                                 \
+  X(edge_edge_rest_neighbours, state)                                          \
+  X(edge_edge_fold_contacts, state)                                            \
+  X(edge_edge_contacts, state)                                                 \
   X(edge_edge_min_distance, minimum)                                           \
   /* friction, per kind of contact (reported only by effects with friction) */ \
-  X(vertex_face_friction_contacts, sum)                                        \
-  X(vertex_face_friction_sticking, sum)                                        \
+  X(vertex_face_friction_contacts, state)                                      \
+  X(vertex_face_friction_sticking, state)                                      \
   X(vertex_face_friction_ms, sum)                                              \
-  X(edge_edge_friction_contacts, sum)                                          \
-  X(edge_edge_friction_sticking, sum)                                          \
+  X(edge_edge_friction_contacts, state)                                        \
+  X(edge_edge_friction_sticking, state)                                        \
   X(edge_edge_friction_ms, sum)                                                \
-  X(obstacle_friction_contacts, sum)                                           \
-  X(obstacle_friction_sticking, sum)                                           \
+  X(obstacle_friction_contacts, state)                                         \
+  X(obstacle_friction_sticking, state)                                         \
   X(obstacle_friction_ms, sum)                                                 \
   /* the minimum separation, every contact effect */                           \
-  X(floor_holds, sum)                                                          \
-  X(stiffened_pairs, sum)                                                      \
+  X(floor_holds, state)                                                        \
+  X(stiffened_pairs, state)                                                    \
   /* self contact, summed over both kinds */                                   \
   X(broad_phase_ms, sum)                                                       \
   X(broad_phase_tree_ms, sum)                                                  \
@@ -57,22 +59,22 @@ namespace pce::sim {
   X(pair_ms, sum)                                                              \
   X(scatter_ms, sum)                                                           \
   /* obstacle contact */                                                       \
-  X(obstacle_contacts, sum)                                                    \
+  X(obstacle_contacts, state)                                                  \
   X(obstacle_min_distance, minimum)                                            \
   /* elastic effects and pins */                                               \
-  X(hinges, sum)                                                               \
-  X(degenerate_hinges, sum)                                                    \
-  X(joints, sum)                                                               \
-  X(degenerate_joints, sum)                                                    \
-  X(pinned_vertices, sum)                                                      \
+  X(hinges, state)                                                             \
+  X(degenerate_hinges, state)                                                  \
+  X(joints, state)                                                             \
+  X(degenerate_joints, state)                                                  \
+  X(pinned_vertices, state)                                                    \
   /* volume elasticity, at the accepted state */                               \
-  X(tetrahedra, sum)                                                           \
-  X(inverted_tetrahedra, sum)                                                  \
-  X(volume_ratio, sum)                                                         \
+  X(tetrahedra, state)                                                         \
+  X(inverted_tetrahedra, state)                                                \
+  X(volume_ratio, state)                                                       \
   /* the solver */                                                             \
   X(pattern_ms, sum)                                                           \
   X(pattern_builds, sum)                                                       \
-  X(pattern_blocks, sum)                                                       \
+  X(pattern_blocks, state)                                                     \
   X(analyze_ms, sum)                                                           \
   X(factorize_ms, sum)                                                         \
   X(analyses, sum)                                                             \
@@ -81,11 +83,13 @@ namespace pce::sim {
   X(preconditioner_setups, sum)                                                \
   X(preconditioner_ms, sum)                                                    \
   /* block descent */                                                          \
-  X(colours, sum)                                                              \
+  X(colours, state)                                                            \
   X(colourings, sum)                                                           \
   X(bound_measurements, sum)                                                   \
   X(bound_clamps, sum)                                                         \
-  X(first_move, sum)
+  X(first_move, state)                                                         \
+  X(accelerated_sweeps, sum)                                                   \
+  X(acceleration_restarts, sum)
 
 /// Expands one entry of `PCE_SIM_COUNTERS` to its enumerator (for `Counter`).
 #define PCE_SIM_COUNTER_ENUMERATOR(id, rule) id,
@@ -102,19 +106,21 @@ enum class Counter : int {
 
 /// How several reports of one counter merge.
 enum class CounterRule {
-  sum,      ///< their sum
+  sum,      ///< their sum (work: times, queries, factorisations, clamps)
   minimum,  ///< the smallest (the minimum distances)
+  state,    ///< several effects' reports summed; of a frame's substeps, the last one's
 };
 
-/// A counter's key in `stats.json` and whether several reports merge by their minimum
-/// (distances) rather than their sum.
+/// A counter's key in `stats.json` and how several reports merge (`CounterRule`).
 struct CounterInfo {
   const char* name;  ///< the key in `stats.json`
   bool minimum;      ///< several reports merge by their minimum (true) or their sum (false)
+  bool state;        ///< a frame's substeps: the last one's report stands (`CounterRule::state`)
 };
 
 /// Expands one entry of `PCE_SIM_COUNTERS` to its `CounterInfo` (for `kCounterInfo`).
-#define PCE_SIM_COUNTER_INFO(id, rule) {#id, CounterRule::rule == CounterRule::minimum},
+#define PCE_SIM_COUNTER_INFO(id, rule) \
+  {#id, CounterRule::rule == CounterRule::minimum, CounterRule::rule == CounterRule::state},
 
 /// Every counter's name and merge rule, indexed by `Counter` (from `PCE_SIM_COUNTERS`).
 inline constexpr std::array<CounterInfo, static_cast<std::size_t>(Counter::count)> kCounterInfo{
@@ -166,6 +172,13 @@ class Counters {
         values_[i] += other.values_[i];
       present_.set(i);
     }
+  }
+  /// Adds the counters of a later substep of the same frame: a `state` counter it reports
+  /// takes its value (the state it describes is the later one), the others merge as in `merge`.
+  void follow(const Counters& later) {
+    for (std::size_t i = 0; i < kCount; ++i)
+      if (later.present_.test(i) && counter_info(static_cast<Counter>(i)).state) values_[i] = 0;
+    merge(later);
   }
   /// (name, value) of every reported counter, in enumerator order.
   std::vector<std::pair<const char*, double>> entries() const {

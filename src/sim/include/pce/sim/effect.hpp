@@ -47,10 +47,14 @@ using EffectCounters = Counters;
 struct LocalTerms {
   Eigen::Matrix3Xd gradient;             ///< column j: the gradient at the list's vertex j
   std::vector<Eigen::Matrix3d> hessian;  ///< entry j: the diagonal block of the list's vertex j
+  /// Entry j: 1 when a contact pair active at the point of evaluation acted on the list's
+  /// vertex j (set by the contact effects; block descent's acceleration leaves such vertices).
+  std::vector<char> contact;
   /// Zero terms for `count` vertices.
   void reset(std::size_t count) {
     gradient.setZero(3, static_cast<Eigen::Index>(count));
     hessian.assign(count, Eigen::Matrix3d::Zero());
+    contact.assign(count, 0);
   }
 };
 

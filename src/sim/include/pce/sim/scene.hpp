@@ -38,6 +38,10 @@ struct SceneOverrides {
   std::optional<SolverMode> mode;
   /// Block descent's sweeps per step (`solver.iterations`, ≥ 1).
   std::optional<int> iterations;
+  /// Block descent's acceleration (`solver.acceleration`).
+  std::optional<Acceleration> acceleration;
+  /// Time steps per frame (`solver.substeps`, 1–1000).
+  std::optional<int> substeps;
   /// Newton's stopping tolerance (`solver.tolerance`).
   std::optional<double> tolerance;
 };

@@ -25,6 +25,7 @@
 #include <pce/sim/model.hpp>
 #include <pce/sim/obstacle.hpp>
 
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -85,13 +86,42 @@ constexpr const EnumNames<SolverMode, 3>& enum_names(SolverMode) { return kSolve
 /// Block descent's sweeps per time step when the scene does not say (`solver.iterations`).
 inline constexpr int kDefaultBlockIterations = 20;
 
+/// Block descent's acceleration of its sweeps (scene key `solver.acceleration`,
+/// docs/simulation.md §5.5): none, or Chebyshev's semi-iterative method (Wang 2015, "A
+/// Chebyshev semi-iterative approach for accelerating projective and position-based
+/// dynamics", as the VBD paper applies it, §3.7 there): after sweep k each vertex not in
+/// contact moves to ω_k (x̄ᵢ − xᵢ⁽ᵏ⁻²⁾) + xᵢ⁽ᵏ⁻²⁾, ω₁ = 1, ω₂ = 2/(2 − ρ²),
+/// ω_k = 4/(4 − ρ² ω_{k−1}), kept within its bound; a sweep whose extrapolation raises the
+/// energy is undone to x̄ and the recurrence starts again.
+enum class Acceleration { none, chebyshev };
+
+/// The accelerations' names, in the order the scene format lists them.
+inline constexpr EnumNames<Acceleration, 2> kAccelerationNames{{
+    {Acceleration::none, "none"},
+    {Acceleration::chebyshev, "chebyshev"},
+}};
+
+/// The table of `Acceleration`'s names (for `pce::name_of` and `pce::parse`).
+constexpr const EnumNames<Acceleration, 2>& enum_names(Acceleration) { return kAccelerationNames; }
+
 /// The scene's `solver` block: step size, Newton's stopping rule, linear solver, threads.
 struct SolverSettings {
-  double dt = 1.0 / 40.0;                      ///< time step (s), one per frame
-  int max_iterations = 50;                     ///< Newton iteration cap per step
-  double tolerance = 1e-2;                     ///< on max|Δx|/(h·ℓ), 1/s
-  SolverMode mode = SolverMode::newton;        ///< Newton, single solve or block descent
-  int iterations = kDefaultBlockIterations;    ///< block descent: sweeps over every colour per step
+  double dt = 1.0 / 40.0;  ///< a frame's time (s): `substeps` time steps of dt/substeps
+  /// Time steps per frame (scene key `solver.substeps`, ≥ 1): each of dt/substeps, solved in
+  /// turn by the mode's solver; the frame's statistics cover them all (`FrameStats`).
+  int substeps = 1;
+  int max_iterations = 50;                   ///< Newton iteration cap per step
+  double tolerance = 1e-2;                   ///< on max|Δx|/(h·ℓ), 1/s
+  SolverMode mode = SolverMode::newton;      ///< Newton, single solve or block descent
+  int iterations = kDefaultBlockIterations;  ///< block descent: sweeps over every colour per step
+  /// Block descent: the sweeps' acceleration (`solver.acceleration`).
+  Acceleration acceleration = Acceleration::none;
+  /// Block descent with Chebyshev acceleration: ρ, the estimated spectral radius of a sweep, in
+  /// (0, 1) (`solver.chebyshev_rho`; the VBD paper's cloth uses 0.95).
+  double chebyshev_rho = 0.95;
+  /// Block descent: a step's sweeps stop once one's residual (its largest move over h·ℓ,
+  /// `SweepRecord::residual`) is at most this (`solver.sweep_tolerance`; 0: all `iterations`).
+  double sweep_tolerance = 0;
   LinearSolver linear = LinearSolver::direct;  ///< direct: CHOLMOD when built with it, else LDLᵀ
   /// factor_reuse: CG stops at ‖H Δx + g‖ ≤ η ‖g‖, this η (not a scene key).
   double reuse_tolerance = 1e-2;
@@ -113,6 +143,7 @@ struct SolverSettings {
 /// One Newton iteration of a step, for diagnosing slow convergence (`stats.json`'s
 /// `iterations`): how far the direction went and what cut it short.
 struct NewtonIteration {
+  int substep = 0;      ///< the frame's time step it belongs to (0-based; `SolverSettings::substeps`)
   double residual = 0;  ///< max|Δx|/(h·ℓ) of this iteration's direction
   /// The friction test's residual at the accepted step, when the direction was below the
   /// tolerance (else 0): maxᵢ |δfᵢ| h/(mᵢ ℓ), δfᵢ the error of Newton's model of the friction
@@ -129,14 +160,23 @@ struct NewtonIteration {
 
 /// One sweep of block descent (`stats.json`'s `sweep_records`, docs/simulation.md §6.1).
 struct SweepRecord {
+  int substep = 0;        ///< the frame's time step it belongs to (0-based; `SolverSettings::substeps`)
   double residual = 0;    ///< the largest vertex move of the sweep, over h·ℓ
   long bound_clamps = 0;  ///< vertices the sweep moved to their bound
+  /// With Chebyshev's acceleration: the sweep's extrapolation was kept (false: there was
+  /// none, the first sweep of a run, or it was undone).
+  bool accelerated = false;
+  /// With Chebyshev's acceleration: the incremental potential at the iterate the sweep
+  /// accepted (else NaN).
+  double energy = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Why a step's solve ended (`stats.json`'s `stop`, docs/simulation.md §5.2): Newton's
 /// reasons, or `sweeps` for block descent.
 enum class StopReason {
-  tolerance,      ///< a direction below the tolerance was taken (with friction: its friction residual too)
+  /// a direction below the tolerance was taken (with friction: its friction residual too);
+  /// block descent: a sweep's residual was at most `sweep_tolerance`
+  tolerance,
   rounding,       ///< a direction below the tolerance whose trial failed by rounding
   line_search,    ///< the line search found no decrease (`line_search_failures`)
   iteration_cap,  ///< `max_iterations` were used up (`hit_iteration_cap`)
@@ -160,29 +200,38 @@ constexpr const EnumNames<StopReason, 6>& enum_names(StopReason) { return kStopR
 /// The name of `reason` in kStopReasonNames ("tolerance", "rounding", …).
 const char* to_string(StopReason reason);
 
-/// What one frame cost and reached (`stats.json`, docs/simulation.md §5).
+/// What one frame cost and reached (`stats.json`, docs/simulation.md §5). A frame of
+/// several time steps (`SolverSettings::substeps`) sums their work (iterations, sweeps,
+/// times, work counters), keeps the worst of their residuals and failures, and describes the
+/// state of the last (`energy`, `kinetic_energy`, the `state` counters).
 struct FrameStats {
   /// Frame number, 1-based.
   int frame = 0;
-  /// The whole step (`Simulation::step`), wall-clock ms.
+  /// The frame's time steps (`SolverSettings::substeps`).
+  int substeps = 1;
+  /// The whole frame (`Simulation::step`), wall-clock ms.
   double wall_ms = 0;
-  /// Newton iterations (linear solves) in this step; 0 in block descent.
+  /// Newton iterations (linear solves) in this frame's steps; 0 in block descent.
   int newton_iterations = 0;
-  /// Block descent's sweeps in this step; 0 in Newton.
+  /// Block descent's sweeps in this frame's steps; 0 in Newton.
   int sweeps = 0;
-  /// max|Δx|/(h·ℓ) of the last Newton direction, or of the last sweep's largest move.
+  /// max|Δx|/(h·ℓ) of a step's last Newton direction, or of its last sweep's largest move
+  /// (h the step's size): the largest over the frame's steps.
   double residual = 0;
   /// The friction test's residual at the last direction below the tolerance that was taken
   /// (0 without friction or without such a direction): at or above the tolerance it did not
-  /// end the step (`NewtonIteration::friction_residual`).
+  /// end the step (`NewtonIteration::friction_residual`); the largest over the steps.
   double friction_residual = 0;
-  /// The largest |φ|/(μλ) at that direction (`NewtonIteration::friction_load`).
+  /// The largest |φ|/(μλ) at that direction (`NewtonIteration::friction_load`), over the steps.
   double friction_load = 0;
-  StopReason stop = StopReason::iteration_cap;  ///< why the solve ended
-  double energy = 0;                            ///< incremental potential at the accepted state
-  double kinetic_energy = 0;                    ///< ½ Σᵢ mᵢ |vᵢ|² at the end of the step (J)
-  int line_search_failures = 0;  ///< 1 when a line search found no decrease (which ends the step), else 0
-  /// Newton mode only: `max_iterations` were used up.
+  /// Why the solve ended: the first step's that ended by `line_search` or `iteration_cap`,
+  /// else the last step's.
+  StopReason stop = StopReason::iteration_cap;
+  double energy = 0;          ///< incremental potential at the accepted state (the last step's)
+  double kinetic_energy = 0;  ///< ½ Σᵢ mᵢ |vᵢ|² at the end of the frame (J)
+  /// The steps whose line search found no decrease (which ends a step).
+  int line_search_failures = 0;
+  /// Newton mode only: a step used up `max_iterations`.
   bool hit_iteration_cap = false;
   ///@{
   /// Wall-clock ms of one stage: broad-phase queries, per-pair evaluation, assembly, linear
@@ -194,7 +243,8 @@ struct FrameStats {
   std::vector<SweepRecord> sweep_records;                 ///< per block-descent sweep, in order
   /// Merged effect counters (contact counts, distances, …) and the solver's (Newton's linear
   /// solver: `factorizations`, `cg_iterations`, `analyses`, `analyze_ms`, `factorize_ms`,
-  /// `pattern_blocks`; block descent's: `first_move`, `bound_measurements`, `colours`, …).
+  /// `pattern_blocks`; block descent's: `first_move`, `bound_measurements`, `colours`, …);
+  /// over the steps as `Counters::follow` merges them.
   EffectCounters counters;
 };
 
@@ -253,9 +303,10 @@ class Simulation {
   /// starts.
   void start_at_rest();
 
-  /// Advances one time step. Throws `ArgumentError` before touching anything when the
+  /// Advances one frame: `solver.substeps` time steps of `solver.dt`/`substeps`. Throws
+  /// `ArgumentError` before touching anything when the
   /// simulation is not runnable (`x` or `v` not one column per model vertex, a mass not > 0,
-  /// `solver.dt` or `solver.tolerance` not > 0, a null effect), and `SimulationError`
+  /// `solver.dt` or `solver.tolerance` not > 0, `solver.substeps` < 1, a null effect), and `SimulationError`
   /// ("frame N: …", naming the effect and vertex where one is to blame) when an energy, a
   /// gradient or the state becomes non-finite or the linear solve fails; nothing of that
   /// frame is kept (`x`, `v`, `frame` and `time` stay those of the last accepted step).
@@ -265,11 +316,11 @@ class Simulation {
   void check() const;
 
   /// Puts the obstacle named `name` at `pose` (x_world = pose * x_local) from the next step
-  /// on, replacing its motion until it is put again: adds `PlacedPose{time + dt/2, pose}`
-  /// (`Obstacle::place`) to it in `obstacles`, which output draws and every obstacle contact
-  /// effect reads its poses from (`StepContext::obstacles`). The next
-  /// step ends with the obstacle at `pose`, and friction sees its surface move there from its
-  /// pose at the step's start. Throws `ArgumentError` when no obstacle has that name
+  /// on, replacing its motion until it is put again: adds `PlacedPose{time + h/2, pose}`
+  /// (`Obstacle::place`; h = dt/substeps, the time step) to it in `obstacles`, which output
+  /// draws and every obstacle contact effect reads its poses from (`StepContext::obstacles`).
+  /// The next step (the frame's first) ends with the obstacle at `pose`, and friction sees
+  /// its surface move there from its pose at the step's start. Throws `ArgumentError` when no obstacle has that name
   /// ("name"), the translation is not finite or beyond ±`kMaxCoordinate` ("translation"), or
   /// the linear part is no rotation matrix ("rotation": orthonormal to 1e-9, determinant
   /// 1). Placed poses are not in a checkpoint.
