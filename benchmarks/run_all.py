@@ -48,6 +48,20 @@ Steps, in this order (each writes JSON/CSV into the results folder):
                the vertex count per label, the 2-thread speed-up, friction's cost (with ÷
                without); --quick: 2k vertices, newton/direct, newton/direct+mu0 and block
                descent, 3 frames
+  block_accuracy
+               block_accuracy.json/.md: benchmarks/block_accuracy.py --plan full, block descent's
+               accuracy against its time on the hammock (60 frames, RMS at frames 30 and 60) and
+               the scale ladder's 8k level (12 frames, RMS at frame 12), one run at a time, one
+               thread: Newton at tolerance 1e-4 (the reference) and 0.01, and block descent over
+               the grid substeps S in {1, 2, 5, 10} x sweeps per substep N in {5, 10, 20}, without
+               and with Chebyshev acceleration (S*N above 200 skipped: none in this grid). Per run
+               ms/frame, sweeps per frame, the RMS distance to the reference at the measured
+               frames, the lowest point and its relative error, the most intersecting pairs, and
+               whether it is on the Pareto front of ms/frame against the last frame's RMS; a
+               Pareto plot per scene (images/benchmarks/block_accuracy_<scene>.png) and a
+               subsection of section 8. Hours, not minutes (block_accuracy.py --dry-run prints the
+               commands and an estimate); --quick: --plan quick, the ladder's 2k level for 3
+               frames, S in {1, 2}, N = 5, both accelerations
 then draws the PNG plots (next to the docs file, in images/benchmarks/) and writes the docs
 file, whose last section is benchmarks/guidance.md with its numbers recomputed from the
 results folder by benchmarks/guidance_numbers.py (when the results folder is
@@ -81,6 +95,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import block_accuracy  # noqa: E402
 import compare_runs  # noqa: E402
 import guidance_numbers  # noqa: E402
 import scale_ladder  # noqa: E402
@@ -123,8 +138,8 @@ def scene_configs(quick):
 
 
 ALL_STEPS = ["pair_cost", "accuracy", "broad_phase", "threads", "scenes", "hammock", "friction", "compile_time",
-             "scale"]
-OPTIONAL_STEPS = {"friction", "compile_time", "scale"}  # steps whose missing results the page reports as not measured
+             "scale", "block_accuracy"]
+OPTIONAL_STEPS = {"friction", "compile_time", "scale", "block_accuracy"}  # steps whose missing results the page reports as not measured
 FRICTION_KINDS = ["vertex_face", "edge_edge", "obstacle"]  # the contact kinds' friction counters' prefixes
 FRICTION_SCENES = [("without friction", "hammock_frictionless.json"), ("with friction", "hammock.json")]
 REFERENCE = ("exact", "newton", 1e-5)      # the tight-tolerance reference of every scene
@@ -646,6 +661,27 @@ def step_scale(ctx):
     return dict(res, plan=plan)
 
 
+def step_block_accuracy(ctx):
+    """Block descent's accuracy against its time (benchmarks/block_accuracy.py): its plan 'full'
+    (--quick: 'quick'), one run at a time; scenes into scenes/block_accuracy_*.json, runs into
+    runs/block_accuracy/, block_accuracy.json/.md into the results folder. A configuration this
+    pce-sim cannot select is reported as not run; in quick mode a failed run, or a reference that
+    did not finish, fails the step."""
+    name = "quick" if ctx.quick else "full"
+    plan = dict(block_accuracy.PLANS[name])
+    configs, skipped = block_accuracy.plan_configs(plan)
+    log(f"  block_accuracy: plan {name}: scenes {', '.join(plan['scenes'])}, {len(configs)} configurations each"
+        + (f", {len(skipped)} skipped" if skipped else ""))
+    res = block_accuracy.run_grid(ctx.exe("pce-sim"), ctx.results, plan, note=ctx.note, plan_name=name)
+    failed = [r for r in res["rows"] if r["status"] == "failed"]
+    no_ref = [s["key"] for s in res["scenes"]
+              if not any(r["scene"] == s["key"] and r["reference"] and r["status"] == "ok" for r in res["rows"])]
+    if ctx.quick and (failed or no_ref):
+        raise RuntimeError("block_accuracy: " + "; ".join([f"{r['scene']} {r['label']}: {r['reason']}" for r in failed]
+                                                          + [f"{k}: the reference did not finish" for k in no_ref]))
+    return res
+
+
 def scale_plan_sentence(plan):
     """The plan's groups in words, from the plan itself: '`newton/direct` at 8k, 32k, 1 and 2
     threads, 12 frames, means over frames 5–12; ...'."""
@@ -675,7 +711,7 @@ def window_contact_sentence(runs):
             "the window (the *contact* column).")
 
 
-def write_scale_section(A, scale, accuracy=None):
+def write_scale_section(A, scale):
     """Section 8: the scale ladder, from step_scale (not measured when its results are missing)."""
     A("## 8. Scale ladder\n")
     if not scale or not scale.get("runs"):
@@ -724,12 +760,70 @@ def write_scale_section(A, scale, accuracy=None):
             A(f"| {g['level']} | {g['mode']} | {g['threads']} | {ref} | {g['frame']} | "
               f"{1000 * g['rms_to_newton_m']:.1f} | {1000 * g['lowest_z_m']:.1f} | {1000 * g['newton_lowest_z_m']:.1f} |")
         A("")
-    if accuracy:
-        A("### What block descent's sweeps buy on the hammock\n")
-        A("`benchmarks/block_accuracy.py --pce-sim build/src/sim/pce-sim --results DIR` (60 frames of "
-          "`examples/scenes/hammock.json`, one thread, one run at a time): the RMS distance of each run's frames 30 "
-          "and 60 to Newton's at tolerance 10⁻⁴, against the mean cost of a frame (`block_accuracy.md`):\n")
-        A(accuracy)
+
+
+BLOCK_ACCURACY_HEADING = "### Block descent: accuracy against time"
+
+
+def numbers_sentence(xs):
+    """[1, 2, 5] -> '{1, 2, 5}'."""
+    return "{" + ", ".join(f"{x:g}" if isinstance(x, float) else str(x) for x in xs) + "}"
+
+
+def write_block_accuracy_section(A, res, img):
+    """Section 8's subsection: block descent's grid against Newton, from step_block_accuracy (not
+    measured when its results are missing); a table and a Pareto plot per scene."""
+    A(BLOCK_ACCURACY_HEADING + "\n")
+    if not res or not res.get("rows"):
+        A("Not measured: the results folder has no `step_block_accuracy.json` (`benchmarks/run_all --steps "
+          "block_accuracy` measures it).\n")
+        return
+    st = res["settings"]
+    plan = (res.get("plan") or "full").split(" ")[0]
+    tols = [t for t in st["newton"] if t != st["reference"]]
+    if st.get("configs"):
+        grid = "block descent at " + ", ".join(f"`{c}`" for c in st["configs"])
+    else:
+        grid = ("block descent over the grid S ∈ %s substeps of dt/S per frame × N ∈ %s sweeps per substep, %s"
+                % (numbers_sentence(st["substeps"]), numbers_sentence(st["sweeps"]),
+                   "without and with Chebyshev acceleration" if len(st["accelerations"]) > 1 else
+                   "with Chebyshev acceleration" if st["accelerations"] == ["chebyshev"] else "without acceleration")
+                + (", except S × N above %d sweeps per frame (%s)" % (st["max_sweeps_per_frame"],
+                                                                         ", ".join(f"`{x}`" for x in res["skipped"]))
+                   if res.get("skipped") else ""))
+    rho = (f"Chebyshev's ρ: `solver.chebyshev_rho` {st['chebyshev_rho']:g}" if st.get("chebyshev_rho") is not None
+           else "Chebyshev's ρ: the scene's `solver.chebyshev_rho`, pce-sim's default where it has none")
+    A("What block descent's speed costs in accuracy, and what substeps, sweeps and Chebyshev acceleration buy "
+      "back: `benchmarks/block_accuracy.py --pce-sim build/src/sim/pce-sim --results DIR --plan %s` regenerates "
+      "it (`benchmarks/run_all --steps block_accuracy%s` runs the same and rewrites this page; `block_accuracy.py "
+      "--dry-run` prints the commands). Per scene, one run at a time, %d thread%s: Newton at tolerance %g (the "
+      "reference)%s, and %s (`--mode block_descent --iterations N --substeps S --acceleration none|chebyshev`; "
+      "%s). A row's *sweeps/frame* is block descent's `sweeps` summed over a frame's substeps (Newton's rows: "
+      "its iterations); *RMS to ref.* is the RMS over every vertex of the distance to the reference's position at "
+      "that frame; *lowest z* is the lowest vertex at the last measured frame and *rel. error* its |z − z_ref| / "
+      "|z_ref|; *max ∩ pairs* the most intersecting triangle pairs of any frame. A row is on the *Pareto* front "
+      "when no other row of its scene has both a lower ms/frame and a lower RMS at the last measured frame (the "
+      "reference, RMS 0, is one of the rows). Each plot has ms/frame against that RMS, log–log: block descent's "
+      "points labelled S×N, circles without acceleration and triangles with Chebyshev's, colour by S; %sthe "
+      "reference's ms/frame as the dashed line; the front joined in red. "
+      "Measured at commit %s, %s, %s cores (`block_accuracy.json` has every number and command).\n"
+      % (plan, " --quick" if plan == "quick" else "", res["threads"], "s" if res["threads"] != 1 else "",
+         st["reference"], (", Newton at " + ", ".join(f"{t:g}" for t in tols)) if tols else "", grid, rho,
+         "Newton at its other tolerance%s as squares; " % ("s" if len(tols) > 1 else "") if tols else "",
+         res.get("commit") or "?", res.get("date_utc", "?"), res.get("cores", "?")))
+    for s in res["scenes"]:
+        own = s["kind"] == "file" and s.get("file") and s["file_run"] == os.path.relpath(s["file"], ROOT)
+        A(f"**{s['key']}**: {block_accuracy.scene_title(s)}" + ("" if own else f" (scene `{s['file_run']}`)") + "\n")
+        A(f"![{s['key']}: block descent's accuracy against time]({img}/block_accuracy_{s['key']}.png)\n")
+        header, rows = block_accuracy.table_rows(res, s)
+        A(md_table(header, rows, block_accuracy.table_align(len(header))) + "\n")
+        notes = [r for r in res["rows"] if r["scene"] == s["key"] and (r["status"] != "ok" or r.get("reason"))]
+        for r in notes:
+            A(f"- {r['label']}: {r['status']}" + (f": {r['reason']}" if r.get("reason") else ""))
+        if notes:
+            A("")
+    if not res.get("complete", True):
+        A("The grid stopped before its last run: the rows above are the runs it finished.\n")
 
 
 # The compile_time step: what including pce costs a user's build.
@@ -1138,6 +1232,69 @@ def plot_threads(ctx, threads, scenes):
     plt.close(fig)
 
 
+def plot_block_accuracy(ctx, res):
+    """One Pareto plot per scene of step_block_accuracy: ms/frame against the RMS distance to the
+    reference at the last measured frame, log-log; returns the files written."""
+    from matplotlib.lines import Line2D
+    files = []
+    for s in res["scenes"]:
+        last = str(max(s["at"]))
+        rows = [r for r in res["rows"] if r["scene"] == s["key"] and r["status"] in ("ok", "failed")]
+        subs = sorted({r["substeps"] for r in res["rows"] if r["mode"] == "block_descent"})
+        cmap = plt.get_cmap("viridis")
+        colour = {S: cmap(0.85 * i / max(len(subs) - 1, 1)) for i, S in enumerate(subs)}
+        fig, ax = plt.subplots(figsize=(7.5, 5.2))
+        front, plotted, ref_x = [], 0, None
+        for r in rows:
+            x, y = r.get("ms_per_frame"), r.get("rms_m", {}).get(last)
+            if r["reference"]:
+                ref_x = x
+                continue
+            if not x or y is None or not (y > 0 and math.isfinite(y) and x > 0):
+                continue
+            y *= 1000
+            plotted += 1
+            edge = "red" if r["status"] == "failed" else "black"
+            if r["mode"] == "newton":
+                ax.scatter([x], [y], marker="s", color="black", s=60, zorder=3)
+                ax.annotate(f"Newton {r['tolerance']:g}", (x, y), textcoords="offset points", xytext=(5, -10),
+                            fontsize=7)
+            else:
+                ax.scatter([x], [y], marker="o" if r["acceleration"] == "none" else "^", color=colour[r["substeps"]],
+                           edgecolors=edge, linewidths=0.6, s=55, zorder=3)
+                ax.annotate(f"{r['substeps']}×{r['sweeps']}", (x, y), textcoords="offset points", xytext=(4, 4),
+                            fontsize=7)
+            if r.get("pareto"):
+                front.append((x, y))
+        if ref_x:
+            ax.axvline(ref_x, color="gray", ls="--", lw=1)
+        if front:
+            front.sort(key=lambda p: (p[0], -p[1]))  # monotone where two front points share an ms/frame
+            ax.plot([p[0] for p in front], [p[1] for p in front], "-", color="tab:red", lw=1.2, zorder=2)
+        if plotted:
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+        else:
+            ax.text(0.5, 0.5, "no run with an RMS to plot", transform=ax.transAxes, ha="center")
+        ax.set_xlabel("ms per frame (mean, %d thread%s)" % (res["threads"], "s" if res["threads"] != 1 else ""))
+        ax.set_ylabel(f"RMS distance to the reference at frame {last} (mm)")
+        ax.set_title(f"{s['key']}: block descent S×N against Newton (lower left is better)", fontsize=10)
+        ax.grid(True, which="both", alpha=0.3)
+        handles = [Line2D([], [], color="gray", marker="o", ls="", label="block descent"),
+                   Line2D([], [], color="gray", marker="^", ls="", label="block descent, Chebyshev"),
+                   Line2D([], [], color="black", marker="s", ls="", label="Newton")]
+        handles += [Line2D([], [], color=colour[S], marker="o", ls="", label=f"S = {S}") for S in subs]
+        handles += [Line2D([], [], color="gray", ls="--", label="reference (Newton %g)" % res["settings"]["reference"]),
+                    Line2D([], [], color="tab:red", ls="-", label="Pareto front")]
+        ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1))
+        fig.tight_layout()
+        f = ctx.images / f"block_accuracy_{s['key']}.png"
+        fig.savefig(f, dpi=90, bbox_inches="tight")
+        plt.close(fig)
+        files.append(f)
+    return files
+
+
 # ---------------------------------------------------------------------------------------------
 # Summaries used by the tables and the conclusion.
 
@@ -1173,7 +1330,8 @@ def broad_phase_exponents(bp, quick):
 # ---------------------------------------------------------------------------------------------
 # The report.
 
-def write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction, compile_time, total_s, scale=None):
+def write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction, compile_time, total_s, scale=None,
+                 block_acc=None):
     img = os.path.relpath(ctx.images, ctx.docs.parent)
     L = []
     A = L.append
@@ -1349,12 +1507,12 @@ def write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction
     write_hammock_section(A, hammock)
     write_friction_section(A, friction)
     write_compile_time_section(A, compile_time)
-    accuracy_md = ctx.results / "block_accuracy.md"
-    write_scale_section(A, scale, accuracy_md.read_text() if accuracy_md.exists() else None)
+    write_scale_section(A, scale)
+    write_block_accuracy_section(A, block_acc, img)
     A("## Files\n")
     A("`benchmarks/results/`: `machine.json`, `pce_bench.json`/`.csv`, `accuracy.json`/`.csv`, "
       "`broad_phase.json`/`.csv`, `threads.csv`, `scenes.csv`, `hammock.csv`, `friction.csv`, "
-      "`compile_time.json`/`.csv`, `scale_ladder.json`/`.csv`/`.md`, `step_*.json` (each step's numbers as this page "
+      "`compile_time.json`/`.csv`, `scale_ladder.json`/`.csv`/`.md`, `block_accuracy.json`/`.md`, `step_*.json` (each step's numbers as this page "
       "used them; `run_all --steps scenes` reruns one step and reads the others from there), and the scene "
       "variants in `scenes/`. The simulations' own outputs go to `runs/` (not kept in git).\n")
     ctx.docs.parent.mkdir(parents=True, exist_ok=True)
@@ -1526,7 +1684,149 @@ def self_test():
     assert [lv for lv, *_ in full] == sorted((lv for lv, *_ in full), key=["8k", "32k", "128k"].index)
     quick = [scale_ladder.variant_label(v) for *_, v, _ in scale_ladder.expand(scale_ladder.plan_groups("quick"))]
     assert any("/" in q for q in quick) and any(q.endswith("+mu0") for q in quick), quick
+    self_test_block_accuracy()
     print("run_all self-test: ok")
+
+
+def self_test_block_accuracy():
+    """block_accuracy: specs and labels, the grid and its cap, the plans, the Pareto front, the
+    measurements of fake runs, the table, the section and the plot (run by --self-test)."""
+    ba = block_accuracy
+    # Specs: parse_config and config_spec are inverses; bad specs are refused.
+    for spec in ("newton@0.0001", "newton@0.01", "bd:1x5", "bd:2x10+chebyshev", "bd:10x20"):
+        assert ba.config_spec(ba.parse_config(spec)) == spec, spec
+    c = ba.parse_config("bd:5×20+chebyshev")
+    assert (c["mode"], c["substeps"], c["sweeps"], c["acceleration"]) == ("block_descent", 5, 20, "chebyshev"), c
+    assert ba.parse_config("bd:2x10+none") == ba.parse_config("bd:2x10")
+    assert ba.config_label(c) == "block descent 5×20 Chebyshev" and ba.config_tag(c) == "bd_s5_n20_chebyshev"
+    assert ba.config_label(ba.newton_config(1e-4, reference=True)) == "Newton 0.0001 (reference)"
+    assert ba.parse_config("newton@1e-4")["tolerance"] == 1e-4
+    for bad in ("bd:0x5", "bd:2x0", "bd:2x", "bd:2x5+aitken", "bd:2*5", "newton@", "newton@-1", "newton@1,2",
+                "block_descent:20", "bd:2x5chebyshev"):
+        try:
+            ba.parse_config(bad)
+        except ValueError:
+            pass
+        else:
+            raise AssertionError(f"parse_config accepted {bad!r}")
+    assert ba.parse_int_list("1, 2,5,2", "--substeps") == [1, 2, 5]
+    for bad in ("0", "1,,2", "a", "-1", "1.5"):
+        try:
+            ba.parse_int_list(bad, "--sweeps")
+        except ValueError:
+            pass
+        else:
+            raise AssertionError(f"parse_int_list accepted {bad!r}")
+    try:
+        ba.parse_accelerations("none,aitken")
+    except ValueError:
+        pass
+    else:
+        raise AssertionError("parse_accelerations accepted aitken")
+    # The grid: accelerations outermost, then S, then N; S*N above the cap skipped, at the cap run.
+    run, skipped = ba.expand_grid([1, 2, 5, 10], [5, 10, 20], ["none", "chebyshev"], 100)
+    assert [ba.config_spec(x) for x in skipped] == ["bd:10x20", "bd:10x20+chebyshev"], skipped
+    assert len(run) == 22 and ba.config_spec(run[0]) == "bd:1x5" and ba.config_spec(run[-1]) == "bd:10x10+chebyshev"
+    assert "bd:5x20" in {ba.config_spec(x) for x in run}  # 100 sweeps: at the cap, run
+    assert len(ba.expand_grid([1, 2], [5], ["none"], 0)[0]) == 2  # 0: no cap
+    full, skipped = ba.plan_configs(ba.PLANS["full"])
+    assert [ba.config_spec(x) for x in full[:2]] == ["newton@0.0001", "newton@0.01"] and full[0]["reference"]
+    assert len(full) == 2 + 4 * 3 * 2 and not skipped, (len(full), skipped)
+    quick, _ = ba.plan_configs(ba.PLANS["quick"])
+    assert [ba.config_spec(x) for x in quick[2:]] == ["bd:1x5", "bd:2x5", "bd:1x5+chebyshev", "bd:2x5+chebyshev"]
+    explicit, skipped = ba.plan_configs(dict(ba.PLANS["full"], configs=["bd:50x20", "bd:2x10"]))
+    assert [ba.config_spec(x) for x in explicit[2:]] == ["bd:50x20", "bd:2x10"] and not skipped  # no cap on --configs
+    try:
+        ba.plan_configs(dict(ba.PLANS["full"], configs=["newton@0.1"]))
+    except ValueError:
+        pass
+    else:
+        raise AssertionError("plan_configs accepted a Newton spec in --configs")
+    # Scenes: frames, measured frames, the output interval that writes them.
+    s = ba.resolve_scene("hammock")
+    assert (s["key"], s["frames"], s["at"]) == ("hammock", 60, [30, 60])
+    assert ba.scene_writes({"output_every": 5}, 60, [30, 60]) and not ba.scene_writes({"output_every": 7}, 60, [30])
+    assert ba.scene_writes({"output_every": 1000000}, 12, [12]) and ba.output_every_for([30, 60]) == 30
+    s = ba.resolve_scene("ladder:2k", 3, [2, 3])
+    assert (s["key"], s["n"], s["frames"], s["at"]) == ("ladder_2k", 45, 3, [2, 3])
+    assert ba.resolve_scene("ladder:8k", 5)["at"] == [5]
+    for bad in (("ladder:3k", None, None), ("hammock", None, [61]), ("drape", None, None)):
+        try:
+            ba.resolve_scene(*bad)
+        except ValueError:
+            pass
+        else:
+            raise AssertionError(f"resolve_scene accepted {bad}")
+    # pce-sim's options; a pce-sim without --substeps/--acceleration runs S = 1, none only.
+    assert ba.config_arguments(ba.parse_config("bd:2x10+chebyshev"), None) == [
+        "--mode", "block_descent", "--iterations", "10", "--substeps", "2", "--acceleration", "chebyshev"]
+    assert ba.config_arguments(ba.newton_config(1e-4), "--mode --tolerance") == ["--mode", "newton", "--tolerance",
+                                                                                  "0.0001"]
+    old_help = "--mode TEXT  --iterations INT  --tolerance FLOAT"
+    assert ba.config_arguments(ba.parse_config("bd:1x5"), old_help) == ["--mode", "block_descent", "--iterations", "5"]
+    for spec in ("bd:2x5", "bd:1x5+chebyshev"):
+        try:
+            ba.config_arguments(ba.parse_config(spec), old_help)
+        except ValueError:
+            pass
+        else:
+            raise AssertionError(f"config_arguments selected {spec} on a pce-sim without the option")
+    # The Pareto front: strictly lower in both; a tie is not dominated; no numbers, no point.
+    nan = float("nan")
+    assert ba.pareto_flags([(100, 0.0), (10, 5.0), (20, 6.0), (20, 1.0), (50, 2.0), (5, None), (1, nan), (10, 5.0)]) \
+        == [True, True, False, True, False, False, False, True]
+    assert ba.pareto_flags([(3, 3), (1, 1), (2, 2)]) == [False, True, False]
+    assert ba.summarise([{"wall_ms": 10.0, "newton_iterations": 0, "sweeps": 20, "substeps": 2,
+                          "intersecting_triangle_pairs": 0},
+                         {"wall_ms": 30.0, "newton_iterations": 0, "sweeps": 10, "substeps": 2,
+                          "intersecting_triangle_pairs": 3}]) == {
+        "frames_done": 2, "ms_per_frame": 20.0, "iterations_per_frame": 15.0, "substeps_reported": 2,
+        "max_intersecting_pairs": 3}
+    # Fake runs: the RMS, the lowest point, its relative error and the flags, then the table,
+    # the section and the plot.
+    with tempfile.TemporaryDirectory() as tmp:
+        scene = {"key": "fake", "spec": "fake.json", "kind": "file", "file_run": "fake.json", "frames": 2,
+                 "at": [1, 2]}
+        cfgs = [ba.newton_config(1e-4, True), ba.newton_config(0.01), ba.parse_config("bd:1x5"),
+                ba.parse_config("bd:2x5+chebyshev"), ba.parse_config("bd:1x20")]
+        shifts, ms = [0.0, 0.001, 0.1, 0.01, 0.2], [100.0, 50.0, 10.0, 20.0, 60.0]
+        rows = []
+        for c, dz, t in zip(cfgs, shifts, ms):
+            d = Path(tmp) / ba.config_tag(c)
+            d.mkdir()
+            for f in (1, 2):
+                (d / f"frame_{f:04d}.obj").write_text(f"v 0 0 {-1 - dz}\nv 1 0 {-0.5 - dz}\nf 1 2 1\n")
+            rows.append({"scene": "fake", "spec": ba.config_spec(c), "label": ba.config_label(c), **c, "dir": str(d),
+                         "status": "ok", "reason": None, "frames_done": 2, "ms_per_frame": t,
+                         "iterations_per_frame": 5.0, "max_intersecting_pairs": 0})
+        rows.append({"scene": "fake", "spec": "bd:5x5", "label": "block descent 5×5", **ba.parse_config("bd:5x5"),
+                     "status": "not run", "reason": "this pce-sim has no --substeps", "dir": None})
+        ba.measure(rows, scene)
+        assert rows[0]["rms_m"] == {"1": 0.0, "2": 0.0} and abs(rows[2]["rms_m"]["2"] - 0.1) < 1e-12, rows[2]
+        assert abs(rows[2]["lowest_z_m"] + 1.1) < 1e-12 and abs(rows[2]["lowest_z_rel_error"] - 0.1) < 1e-12
+        assert [r["pareto"] for r in rows] == [True, True, True, True, False, False], [r["pareto"] for r in rows]
+        res = {"scenes": [scene], "rows": rows, "settings": dict(ba.PLANS["quick"]), "skipped": ["bd:10x20"],
+               "threads": 1, "commit": "abc1234", "date_utc": "2000-01-01 00:00 UTC", "cores": 2, "plan": "quick",
+               "complete": True}
+        header, table = ba.table_rows(res, scene)
+        assert header[6:8] == ["RMS to ref., frame 1 (mm)", "RMS to ref., frame 2 (mm)"] and len(table) == 6
+        assert table[2][6:] == ["100", "100", "-1 100", "0.1", "0", "**yes**"], table[2]
+        assert table[4][-1] == "" and table[5][0] == "block descent 5×5 (not run)"
+        md = ba.markdown(res)
+        assert "this pce-sim has no --substeps" in md and "`bd:10x20`" in md
+        L = []
+        write_block_accuracy_section(L.append, res, "images/benchmarks")
+        page = "\n".join(L)
+        assert page.startswith(BLOCK_ACCURACY_HEADING) and "--plan quick" in page and "run_all --steps block_accuracy" \
+            " --quick" in page and "images/benchmarks/block_accuracy_fake.png" in page and "abc1234" in page, page
+        L = []
+        write_block_accuracy_section(L.append, None, "images/benchmarks")
+        assert "Not measured" in L[1]
+
+        class Images:
+            images = Path(tmp)
+        files = plot_block_accuracy(Images, res)
+        assert files == [Path(tmp) / "block_accuracy_fake.png"] and files[0].stat().st_size > 0
 
 
 def main():
@@ -1559,7 +1859,7 @@ def main():
         raise ValueError(f"--steps: unknown step(s) {', '.join(unknown)} (steps: {', '.join(ALL_STEPS)})")
     needs = {"pair_cost": "pce-bench", "accuracy": "pce-accuracy", "broad_phase": "pce-broad-phase-bench",
              "threads": "pce-sim", "scenes": "pce-sim", "hammock": "pce-sim", "friction": "pce-sim",
-             "scale": "pce-sim"}
+             "scale": "pce-sim", "block_accuracy": "pce-sim"}
     # compile_time needs no executable: the build folder's CMakeCache.txt (its compiler and Eigen).
     if args.build is None:
         args.build = str(default_build([needs[x] for x in steps if x in needs], args.jobs))
@@ -1632,6 +1932,10 @@ def main():
         log("scale ladder (one run at a time)")
         t = time.monotonic()
         done("scale", step_scale(ctx), t)
+    if "block_accuracy" in steps:
+        log("block descent's accuracy against time (one run at a time)")
+        t = time.monotonic()
+        done("block_accuracy", step_block_accuracy(ctx), t)
     for name in ALL_STEPS:  # steps not run now: their last results
         if name not in data:
             f = ctx.results / f"step_{name}.json"
@@ -1644,29 +1948,31 @@ def main():
             data[name] = json.loads(f.read_text())
             if name == "accuracy":
                 data[name]["rows"] = json.loads((ctx.results / "accuracy.json").read_text())["rows"]
-    cost, acc, bp, threads, scenes, hammock, friction, compile_time, scale = (data[k] for k in ALL_STEPS)
+    cost, acc, bp, threads, scenes, hammock, friction, compile_time, scale, block_acc = (data[k] for k in ALL_STEPS)
     total = time.monotonic() - t0
     # The page reports the time the whole pipeline takes: the steps' own times (accuracy and
     # broad phase run side by side, so the longer of the two counts).
     run_total = (data["pair_cost"].get("wall_s", 0) + max(acc.get("wall_s", 0), bp.get("wall_s", 0)) +
                  threads.get("wall_s", 0) + scenes.get("wall_s", 0) + hammock.get("wall_s", 0) +
                  (friction or {}).get("wall_s", 0) + (compile_time or {}).get("wall_s", 0) +
-                 (scale or {}).get("wall_s", 0))
+                 (scale or {}).get("wall_s", 0) + (block_acc or {}).get("wall_s", 0))
     log("plots and page")
     plot_pair(ctx, acc, cost)
     plot_scenes(ctx, scenes)
     plot_broad_phase(ctx, bp)
     plot_threads(ctx, threads, scenes)
-    write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction, compile_time, run_total, scale)
+    block_plots = plot_block_accuracy(ctx, block_acc) if block_acc and block_acc.get("rows") else []
+    write_report(ctx, machine, cost, acc, bp, threads, scenes, hammock, friction, compile_time, run_total, scale,
+                 block_acc)
     missing = [p for p in [ctx.docs] + [ctx.images / f for f in ("pair_accuracy_cost.png", "scene_pareto.png",
                                                                    "broad_phase_scaling.png", "threads.png")]
-               if not p.exists() or p.stat().st_size == 0]
+               + block_plots if not p.exists() or p.stat().st_size == 0]
     if missing:
         raise RuntimeError("missing outputs: " + ", ".join(map(str, missing)))
     page = ctx.docs.read_text()
     absent = [h for h in ("## What accuracy costs", "## 1. Per pair", "## 2. Per scene", "## 3. Broad phase",
                           "## 4. Threads", "## 5. The hammock", "## 6. Friction's cost on the hammock",
-                          "## 7. Compile time", "## 8. Scale ladder")
+                          "## 7. Compile time", "## 8. Scale ladder", BLOCK_ACCURACY_HEADING)
               if h not in page]
     if absent:
         raise RuntimeError(f"{ctx.docs}: sections missing: {', '.join(absent)}")
