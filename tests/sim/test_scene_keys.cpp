@@ -15,6 +15,8 @@
 #include <pce/sim/scene.hpp>
 
 #include <gtest/gtest.h>
+
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -51,9 +53,11 @@ std::string join(const Keys& keys) {
 // ---------------------------------------------------------------------------------------
 // The scene: one that loads and holds every object the loader reads.
 
-/// The directory of the scene (and of the mesh obstacle's OBJ file).
+/// The directory of the scene (and of the mesh obstacle's OBJ file), one per process: ctest
+/// runs this file's tests as processes side by side, and rewriting one shared OBJ file while
+/// another process reads it gave that one an empty mesh.
 fs::path scene_dir() {
-  const fs::path dir = fs::path(PCE_TEST_TMP) / "scene_keys";
+  const fs::path dir = fs::path(PCE_TEST_TMP) / ("scene_keys_" + std::to_string(getpid()));
   fs::create_directories(dir);
   std::ofstream(dir / "plate.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   return dir;
