@@ -63,7 +63,9 @@ class BlockDescent final : public StepSolver {
   /// Chebyshev's extrapolation of the sweep just done (from `older_`), see the file comment;
   /// returns the vertices it moved to their bound.
   long accelerate(Step& s, SweepRecord& record);
-  /// The incremental potential at y with candidates valid there (queried again if stale).
+  /// Queries the candidate sets that are stale at y again; returns whether one was.
+  bool refresh_stale(Step& s);
+  /// The incremental potential at y with candidates valid there (`refresh_stale` first).
   double energy_at_y(Step& s);
   /// One colour's vertices, each by its own 3×3 Newton step cut to its bound and trust
   /// region; returns the largest move and adds the vertices that used their bound to `cut`.
@@ -115,11 +117,7 @@ void BlockDescent::solve(Step& s) {
   bool met = false;
   for (int k = 0; k < s.settings.iterations && !met; ++k) met = sweep(s, k);
   // The accepted state's energy and counters are to see every pair within reach there.
-  for (const auto& [k, c] : requery_)
-    if (!c->still_valid(s.y)) {
-      const ScopedTimer timer(s.effect_ms[k]);
-      c->refresh(s.y);
-    }
+  refresh_stale(s);
   s.st.counters[Counter::colours] = static_cast<double>(colouring_.colours().size());
   s.st.stop = met ? StopReason::tolerance : StopReason::sweeps;
   s.evaluated_at_y = false;
@@ -203,13 +201,19 @@ bool BlockDescent::sweep(Step& s, int index) {
   return met;
 }
 
-double BlockDescent::energy_at_y(Step& s) {
+bool BlockDescent::refresh_stale(Step& s) {
+  bool any = false;
   for (const auto& [k, c] : requery_)
     if (!c->still_valid(s.y)) {
       const ScopedTimer timer(s.effect_ms[k]);
       c->refresh(s.y);
-      refreshed_ = true;
+      any = true;
     }
+  return any;
+}
+
+double BlockDescent::energy_at_y(Step& s) {
+  if (refresh_stale(s)) refreshed_ = true;
   const ScopedTimer timer(s.st.line_search_ms);
   return s.potential(s.y);
 }
