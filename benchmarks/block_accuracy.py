@@ -5,7 +5,7 @@ Chebyshev acceleration, against a tight-tolerance Newton reference, on two scene
     benchmarks/block_accuracy.py --pce-sim PATH --results DIR [--plan full|quick]
         [--scenes hammock,ladder:8k] [--frames F] [--at A,B]
         [--substeps 1,2,5,10] [--sweeps 5,10,20] [--accelerations none,chebyshev]
-        [--max-sweeps-per-frame 200] [--configs SPEC,...]
+        [--max-sweeps-per-frame 100] [--scene-caps hammock=20] [--configs SPEC,...]
         [--reference 1e-4] [--newton 0.01] [--chebyshev-rho R] [--threads 1]
         [--timeout S] [--note TEXT] [--dry-run]
 
@@ -20,7 +20,9 @@ Configurations, per scene, one run at a time, in this order:
                (scene keys solver.substeps, solver.acceleration; solver.chebyshev_rho is the
                scene's, default 0.95, or --chebyshev-rho's, written into a copy of the scene)
 The block-descent grid is every S of --substeps x N of --sweeps x --accelerations, except
-those with S*N > --max-sweeps-per-frame (their cost bound; listed as skipped). --configs
+those with S*N > --max-sweeps-per-frame (their cost bound; listed as skipped; full plan 100),
+and on a scene named in --scene-caps those above its own cap (full plan: hammock=20, where
+20 sweeps a frame already cost more than Newton: block_accuracy.md of 322dd9d). --configs
 replaces the grid with the block-descent specs given (the cap does not apply to them), e.g.
 `--configs bd:2x10,bd:2x10+chebyshev`. A pce-sim whose --help lacks --substeps or
 --acceleration runs S = 1 without acceleration only; the others are reported as not run.
@@ -81,7 +83,8 @@ REFERENCE_TOLERANCE = 1e-4
 # The plans: run_all's full and quick steps. Every value can be overridden on the command line.
 PLANS = {
     "full": {"scenes": ["hammock", "ladder:8k"], "frames": None, "at": None, "substeps": [1, 2, 5, 10],
-             "sweeps": [5, 10, 20], "accelerations": ["none", "chebyshev"], "max_sweeps_per_frame": 200,
+             "sweeps": [5, 10, 20], "accelerations": ["none", "chebyshev"], "max_sweeps_per_frame": 100,
+             "scene_caps": {"hammock": 20},
              "reference": REFERENCE_TOLERANCE, "newton": [0.01], "configs": None, "chebyshev_rho": None},
     "quick": {"scenes": ["ladder:2k"], "frames": 3, "at": [2, 3], "substeps": [1, 2], "sweeps": [5],
               "accelerations": ["none", "chebyshev"], "max_sweeps_per_frame": 200,
@@ -131,6 +134,17 @@ def parse_float_list(text, what):
         if not (v > 0 and math.isfinite(v)):
             raise ValueError(f"{what}: {t!r} is not a positive number")
         out.append(v)
+    return out
+
+
+def parse_scene_caps(text):
+    """'hammock=20,ladder:8k=50' -> {'hammock': 20, 'ladder:8k': 50}."""
+    out = {}
+    for item in [x.strip() for x in text.split(",") if x.strip()]:
+        scene, eq, cap = item.rpartition("=")
+        if not eq or not scene or not cap.isdigit() or int(cap) < 1:
+            raise ValueError(f"--scene-caps: {item!r} is not SCENE=CAP with CAP a positive integer")
+        out[scene] = int(cap)
     return out
 
 
@@ -430,7 +444,12 @@ def run_grid(exe, results, plan, threads=1, timeout=None, dry_run=False, note=No
     for s in scenes:
         path = prepare_scene(s, results, plan.get("chebyshev_rho"), dry_run)
         s["file_run"] = short([path])
+        cap = None if plan.get("configs") else (plan.get("scene_caps") or {}).get(s["spec"])
+        s["cap"], s["skipped"] = cap, []
         for c in configs:
+            if cap and c["mode"] == "block_descent" and c["substeps"] * c["sweeps"] > cap:
+                s["skipped"].append(config_spec(c))
+                continue
             out = results / "runs" / "block_accuracy" / s["key"] / config_tag(c)
             row = {"scene": s["key"], "spec": config_spec(c), "label": config_label(c), **c,
                    "planned_sweeps_per_frame": c["substeps"] * c["sweeps"] if c["sweeps"] else None,
@@ -471,6 +490,9 @@ def run_grid(exe, results, plan, threads=1, timeout=None, dry_run=False, note=No
         if not dry_run:
             measure([r for r in rows if r["scene"] == s["key"]], s)
     if dry_run:
+        for s in scenes:
+            if s["skipped"]:
+                print(f"# {s['key']}: skipped (S×N > its cap {s['cap']}): {', '.join(s['skipped'])}")
         print(f"# {len(scenes)} scene(s) x {len(configs)} configurations"
               + (f"; skipped (S×N > {plan['max_sweeps_per_frame']}): {', '.join(meta['skipped'])}"
                  if skipped else "")
@@ -540,6 +562,9 @@ def markdown(res, sub="##"):
         L.append(f"{sub} {s['key']}: {scene_title(s)}\n")
         header, rows = table_rows(res, s)
         L.append(md_table(header, rows, table_align(len(header))))
+        if s.get("skipped"):
+            L.append(f"Skipped on this scene (S × N above its cap of {s['cap']} sweeps per frame): "
+                     + ", ".join(f"`{x}`" for x in s["skipped"]) + ".\n")
         notes = [r for r in res["rows"] if r["scene"] == s["key"] and (r["status"] != "ok" or r["reason"])]
         for r in notes:
             L.append(f"- {r['label']}: {r['status']}" + (f": {r['reason']}" if r["reason"] else ""))
@@ -566,7 +591,9 @@ def main(argv=None):
     ap.add_argument("--substeps", help="comma-separated S (full plan: 1,2,5,10)")
     ap.add_argument("--sweeps", help="comma-separated N, sweeps per substep (full plan: 5,10,20)")
     ap.add_argument("--accelerations", help="comma-separated, of none, chebyshev (default both)")
-    ap.add_argument("--max-sweeps-per-frame", type=int, help="skip grid points with S*N above it (default 200; 0: no cap)")
+    ap.add_argument("--max-sweeps-per-frame", type=int, help="skip grid points with S*N above it (full plan 100; 0: no cap)")
+    ap.add_argument("--scene-caps", help="comma-separated SCENE=CAP: a lower S*N cap for one scene's grid "
+                    "(full plan: hammock=20; '' for none)")
     ap.add_argument("--configs", help="comma-separated bd:SxN[+chebyshev]: run these instead of the grid")
     ap.add_argument("--reference", type=float, help="the reference's Newton tolerance (default 1e-4)")
     ap.add_argument("--newton", help="comma-separated further Newton tolerances (default 0.01; '' for none)")
@@ -592,6 +619,8 @@ def main(argv=None):
             plan["accelerations"] = parse_accelerations(a.accelerations)
         if a.max_sweeps_per_frame is not None:
             plan["max_sweeps_per_frame"] = a.max_sweeps_per_frame
+        if a.scene_caps is not None:
+            plan["scene_caps"] = parse_scene_caps(a.scene_caps)
         if a.configs is not None:
             plan["configs"] = [x for x in a.configs.split(",") if x.strip()]
         if a.reference is not None:
@@ -601,7 +630,7 @@ def main(argv=None):
         if a.chebyshev_rho is not None:
             plan["chebyshev_rho"] = a.chebyshev_rho
         custom = any(getattr(a, k) is not None for k in ("scenes", "frames", "at", "substeps", "sweeps", "accelerations",
-                                                          "max_sweeps_per_frame", "configs", "reference", "newton",
+                                                          "max_sweeps_per_frame", "scene_caps", "configs", "reference", "newton",
                                                           "chebyshev_rho"))
         res = run_grid(a.pce_sim, a.results, plan, threads=a.threads, timeout=a.timeout, dry_run=a.dry_run,
                        note=a.note, plan_name=a.plan + (" (changed on the command line)" if custom else ""))
