@@ -5,6 +5,8 @@
 // count), the gradient columns are the energy's derivatives, and only contact effects are
 // ContactEffects.
 #include <pce/sim/contact_effect.hpp>
+#include <pce/sim/effects.hpp>
+#include <pce/sim/generators.hpp>
 #include <pce/sim/scene.hpp>
 
 #include <gtest/gtest.h>
@@ -132,6 +134,27 @@ TEST(Effect, LocalTermsOfVerticesSharingElementsAndListedTwice) {
     }
   }
   EXPECT_GE(checked, 30);
+}
+
+TEST(Effect, StretchingsLocalTermsInEveryRegimeOfItsSingularValues) {
+  // A 5 × 5 sheet mapped by x = M X (each triangle's F is M in its rest frame, turned), with
+  // a ripple: both singular values above 1, one, neither, near 1, nearly collapsed (the
+  // closed form's fallback to the frame) and mirrored. Every vertex's local terms against the
+  // whole evaluation, whose Hessian comes from the frame and the modes (arap_triangle).
+  Model model = build_model({{"sheet", grid(0.4, 0.4, 4, 4)}});
+  auto e = make_stretching(model, 50);
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  std::vector<int> vertices(static_cast<std::size_t>(model.vertex_count()));
+  for (std::size_t i = 0; i < vertices.size(); ++i) vertices[i] = static_cast<int>(i);
+  const std::vector<std::pair<std::string, Eigen::Vector3d>> stretches = {
+      {"both above 1", {1.4, 1.2, 1}},     {"one above 1", {1.3, 0.8, 1}}, {"neither", {0.7, 0.9, 1}},
+      {"near 1", {1 + 1e-9, 1 - 1e-9, 1}}, {"collapsed", {1.1, 3e-3, 1}},  {"mirrored", {-1.2, 0.9, 1}}};
+  for (const auto& [what, stretch] : stretches) {
+    SCOPED_TRACE(what);
+    Eigen::Matrix3Xd x = turn * stretch.asDiagonal() * model.rest;
+    for (Eigen::Index i = 0; i < x.cols(); ++i) x(2, i) += 2e-3 * std::sin(1.3 * static_cast<double>(i));
+    expect_local_is_whole(*e, x, vertices);
+  }
 }
 
 TEST(Effect, LocalGradientIsTheEnergysDerivative) {

@@ -17,6 +17,7 @@
 #include <pce/core/orthogonal.hpp>
 #include <pce/sim/effects.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -54,7 +55,21 @@ struct ArapFrame {
   Eigen::Vector2d v1, v2;
 };
 
-/// The frame of F = X D.
+/// F's polar factor R = F (√S)⁻¹ in closed form, S = FᵀF = [[A, b], [b, C]], s = √det S =
+/// σ₁σ₂ = |F₀ × F₁|, t = σ₁ + σ₂: √S = (S + s I)/t, so R = F adj(S + s I)/(s t). For a
+/// well-shaped F only (`well_shaped`), where adj(S + s I)'s cancellation costs no digits.
+inline Matrix32 closed_form_polar(const Matrix32& F, double A, double b, double C, double s, double t) {
+  Eigen::Matrix2d adj;
+  adj << C + s, -b, -b, A + s;
+  return (1 / (s * t)) * (F * adj);
+}
+
+/// Whether F is well shaped for `closed_form_polar`: s > 10⁻² (A + C), i.e. σ₂ above about
+/// 10⁻² σ₁.
+inline bool well_shaped(double A, double C, double s) { return s > 1e-2 * (A + C); }
+
+/// The frame of F = X D (its R by `closed_form_polar` where F is well shaped, the same R
+/// `arap_vertex` uses).
 inline ArapFrame arap_frame(const Eigen::Matrix3d& X, const Matrix32& D) {
   ArapFrame f;
   f.F = X * D;
@@ -91,7 +106,10 @@ inline ArapFrame arap_frame(const Eigen::Matrix3d& X, const Matrix32& D) {
     f.u3 = pce::any_orthogonal<double>(f.u1);  // σ₂ ≈ 0: any completion is a closest orthonormal frame
   }
   f.u2 = f.u3.cross(f.u1);  // F v₂ lies along u₃ × u₁ (σ₂ ≥ 0)
-  f.R = f.u1 * f.v1.transpose() + f.u2 * f.v2.transpose();
+  if (well_shaped(a, c, area2))
+    f.R = closed_form_polar(F, a, b, c, area2, f.s1 + f.s2);
+  else
+    f.R = f.u1 * f.v1.transpose() + f.u2 * f.v2.transpose();
   return f;
 }
 
@@ -145,17 +163,56 @@ inline double arap_triangle(const Eigen::Matrix3d& X, const Matrix32& D, double 
 /// One triangle's terms at its vertex `a` alone: adds column a of ∂E/∂X, 2w (F − R) dₐ (dₐ
 /// = D.row(a)ᵀ), to `g` and the block (a, a) of arap_triangle's projected Hessian,
 /// 2w [|dₐ|² I − Σₖ c_k (Q_k dₐ)(Q_k dₐ)ᵀ] (slot a of g_k is Q_k dₐ), to `B`.
+///
+/// Block descent calls it once per triangle and vertex in every sweep, so a well-shaped F
+/// takes a closed form without the SVD's vectors: R by `closed_form_polar` (as arap_frame),
+/// the twist's Q₀dₐ = R J dₐ/√2 (J the quarter turn: R J = u₂v₁ᵀ − u₁v₂ᵀ), and the
+/// out-of-plane pair's sum u₃u₃ᵀ (c₁(v₁·dₐ)² + c₂(v₂·dₐ)²), u₃ = (F₀ × F₁)/s, with the bracket
+/// dₐᵀ(√S)⁻¹dₐ when both σ > 1, |dₐ|² when neither, and |dₐ|² − (1 − 1/σ₁)(v₁·dₐ)² between,
+/// (v₁·dₐ)² = dₐᵀ(S − σ₂² I)dₐ/(σ₁² − σ₂²). Other triangles use the frame and its modes.
 inline void arap_vertex(const Eigen::Matrix3d& X, const Matrix32& D, double w, int a, Eigen::Vector3d& g,
                         Eigen::Matrix3d& B) {
-  const ArapFrame f = arap_frame(X, D);
   const Eigen::Vector2d d = D.row(a).transpose();
-  g.noalias() += (2 * w) * ((f.F - f.R) * d);
-  const ArapModes m = arap_modes(f);
-  Eigen::Matrix3d Ba = d.squaredNorm() * Eigen::Matrix3d::Identity();
-  for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector3d q = m.Q[static_cast<std::size_t>(k)] * d;
-    Ba.noalias() -= m.c[static_cast<std::size_t>(k)] * q * q.transpose();
+  const Matrix32 F = X * D;
+  const double A = F.col(0).squaredNorm(), b = F.col(0).dot(F.col(1)), C = F.col(1).squaredNorm();
+  const Eigen::Vector3d n = F.col(0).cross(F.col(1));
+  const double s = n.norm();
+  if (!well_shaped(A, C, s)) {
+    const ArapFrame f = arap_frame(X, D);
+    g.noalias() += (2 * w) * ((f.F - f.R) * d);
+    const ArapModes m = arap_modes(f);
+    Eigen::Matrix3d Ba = d.squaredNorm() * Eigen::Matrix3d::Identity();
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d q = m.Q[static_cast<std::size_t>(k)] * d;
+      Ba.noalias() -= m.c[static_cast<std::size_t>(k)] * q * q.transpose();
+    }
+    B += (2 * w) * Ba;
+    return;
   }
+  // σ₁ and σ₂ as arap_frame has them (no cancellation); σ₁² − σ₂² = 2r.
+  const double p = 0.5 * (A - C), r = std::sqrt(p * p + b * b);
+  const double s1 = std::sqrt(0.5 * (A + C) + r), s2 = s / s1, sum = s1 + s2;
+  const Matrix32 R = closed_form_polar(F, A, b, C, s, sum);
+  g.noalias() += (2 * w) * ((F - R) * d);
+  const Eigen::Vector3d q0 = std::sqrt(0.5) * (R * Eigen::Vector2d(-d[1], d[0]));
+  const double c0 = sum > 2 ? 2 / sum : 1.0;
+  const double dd = d.squaredNorm();
+  double kappa = dd;  // neither σ above 1
+  if (s2 > 1) {
+    // dₐᵀ(√S)⁻¹dₐ = dₐᵀ adj(S + s I) dₐ/(s t)
+    kappa = ((C + s) * d[0] * d[0] - 2 * b * d[0] * d[1] + (A + s) * d[1] * d[1]) / (s * sum);
+  } else if (s1 > 1) {
+    // (v₁·dₐ)² = [(r + p) d₀² + 2b d₀d₁ + (r − p) d₁²]/(2r), the smaller of r ± p as b²/(r + |p|)
+    const double big = r + std::abs(p), small = big > 0 ? b * b / big : 0.0;
+    const double rp = p >= 0 ? big : small, rm = p >= 0 ? small : big;
+    const double v1d2 =
+        r > 0 ? std::clamp((rp * d[0] * d[0] + 2 * b * d[0] * d[1] + rm * d[1] * d[1]) / (2 * r), 0.0, dd) : 0.5 * dd;
+    kappa = dd - (1 - 1 / s1) * v1d2;
+  }
+  const Eigen::Vector3d u3 = n / s;
+  Eigen::Matrix3d Ba = dd * Eigen::Matrix3d::Identity();
+  Ba.noalias() -= c0 * q0 * q0.transpose();
+  Ba.noalias() -= kappa * u3 * u3.transpose();
   B += (2 * w) * Ba;
 }
 
