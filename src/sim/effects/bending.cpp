@@ -39,21 +39,50 @@ struct Hinge {
   double weight;         ///< k · 3|ē|²/(Ā_A + Ā_B)
 };
 
+/// What θ and every slot's ∇θ share: the edge e = x1 − x0, the normals, their squares.
+struct HingeShape {
+  Eigen::Vector3d e, nA, nB;
+  double l2, l, nA2, nB2;
+};
+
+/// θ at the hinge and its shape; returns false when a current triangle of the hinge has
+/// (near) zero area, where θ's gradient does not exist (`theta` is then 0 or the atan2 of
+/// what is left).
+inline bool hinge_shape(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1, const Eigen::Vector3d& x2,
+                        const Eigen::Vector3d& x3, double& theta, HingeShape& h) {
+  h.e = x1 - x0;
+  h.nA = h.e.cross(x2 - x0);
+  h.nB = (x3 - x0).cross(h.e);
+  h.l2 = h.e.squaredNorm();
+  h.l = std::sqrt(h.l2);
+  h.nA2 = h.nA.squaredNorm();
+  h.nB2 = h.nB.squaredNorm();
+  theta = std::atan2(h.l > 0 ? h.nA.cross(h.nB).dot(h.e) / h.l : 0.0, h.nA.dot(h.nB));
+  // A wing's height must not vanish against the edge: h = |n|/|e| > 1e-12 |e|.
+  return h.l2 > 0 && h.nA2 > 1e-24 * h.l2 * h.l2 && h.nB2 > 1e-24 * h.l2 * h.l2;
+}
+
+/// ∂θ/∂x_slot at a hinge of shape h (file comment): a wing's −|e| n/|n|², an edge vertex's
+/// combination of both wings' by their feet s_{A,B} on the edge.
+inline Eigen::Vector3d hinge_gradient(const HingeShape& h, const Eigen::Vector3d& x0, const Eigen::Vector3d& x2,
+                                      const Eigen::Vector3d& x3, int slot) {
+  if (slot == 2) return (-h.l / h.nA2) * h.nA;
+  if (slot == 3) return (-h.l / h.nB2) * h.nB;
+  const Eigen::Vector3d gA = (-h.l / h.nA2) * h.nA, gB = (-h.l / h.nB2) * h.nB;
+  const double sA = (x2 - x0).dot(h.e) / h.l2, sB = (x3 - x0).dot(h.e) / h.l2;
+  if (slot == 0) return -(1 - sA) * gA - (1 - sB) * gB;
+  return -sA * gA - sB * gB;
+}
+
 /// θ and ∇θ (12-vector, vertex order of Hinge::v); returns false when a current triangle of
-/// the hinge has (near) zero area, where θ's gradient does not exist (`theta` is then 0 or
-/// the atan2 of what is left, `g` untouched).
+/// the hinge has (near) zero area (`hinge_shape`; `g` untouched then).
 inline bool dihedral_angle(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1, const Eigen::Vector3d& x2,
                            const Eigen::Vector3d& x3, double& theta, Vector12* g) {
-  const Eigen::Vector3d e = x1 - x0;
-  const Eigen::Vector3d nA = e.cross(x2 - x0), nB = (x3 - x0).cross(e);
-  const double l2 = e.squaredNorm(), l = std::sqrt(l2);
-  const double nA2 = nA.squaredNorm(), nB2 = nB.squaredNorm();
-  theta = std::atan2(l > 0 ? nA.cross(nB).dot(e) / l : 0.0, nA.dot(nB));
-  // A wing's height must not vanish against the edge: h = |n|/|e| > 1e-12 |e|.
-  if (!(l2 > 0 && nA2 > 1e-24 * l2 * l2 && nB2 > 1e-24 * l2 * l2)) return false;
-  if (g) {
-    const Eigen::Vector3d gA = (-l / nA2) * nA, gB = (-l / nB2) * nB;
-    const double sA = (x2 - x0).dot(e) / l2, sB = (x3 - x0).dot(e) / l2;
+  HingeShape h;
+  if (!hinge_shape(x0, x1, x2, x3, theta, h)) return false;
+  if (g) {  // hinge_gradient's four slots, the wings' terms computed once
+    const Eigen::Vector3d gA = (-h.l / h.nA2) * h.nA, gB = (-h.l / h.nB2) * h.nB;
+    const double sA = (x2 - x0).dot(h.e) / h.l2, sB = (x3 - x0).dot(h.e) / h.l2;
     g->segment<3>(0) = -(1 - sA) * gA - (1 - sB) * gB;
     g->segment<3>(3) = -sA * gA - sB * gB;
     g->segment<3>(6) = gA;
@@ -108,10 +137,11 @@ class Bending final : public Effect {
     add_local_terms(incidence_, vertices, terms, [&](const Incident& u, Eigen::Vector3d& ga, Eigen::Matrix3d& B) {
       const Hinge& h = hinges_[static_cast<std::size_t>(u.item)];
       double theta;
-      Vector12 g;
-      if (!dihedral_angle(x.col(h.v[0]), x.col(h.v[1]), x.col(h.v[2]), x.col(h.v[3]), theta, &g)) return true;
+      HingeShape shape;
+      const Eigen::Vector3d x0 = x.col(h.v[0]), x2 = x.col(h.v[2]), x3 = x.col(h.v[3]);
+      if (!hinge_shape(x0, x.col(h.v[1]), x2, x3, theta, shape)) return true;
       const double d = angle_difference(theta, h.theta0);
-      const Eigen::Vector3d gs = g.segment<3>(3 * u.slot);
+      const Eigen::Vector3d gs = hinge_gradient(shape, x0, x2, x3, u.slot);
       ga += (2 * h.weight * d) * gs;
       B.noalias() += (2 * h.weight) * gs * gs.transpose();
       return true;
