@@ -5,7 +5,7 @@ Chebyshev acceleration, against a tight-tolerance Newton reference, on two scene
     benchmarks/block_accuracy.py --pce-sim PATH --results DIR [--plan full|quick]
         [--scenes hammock,ladder:8k] [--frames F] [--at A,B]
         [--substeps 1,2,5,10] [--sweeps 5,10,20] [--accelerations none,chebyshev]
-        [--max-sweeps-per-frame 100] [--scene-caps hammock=20] [--configs SPEC,...]
+        [--max-sweeps-per-frame 100] [--scene-caps hammock=10] [--configs SPEC,...]
         [--reference 1e-4] [--newton 0.01] [--chebyshev-rho R] [--threads 1]
         [--timeout S] [--note TEXT] [--dry-run]
 
@@ -21,8 +21,8 @@ Configurations, per scene, one run at a time, in this order:
                scene's, default 0.95, or --chebyshev-rho's, written into a copy of the scene)
 The block-descent grid is every S of --substeps x N of --sweeps x --accelerations, except
 those with S*N > --max-sweeps-per-frame (their cost bound; listed as skipped; full plan 100),
-and on a scene named in --scene-caps those above its own cap (full plan: hammock=20, where
-20 sweeps a frame already cost more than Newton: block_accuracy.md of 322dd9d). --configs
+and on a scene named in --scene-caps those above its own cap (full plan: hammock=10, where
+10 sweeps a frame already cost more than Newton at 0.01: contact dominates its sweeps). --configs
 replaces the grid with the block-descent specs given (the cap does not apply to them), e.g.
 `--configs bd:2x10,bd:2x10+chebyshev`. A pce-sim whose --help lacks --substeps or
 --acceleration runs S = 1 without acceleration only; the others are reported as not run.
@@ -84,7 +84,7 @@ REFERENCE_TOLERANCE = 1e-4
 PLANS = {
     "full": {"scenes": ["hammock", "ladder:8k"], "frames": None, "at": None, "substeps": [1, 2, 5, 10],
              "sweeps": [5, 10, 20], "accelerations": ["none", "chebyshev"], "max_sweeps_per_frame": 100,
-             "scene_caps": {"hammock": 20},
+             "scene_caps": {"hammock": 10},
              "reference": REFERENCE_TOLERANCE, "newton": [0.01], "configs": None, "chebyshev_rho": None},
     "quick": {"scenes": ["ladder:2k"], "frames": 3, "at": [2, 3], "substeps": [1, 2], "sweeps": [5],
               "accelerations": ["none", "chebyshev"], "max_sweeps_per_frame": 200,
@@ -593,7 +593,7 @@ def main(argv=None):
     ap.add_argument("--accelerations", help="comma-separated, of none, chebyshev (default both)")
     ap.add_argument("--max-sweeps-per-frame", type=int, help="skip grid points with S*N above it (full plan 100; 0: no cap)")
     ap.add_argument("--scene-caps", help="comma-separated SCENE=CAP: a lower S*N cap for one scene's grid "
-                    "(full plan: hammock=20; '' for none)")
+                    "(full plan: hammock=10; '' for none)")
     ap.add_argument("--configs", help="comma-separated bd:SxN[+chebyshev]: run these instead of the grid")
     ap.add_argument("--reference", type=float, help="the reference's Newton tolerance (default 1e-4)")
     ap.add_argument("--newton", help="comma-separated further Newton tolerances (default 0.01; '' for none)")

@@ -55,7 +55,7 @@ Steps, in this order (each writes JSON/CSV into the results folder):
                thread: Newton at tolerance 1e-4 (the reference) and 0.01, and block descent over
                the grid substeps S in {1, 2, 5, 10} x sweeps per substep N in {5, 10, 20}, without
                and with Chebyshev acceleration (S*N above 100 skipped: 10 x 20; on the hammock
-               above 20, where 20 sweeps a frame already cost more than Newton). Per run
+               above 10, where 10 sweeps a frame already cost more than Newton). Per run
                ms/frame, sweeps per frame, the RMS distance to the reference at the measured
                frames, the lowest point and its relative error, the most intersecting pairs, and
                whether it is on the Pareto front of ms/frame against the last frame's RMS; a
