@@ -185,7 +185,8 @@ def test_iterations_need_block_descent(scenes):
 
 
 def test_block_descent_is_pce_sims(pce_sim, scenes, tmp_path):
-    """mode= and iterations= are pce-sim's --mode and --iterations: the same frames, bit for bit."""
+    """mode= and iterations= are pce-sim's --mode and --iterations: the same frames, bit for bit, each of the
+    mode's default 5 substeps."""
     path = str(scenes / "twist.json")
     cli, py = tmp_path / "cli", tmp_path / "py"
     subprocess.run([str(pce_sim), path, "--frames", "3", "--threads", "1", "--mode", "block_descent", "--iterations",
@@ -193,7 +194,8 @@ def test_block_descent_is_pce_sims(pce_sim, scenes, tmp_path):
     s = pce.sim.load(path, frames=3, threads=1, mode="block_descent", iterations=4)
     s.run(out=py)
     assert (py / "frame_0003.obj").read_bytes() == (cli / "frame_0003.obj").read_bytes()
-    assert s.stats["stop"] == "sweeps" and s.stats["sweeps"] == 4 and s.stats["newton_iterations"] == 0
+    assert s.stats["stop"] == "sweeps" and s.stats["substeps"] == 5 and s.stats["newton_iterations"] == 0
+    assert s.stats["sweeps"] == 5 * 4
 
 
 def test_substeps_and_acceleration_are_pce_sims(pce_sim, scenes, tmp_path):

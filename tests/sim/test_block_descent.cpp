@@ -286,6 +286,31 @@ TEST(BlockDescent, SheetsLandOnTheBallWithoutCrossing) {
   EXPECT_GT(sim.x.row(2).minCoeff(), -0.06);
 }
 
+TEST(BlockDescent, ARedetectShareMeasuresTheBoundsLessAndKeepsEveryPairApart) {
+  // The sheets dropped on the ball, 1 step of 15 sweeps a frame, with every cut measuring the
+  // bounds again and with only a cut of more than 5 % of the vertices doing so: fewer
+  // measurements (and queries) with the share, and every frame still keeps every pair.
+  double measured[2] = {0, 0};
+  for (const int with_share : {0, 1}) {
+    SCOPED_TRACE(with_share);
+    auto s = crumpled_sheets(0.006, 0.0, 7,
+                             with_share ? R"({"mode": "block_descent", "substeps": 1, "iterations": 15,
+                                             "redetect_share": 0.05})"
+                                        : R"({"mode": "block_descent", "substeps": 1, "iterations": 15})");
+    Simulation& sim = s->simulation;
+    sim.x.row(2).array() += 0.03;
+    const auto pairs = all_pairs(sim.model);
+    for (int f = 1; f <= 20; ++f) {
+      const Eigen::Matrix3Xd before = sim.x;
+      measured[with_share] += sim.step().counters.at("bound_measurements");
+      expect_kept(sim.model, before, sim.x, pairs, "frame " + std::to_string(f));
+      if (HasFailure()) return;
+    }
+  }
+  EXPECT_LT(measured[1], measured[0]);
+  EXPECT_GE(measured[1], 20);  // at least once a step
+}
+
 TEST(BlockDescent, SceneKeysAreChecked) {
   const auto error_of = [](const std::string& solver) {
     auto j = json::parse(R"({"dt": 0.01, "frames": 1,
@@ -318,6 +343,10 @@ TEST(BlockDescent, SceneKeysAreChecked) {
                 .find("solver.chebyshev_rho"),
             std::string::npos);
   EXPECT_NE(error_of(R"({"sweep_tolerance": 0.01})").find("solver.sweep_tolerance"), std::string::npos);
+  EXPECT_EQ(error_of(R"({"mode": "block_descent", "redetect_share": 0.05})"), "(no error)");
+  EXPECT_NE(error_of(R"({"redetect_share": 0.05})").find("solver.redetect_share"), std::string::npos);
+  EXPECT_NE(error_of(R"({"mode": "block_descent", "redetect_share": 1.5})").find("solver.redetect_share"),
+            std::string::npos);
   EXPECT_NE(error_of(R"({"mode": "block_descent", "sweep_tolerance": -1})").find("solver.sweep_tolerance"),
             std::string::npos);
   // --iterations (an override) on a Newton scene names the key it would replace
@@ -331,6 +360,39 @@ TEST(BlockDescent, SceneKeysAreChecked) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("solver.iterations: a number of sweeps"), std::string::npos) << e.what();
   }
+}
+
+TEST(BlockDescent, TheModesDefaultsAreItsOwn) {
+  // A scene without solver.substeps takes its mode's steps per frame, also when --mode
+  // changes the mode; a scene's or --substeps' value stands in either mode; the C++ defaults
+  // are the scene's. A frame at the defaults is their substeps × sweeps.
+  const std::string base = R"({"dt": 0.01, "frames": 1, "meshes": [{"name": "a", "generator": {"type": "grid",
+    "width": 0.1, "height": 0.1, "nx": 2, "ny": 2}}], "effects": [{"type": "gravity"}], "solver": )";
+  const auto load = [&](const std::string& solver, SceneOverrides o = {}) {
+    return load_scene_text(base + solver + "}", "s.json", PCE_TEST_TMP, o);
+  };
+  EXPECT_EQ(load(R"({})")->simulation.solver.steps_per_frame(), 1);
+  auto bd = load(R"({"mode": "block_descent"})");
+  EXPECT_EQ(bd->simulation.solver.steps_per_frame(), kDefaultBlockSubsteps);
+  EXPECT_EQ(bd->simulation.solver.iterations, kDefaultBlockIterations);
+  EXPECT_EQ(bd->simulation.solver.acceleration, Acceleration::none);
+  EXPECT_EQ(load(R"({"mode": "block_descent", "substeps": 1})")->simulation.solver.steps_per_frame(), 1);
+  EXPECT_EQ(load(R"({"substeps": 3})")->simulation.solver.steps_per_frame(), 3);
+  SceneOverrides to_block;
+  to_block.mode = SolverMode::block_descent;
+  EXPECT_EQ(load(R"({})", to_block)->simulation.solver.steps_per_frame(), kDefaultBlockSubsteps);
+  SceneOverrides to_newton;
+  to_newton.mode = SolverMode::newton;
+  EXPECT_EQ(load(R"({"mode": "block_descent"})", to_newton)->simulation.solver.steps_per_frame(), 1);
+  to_block.substeps = 2;
+  EXPECT_EQ(load(R"({})", to_block)->simulation.solver.steps_per_frame(), 2);
+  SolverSettings settings;
+  EXPECT_EQ(settings.steps_per_frame(), 1);
+  settings.mode = SolverMode::block_descent;
+  EXPECT_EQ(settings.steps_per_frame(), kDefaultBlockSubsteps);
+  const FrameStats st = bd->simulation.step();
+  EXPECT_EQ(st.substeps, kDefaultBlockSubsteps);
+  EXPECT_EQ(st.sweeps, kDefaultBlockSubsteps * kDefaultBlockIterations);
 }
 
 TEST(BlockDescent, TheLargeShippedSceneRunsReduced) {

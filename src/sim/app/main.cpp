@@ -221,7 +221,7 @@ Ending run_frames(const Options& o, Loaded& l, const std::filesystem::path& dir)
   run.open(output);
   std::cerr << "pce-sim: " << o.scene_file << ": " << sim.model.vertex_count() << " vertices, " << sim.effects.size()
             << " effects, " << sim.frames << " frames, dt = " << sim.solver.dt << " s";
-  if (sim.solver.substeps > 1) std::cerr << " in " << sim.solver.substeps << " steps";
+  if (sim.solver.steps_per_frame() > 1) std::cerr << " in " << sim.solver.steps_per_frame() << " steps";
   if (!l.resumed_from.empty()) std::cerr << ", resumed at frame " << sim.frame << " from " << l.resumed_from.string();
   std::cerr << "\n";
   std::signal(SIGINT, on_stop_signal);

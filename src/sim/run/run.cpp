@@ -128,7 +128,7 @@ json summary_of(const Simulation& sim, const std::string& scene_file, const json
   summary["triangles"] = sim.model.triangles.cols();
   summary["segments"] = sim.model.segments.cols();
   summary["dt"] = sim.solver.dt;
-  summary["substeps"] = sim.solver.substeps;
+  summary["substeps"] = sim.solver.steps_per_frame();
   summary["mode"] = std::string(name_of(sim.solver.mode));
   if (sim.solver.mode == SolverMode::block_descent) {
     summary["iterations"] = sim.solver.iterations;

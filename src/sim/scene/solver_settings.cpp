@@ -20,15 +20,15 @@ constexpr long kMaxSubsteps = 1000;
 
 /// The `solver` object into `solver`; returns its `broad_phase`.
 BroadPhaseKind parse_solver(const Params& s, SolverSettings& solver) {
-  s.only({"mode", "iterations", "substeps", "acceleration", "chebyshev_rho", "sweep_tolerance", "tolerance",
-          "max_iterations", "linear_solver", "linear_tolerance", "threads", "broad_phase"});
+  s.only({"mode", "iterations", "substeps", "acceleration", "chebyshev_rho", "sweep_tolerance", "redetect_share",
+          "tolerance", "max_iterations", "linear_solver", "linear_tolerance", "threads", "broad_phase"});
   solver.mode = s.choice<SolverMode>("mode", SolverMode::newton);
   if (s.has("iterations") && solver.mode != SolverMode::block_descent)
     s.fail("iterations",
            "only \"mode\": \"block_descent\" takes a number of iterations (Newton's cap is "
            "\"max_iterations\")");
   solver.iterations = static_cast<int>(s.integer("iterations", long{kDefaultBlockIterations}, 1, 100000));
-  for (const char* key : {"acceleration", "chebyshev_rho", "sweep_tolerance"})
+  for (const char* key : {"acceleration", "chebyshev_rho", "sweep_tolerance", "redetect_share"})
     if (s.has(key) && solver.mode != SolverMode::block_descent)
       s.fail(key, "only \"mode\": \"block_descent\" takes it");
   solver.acceleration = s.choice<Acceleration>("acceleration", Acceleration::none);
@@ -39,7 +39,9 @@ BroadPhaseKind parse_solver(const Params& s, SolverSettings& solver) {
   if (s.has("chebyshev_rho") && solver.acceleration != Acceleration::chebyshev)
     s.fail("chebyshev_rho", "only \"acceleration\": \"chebyshev\" takes it");
   solver.sweep_tolerance = s.nonnegative("sweep_tolerance", 0.0);
-  solver.substeps = static_cast<int>(s.integer("substeps", 1L, 1, kMaxSubsteps));
+  solver.redetect_share = s.number("redetect_share", 0.0, 0, 1);
+  // absent: 0, the mode's default (SolverSettings::steps_per_frame), after the overrides
+  if (s.has("substeps")) solver.substeps = static_cast<int>(s.integer("substeps", 1L, 1, kMaxSubsteps));
   solver.tolerance = s.positive("tolerance", solver.tolerance);
   solver.max_iterations = static_cast<int>(s.integer("max_iterations", 50L, 1, 100000));
   solver.linear = s.choice<LinearSolver>("linear_solver", LinearSolver::direct);

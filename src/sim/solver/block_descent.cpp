@@ -20,13 +20,14 @@
 // its bound: what a contact effect's local terms of the sweep can reach is listed from
 // these radii, `begin_sweep`, so they stay short). A sweep after which a vertex was
 // cut, or an effect's candidates went stale (`Requery::still_valid`), measures the bounds
-// again at its result. The vertices of a colour read the positions of the colour's start
-// and are written after all have been computed, so nothing depends on the thread count.
-// With `Acceleration::chebyshev`, after each sweep the vertices no active contact pair acted
-// on in it are extrapolated (Chebyshev's semi-iteration, `accelerate`), cut to
-// their bounds; an extrapolation that raises the incremental potential above the last
-// accepted iterate's is undone and the recurrence restarts. A sweep whose residual is at
-// most `sweep_tolerance` ends the step.
+// again at its result; with `redetect_share` > 0, only one after which more than that share
+// of the vertices were cut (Offset geometric contact's rule: until then a stale set's new
+// pairs add no terms, and the bounds about the state they were measured at still hold). The vertices of a colour read
+// the positions of the colour's start and are written after all have been computed, so nothing depends on the thread
+// count. With `Acceleration::chebyshev`, after each sweep the vertices no active contact pair acted on in it are
+// extrapolated (Chebyshev's semi-iteration, `accelerate`), cut to their bounds; an extrapolation that raises the
+// incremental potential above the last accepted iterate's is undone and the recurrence restarts. A sweep whose residual
+// is at most `sweep_tolerance` ends the step.
 #include "solver/colouring.hpp"
 #include "solver/step.hpp"
 
@@ -194,8 +195,12 @@ bool BlockDescent::sweep(Step& s, int index) {
   st.residual = record.residual;
   st.sweep_records.push_back(record);
   st.counters[Counter::bound_clamps] += static_cast<double>(cut);
-  bool stale = cut > 0 || refreshed_;
-  for (const auto& [k, c] : requery_) stale = !c->still_valid(s.y) || stale;
+  // The bounds again: after any cut or stale set, or (redetect_share > 0) only once more
+  // than that share of the vertices were cut (the bounds about anchor_ keep holding).
+  const double share = s.settings.redetect_share;
+  bool stale = share > 0 ? static_cast<double>(cut) > share * n : cut > 0 || refreshed_;
+  if (!(share > 0))
+    for (const auto& [k, c] : requery_) stale = !c->still_valid(s.y) || stale;
   const bool met = record.residual <= s.settings.sweep_tolerance;
   if (stale && index + 1 < s.settings.iterations && !met) measure_bounds(s);
   return met;

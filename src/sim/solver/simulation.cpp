@@ -36,11 +36,13 @@ void Simulation::check() const {
     throw ArgumentError("x", "x has " + std::to_string(x.cols()) + " columns and v " + std::to_string(v.cols()) +
                                  ", the model " + count + " vertices (start_at_rest() sets both)");
   if (!(std::isfinite(solver.dt) && solver.dt > 0)) throw ArgumentError("solver.dt", "expected a finite number > 0");
-  if (solver.substeps < 1) throw ArgumentError("solver.substeps", "expected at least 1");
+  if (solver.substeps < 0) throw ArgumentError("solver.substeps", "expected at least 1 (or 0: the mode's default)");
   if (!(std::isfinite(solver.tolerance) && solver.tolerance > 0))
     throw ArgumentError("solver.tolerance", "expected a finite number > 0");
   if (solver.max_iterations < 1) throw ArgumentError("solver.max_iterations", "expected at least 1");
   if (solver.iterations < 1) throw ArgumentError("solver.iterations", "expected at least 1");
+  if (!(solver.redetect_share >= 0 && solver.redetect_share <= 1))
+    throw ArgumentError("solver.redetect_share", "expected a number in [0, 1]");
   if (!(std::isfinite(solver.reuse_tolerance) && solver.reuse_tolerance > 0))
     throw ArgumentError("solver.reuse_tolerance", "expected a finite number > 0");
   if (solver.reuse_max_cg_iterations < 0) throw ArgumentError("solver.reuse_max_cg_iterations", "expected at least 0");
@@ -166,7 +168,7 @@ FrameStats Simulation::step() {
   }
   // substeps steps of h = dt/S; step k ends at t0 + dt·k/S, the last exactly at t0 + dt. A
   // step that fails leaves the state of the frame's start.
-  const int substeps = solver.substeps;
+  const int substeps = solver.steps_per_frame();
   const double h = solver.dt / substeps, t0 = time;
   const Eigen::Matrix3Xd x0 = substeps > 1 ? x : Eigen::Matrix3Xd(), v0 = substeps > 1 ? v : Eigen::Matrix3Xd();
   FrameStats frame_stats;
@@ -203,7 +205,7 @@ void Simulation::set_obstacle_pose(const std::string& name, const Eigen::Isometr
   }
   args::position("translation", pose.translation());
   args::rotation("rotation", pose.linear());
-  it->place(PlacedPose{time + 0.5 * solver.dt / std::max(solver.substeps, 1), pose});
+  it->place(PlacedPose{time + 0.5 * solver.dt / solver.steps_per_frame(), pose});
 }
 
 }  // namespace pce::sim

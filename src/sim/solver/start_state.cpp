@@ -84,7 +84,7 @@ StartStateReport check_start_state(Simulation& sim) {
   // Contact already active at the start: each effect's own test, as the first step sees it.
   StepContext ctx;
   ctx.frame = sim.frame + 1;
-  ctx.dt = sim.solver.dt / std::max(sim.solver.substeps, 1);  // the first step's
+  ctx.dt = sim.solver.dt / sim.solver.steps_per_frame();  // the first step's
   ctx.time = sim.time + ctx.dt;
   ctx.model = &sim.model;
   const Eigen::Matrix3Xd x = sim.x, v = sim.v;

@@ -84,7 +84,10 @@ inline constexpr EnumNames<SolverMode, 3> kSolverModeNames{{
 constexpr const EnumNames<SolverMode, 3>& enum_names(SolverMode) { return kSolverModeNames; }
 
 /// Block descent's sweeps per time step when the scene does not say (`solver.iterations`).
-inline constexpr int kDefaultBlockIterations = 20;
+inline constexpr int kDefaultBlockIterations = 5;
+/// Block descent's time steps per frame when the scene does not say (`solver.substeps`);
+/// Newton's and a single solve's are 1.
+inline constexpr int kDefaultBlockSubsteps = 5;
 
 /// Block descent's acceleration of its sweeps (scene key `solver.acceleration`,
 /// docs/simulation.md §5.5): none, or Chebyshev's semi-iterative method (Wang 2015, "A
@@ -108,8 +111,9 @@ constexpr const EnumNames<Acceleration, 2>& enum_names(Acceleration) { return kA
 struct SolverSettings {
   double dt = 1.0 / 40.0;  ///< a frame's time (s): `substeps` time steps of dt/substeps
   /// Time steps per frame (scene key `solver.substeps`, ≥ 1): each of dt/substeps, solved in
-  /// turn by the mode's solver; the frame's statistics cover them all (`FrameStats`).
-  int substeps = 1;
+  /// turn by the mode's solver; the frame's statistics cover them all (`FrameStats`). 0: the
+  /// mode's default (`steps_per_frame`).
+  int substeps = 0;
   int max_iterations = 50;                   ///< Newton iteration cap per step
   double tolerance = 1e-2;                   ///< on max|Δx|/(h·ℓ), 1/s
   SolverMode mode = SolverMode::newton;      ///< Newton, single solve or block descent
@@ -122,7 +126,18 @@ struct SolverSettings {
   /// Block descent: a step's sweeps stop once one's residual (its largest move over h·ℓ,
   /// `SweepRecord::residual`) is at most this (`solver.sweep_tolerance`; 0: all `iterations`).
   double sweep_tolerance = 0;
+  /// Block descent: after a sweep the bounds are measured again (with a broad-phase query
+  /// where a candidate set is no longer valid) when more than this share of the vertices
+  /// ended on their bound (`solver.redetect_share`, in [0, 1]); 0: when any did, or a
+  /// candidate set went stale (until then the stale set's missing pairs add no terms; the
+  /// bounds still hold every pair apart).
+  double redetect_share = 0;
   LinearSolver linear = LinearSolver::direct;  ///< direct: CHOLMOD when built with it, else LDLᵀ
+  /// The time steps of a frame: `substeps`, or when it is 0 the mode's default
+  /// (`kDefaultBlockSubsteps` for block descent, 1 otherwise).
+  int steps_per_frame() const {
+    return substeps > 0 ? substeps : mode == SolverMode::block_descent ? kDefaultBlockSubsteps : 1;
+  }
   /// factor_reuse: CG stops at ‖H Δx + g‖ ≤ η ‖g‖, this η (not a scene key).
   double reuse_tolerance = 1e-2;
   /// factor_reuse: CG iterations before it gives up and refactors (not a scene key; 0
@@ -303,10 +318,10 @@ class Simulation {
   /// starts.
   void start_at_rest();
 
-  /// Advances one frame: `solver.substeps` time steps of `solver.dt`/`substeps`. Throws
+  /// Advances one frame: `solver.steps_per_frame()` time steps of `solver.dt` divided by it. Throws
   /// `ArgumentError` before touching anything when the
   /// simulation is not runnable (`x` or `v` not one column per model vertex, a mass not > 0,
-  /// `solver.dt` or `solver.tolerance` not > 0, `solver.substeps` < 1, a null effect), and `SimulationError`
+  /// `solver.dt` or `solver.tolerance` not > 0, `solver.substeps` < 0, a null effect), and `SimulationError`
   /// ("frame N: …", naming the effect and vertex where one is to blame) when an energy, a
   /// gradient or the state becomes non-finite or the linear solve fails; nothing of that
   /// frame is kept (`x`, `v`, `frame` and `time` stay those of the last accepted step).
