@@ -247,6 +247,7 @@ INSTANTIATE_TEST_SUITE_P(BlockDescent, ContactLocalTerms, testing::Values(false,
                          [](const testing::TestParamInfo<bool>& i) { return i.param ? "friction" : "frictionless"; });
 
 TEST(BlockDescent, ARunDoesNotDependOnTheThreadCount) {
+  // at the default substeps, so the substeps' hand-over is covered too
   const std::string solver1 = R"({"mode": "block_descent", "iterations": 12, "threads": 1})";
   const std::string solver2 = R"({"mode": "block_descent", "iterations": 12, "threads": 2})";
   auto a = crumpled_sheets(0.003, 0.001, 5, solver1);
@@ -258,9 +259,10 @@ TEST(BlockDescent, ARunDoesNotDependOnTheThreadCount) {
     EXPECT_EQ(sa.counters.at("colours"), sb.counters.at("colours"));
     contacts += sa.counters.at("vertex_face_contacts") + sa.counters.at("obstacle_contacts");
     EXPECT_EQ(sa.stop, StopReason::sweeps);
-    EXPECT_EQ(sa.sweeps, 12);
+    EXPECT_EQ(sa.substeps, kDefaultBlockSubsteps);
+    EXPECT_EQ(sa.sweeps, 12 * kDefaultBlockSubsteps);
     EXPECT_EQ(sa.newton_iterations, 0);
-    EXPECT_EQ(sa.sweep_records.size(), 12u);
+    EXPECT_EQ(sa.sweep_records.size(), static_cast<std::size_t>(12 * kDefaultBlockSubsteps));
     EXPECT_TRUE(sa.iterations.empty());
   }
   EXPECT_GT(contacts, 0);
@@ -367,7 +369,8 @@ TEST(BlockDescent, TheModesDefaultsAreItsOwn) {
   // changes the mode; a scene's or --substeps' value stands in either mode; the C++ defaults
   // are the scene's. A frame at the defaults is their substeps × sweeps.
   const std::string base = R"({"dt": 0.01, "frames": 1, "meshes": [{"name": "a", "generator": {"type": "grid",
-    "width": 0.1, "height": 0.1, "nx": 2, "ny": 2}}], "effects": [{"type": "gravity"}], "solver": )";
+    "width": 0.1, "height": 0.1, "nx": 2, "ny": 2}}], "effects": [{"type": "gravity"}, {"type": "stretching",
+    "stiffness": 10}, {"type": "pins", "groups": [{"vertices": [0]}]}], "solver": )";
   const auto load = [&](const std::string& solver, SceneOverrides o = {}) {
     return load_scene_text(base + solver + "}", "s.json", PCE_TEST_TMP, o);
   };
@@ -454,6 +457,7 @@ TEST(BlockDescent, ConvergesToNewtonsStepAsSweepsGrow) {
   for (const int sweeps : {20, 200, 2000}) {
     SceneOverrides o;
     o.mode = SolverMode::block_descent;
+    o.substeps = 1;  // Newton's step, one per frame
     o.iterations = sweeps;
     const double error = (run(o) - reference).colwise().norm().maxCoeff();
     EXPECT_LT(error, previous) << sweeps << " sweeps";

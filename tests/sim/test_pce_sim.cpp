@@ -345,12 +345,13 @@ TEST(PceSim, ResumedRunEndsBitForBitWhereTheUninterruptedRunEnds) {
 }
 
 TEST(PceSim, ResumedBlockDescentRunEndsBitForBitWhereTheUninterruptedRunEnds) {
-  // crumple.json under block descent (10 sweeps a step): contact from frame 9; the resume from
-  // the checkpoint of frame 10 ends frame 15 where the uninterrupted run does (each step
-  // colours its vertices afresh, so nothing but the checkpoint carries over).
+  // crumple.json under block descent (2 substeps of 5 sweeps a frame): contact from frame 9;
+  // the resume from the checkpoint of frame 10 ends frame 15 where the uninterrupted run does
+  // (each step colours its vertices afresh, so nothing but the checkpoint carries over).
   json scene = read_json(kScenes / "crumple.json");
   scene["solver"]["mode"] = "block_descent";
-  scene["solver"]["iterations"] = 10;
+  scene["solver"]["substeps"] = 2;
+  scene["solver"]["iterations"] = 5;
   scene["solver"].erase("max_iterations");
   scene["solver"].erase("tolerance");
   const fs::path file = fs::path(PCE_TEST_TMP) / "crumple_block_descent.json";
@@ -362,6 +363,7 @@ TEST(PceSim, ResumedBlockDescentRunEndsBitForBitWhereTheUninterruptedRunEnds) {
   EXPECT_GT(contacts, 0);
   EXPECT_EQ(a.back()["stop"], "sweeps");
   EXPECT_EQ(a.back()["sweeps"], 10);
+  EXPECT_EQ(a.back()["substeps"], 2);
   EXPECT_EQ(a.back()["newton_iterations"], 0);
 }
 
