@@ -31,8 +31,9 @@ Modes and their variants (`--modes`, comma-separated; `scene --mode`):
 
     MODE[:N][/LINEAR[@TOL]][+mu0]
 
-  MODE     newton, single_solve or block_descent; `:N` its iterations (block descent's sweeps),
-           passed as --iterations N. pce-sim is given `--mode MODE [--iterations N]` when its
+  MODE     newton, single_solve or block_descent; `:N` its iterations (block descent's sweeps
+           per substep), passed as --iterations N; without `:N` the mode's defaults (block
+           descent: 5 substeps x 5 sweeps a frame; the scene has no substeps key). pce-sim is given `--mode MODE [--iterations N]` when its
            --help lists --mode; an older pce-sim without it runs `newton` with no option and
            `single_solve` as --single-solve, and a mode it cannot select is reported as not run
            (the other runs go on).
@@ -90,7 +91,7 @@ NEWTON_FRAMES frames with window NEWTON_WINDOW at NEWTON_LEVELS, each linear sol
 LINEAR_LEVELS at its levels, 1 and 2 threads, and `+mu0` with each level's DEFAULT_LINEAR at 1
 thread; BLOCK_DESCENT at BLOCK_LEVELS at the levels' default frames, 1 and 2 threads),
 `--plan quick` run_all --quick's (2k, 3 frames: newton/direct, newton/direct+mu0,
-block_descent:20). The constants next to plan_groups are the one place to change them.
+block_descent). The constants next to plan_groups are the one place to change them.
 --dry-run prints the pce-sim commands (and each run's window) and writes only the scenes.
 
 Only the Python standard library is used. Timings are comparable only within one run of this
@@ -151,7 +152,7 @@ NEWTON_LEVELS = ["8k", "32k", "128k"]
 # iterations grow with the mesh, thousands a frame at 8k).
 LINEAR_LEVELS = {"direct": ["8k", "32k", "128k"], "amg": ["8k"], "pcg": ["8k"]}
 DEFAULT_LINEAR = {"8k": "direct", "32k": "direct", "128k": "direct"}  # each level's +mu0 (friction off) run
-BLOCK_DESCENT = "block_descent:20"
+BLOCK_DESCENT = "block_descent"  # its defaults: 5 substeps x 5 sweeps a frame
 BLOCK_LEVELS = ["8k", "32k", "128k"]        # at each level's default frames (DEFAULT_FRAMES), no window
 
 
