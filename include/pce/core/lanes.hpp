@@ -48,19 +48,19 @@ template <class Scalar> struct Lanes {
 
   Lanes() = default;
   /// Every lane `v`.
-  Lanes(const Scalar& v) : p(Eigen::internal::pset1<Packet>(v)) {}  // NOLINT: implicit like a scalar
+  PCE_HOST_DEVICE Lanes(const Scalar& v) : p(Eigen::internal::pset1<Packet>(v)) {}  // NOLINT: implicit like a scalar
   /// From a packet.
-  explicit Lanes(const Packet& q) : p(q) {}
+  PCE_HOST_DEVICE explicit Lanes(const Packet& q) : p(q) {}
   /// Lane `i` of every one of `size` consecutive records of `stride` scalars: `src[i·stride]`.
-  static Lanes gather(const Scalar* src, std::ptrdiff_t stride) {
+  PCE_HOST_DEVICE static Lanes gather(const Scalar* src, std::ptrdiff_t stride) {
     alignas(64) Scalar v[size];
     for (int i = 0; i < size; ++i) v[i] = src[i * stride];
     return Lanes(Eigen::internal::pload<Packet>(v));
   }
   /// The lanes, stored to `dst[0 .. size)`.
-  void store(Scalar* dst) const { Eigen::internal::pstoreu(dst, p); }
+  PCE_HOST_DEVICE void store(Scalar* dst) const { Eigen::internal::pstoreu(dst, p); }
   /// Lane `i`.
-  Scalar operator[](int i) const {
+  PCE_HOST_DEVICE Scalar operator[](int i) const {
     alignas(64) Scalar v[size];
     Eigen::internal::pstore(v, p);
     return v[i];
@@ -68,25 +68,25 @@ template <class Scalar> struct Lanes {
 
   ///@{
   /// Lane-wise arithmetic, as the scalar operators (Eigen's `padd`, `psub`, `pmul`, `pdiv`).
-  friend Lanes operator+(const Lanes& a, const Lanes& b) { return Lanes(Eigen::internal::padd(a.p, b.p)); }
-  friend Lanes operator-(const Lanes& a, const Lanes& b) { return Lanes(Eigen::internal::psub(a.p, b.p)); }
-  friend Lanes operator*(const Lanes& a, const Lanes& b) { return Lanes(Eigen::internal::pmul(a.p, b.p)); }
-  friend Lanes operator/(const Lanes& a, const Lanes& b) { return Lanes(Eigen::internal::pdiv(a.p, b.p)); }
+  PCE_HOST_DEVICE friend Lanes operator+(const Lanes& a, const Lanes& b) { return Lanes(Eigen::internal::padd(a.p, b.p)); }
+  PCE_HOST_DEVICE friend Lanes operator-(const Lanes& a, const Lanes& b) { return Lanes(Eigen::internal::psub(a.p, b.p)); }
+  PCE_HOST_DEVICE friend Lanes operator*(const Lanes& a, const Lanes& b) { return Lanes(Eigen::internal::pmul(a.p, b.p)); }
+  PCE_HOST_DEVICE friend Lanes operator/(const Lanes& a, const Lanes& b) { return Lanes(Eigen::internal::pdiv(a.p, b.p)); }
   /// −a per lane, the sign bit flipped as the scalar minus does (Eigen's AVX `pnegate` is
   /// `0 − a`, which gives +0 for +0)
-  friend Lanes operator-(const Lanes& a) {
+  PCE_HOST_DEVICE friend Lanes operator-(const Lanes& a) {
     return Lanes(Eigen::internal::pxor(a.p, Eigen::internal::pset1<Packet>(Scalar(-0.0))));
   }
-  Lanes& operator+=(const Lanes& b) { return *this = *this + b; }
-  Lanes& operator-=(const Lanes& b) { return *this = *this - b; }
-  Lanes& operator*=(const Lanes& b) { return *this = *this * b; }
-  Lanes& operator/=(const Lanes& b) { return *this = *this / b; }
+  PCE_HOST_DEVICE Lanes& operator+=(const Lanes& b) { return *this = *this + b; }
+  PCE_HOST_DEVICE Lanes& operator-=(const Lanes& b) { return *this = *this - b; }
+  PCE_HOST_DEVICE Lanes& operator*=(const Lanes& b) { return *this = *this * b; }
+  PCE_HOST_DEVICE Lanes& operator/=(const Lanes& b) { return *this = *this / b; }
   ///@}
   /// Correctly rounded square root per lane (as `std::sqrt`). Eigen's packet square root is the
   /// hardware's for SSE and AVX doubles; for floats and AVX-512 doubles under `EIGEN_FAST_MATH`
   /// (Eigen's default) it is a reciprocal square-root estimate refined by a Newton step, within
   /// an ulp but not always `std::sqrt`'s result, so those are rooted lane by lane.
-  friend Lanes sqrt(const Lanes& a) {
+  PCE_HOST_DEVICE friend Lanes sqrt(const Lanes& a) {
 #if EIGEN_FAST_MATH
     if constexpr (!(std::is_same_v<Scalar, double> && size <= 4)) {
       alignas(64) Scalar v[size];
@@ -98,44 +98,44 @@ template <class Scalar> struct Lanes {
     return Lanes(Eigen::internal::psqrt(a.p));
   }
   /// |a| per lane.
-  friend Lanes abs(const Lanes& a) { return Lanes(Eigen::internal::pabs(a.p)); }
+  PCE_HOST_DEVICE friend Lanes abs(const Lanes& a) { return Lanes(Eigen::internal::pabs(a.p)); }
 
   ///@{
   /// Lane-wise comparison into a `LaneMask` (false in a lane where either is NaN, but `!=`).
-  friend LaneMask<Scalar> operator<(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_lt(a.p, b.p)}; }
-  friend LaneMask<Scalar> operator<=(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_le(a.p, b.p)}; }
-  friend LaneMask<Scalar> operator>(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_lt(b.p, a.p)}; }
-  friend LaneMask<Scalar> operator>=(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_le(b.p, a.p)}; }
-  friend LaneMask<Scalar> operator==(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_eq(a.p, b.p)}; }
-  friend LaneMask<Scalar> operator!=(const Lanes& a, const Lanes& b) { return !(a == b); }
+  PCE_HOST_DEVICE friend LaneMask<Scalar> operator<(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_lt(a.p, b.p)}; }
+  PCE_HOST_DEVICE friend LaneMask<Scalar> operator<=(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_le(a.p, b.p)}; }
+  PCE_HOST_DEVICE friend LaneMask<Scalar> operator>(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_lt(b.p, a.p)}; }
+  PCE_HOST_DEVICE friend LaneMask<Scalar> operator>=(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_le(b.p, a.p)}; }
+  PCE_HOST_DEVICE friend LaneMask<Scalar> operator==(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_eq(a.p, b.p)}; }
+  PCE_HOST_DEVICE friend LaneMask<Scalar> operator!=(const Lanes& a, const Lanes& b) { return !(a == b); }
   ///@}
 };
 
 ///@{
 /// Lane-wise not, and, or.
-template <class Scalar> LaneMask<Scalar> operator!(const LaneMask<Scalar>& m) {
+template <class Scalar> PCE_HOST_DEVICE LaneMask<Scalar> operator!(const LaneMask<Scalar>& m) {
   using P = typename LaneMask<Scalar>::Packet;
   return {Eigen::internal::pandnot(Eigen::internal::ptrue(P()), m.p)};
 }
-template <class Scalar> LaneMask<Scalar> operator&&(const LaneMask<Scalar>& a, const LaneMask<Scalar>& b) {
+template <class Scalar> PCE_HOST_DEVICE LaneMask<Scalar> operator&&(const LaneMask<Scalar>& a, const LaneMask<Scalar>& b) {
   return {Eigen::internal::pand(a.p, b.p)};
 }
-template <class Scalar> LaneMask<Scalar> operator||(const LaneMask<Scalar>& a, const LaneMask<Scalar>& b) {
+template <class Scalar> PCE_HOST_DEVICE LaneMask<Scalar> operator||(const LaneMask<Scalar>& a, const LaneMask<Scalar>& b) {
   return {Eigen::internal::por(a.p, b.p)};
 }
 ///@}
 
 /// Per lane: `a` where `m` holds, else `b`.
 template <class Scalar>
-Lanes<Scalar> select(const LaneMask<Scalar>& m, const Lanes<Scalar>& a, const Lanes<Scalar>& b) {
+PCE_HOST_DEVICE Lanes<Scalar> select(const LaneMask<Scalar>& m, const Lanes<Scalar>& a, const Lanes<Scalar>& b) {
   return Lanes<Scalar>(Eigen::internal::pselect(m.p, a.p, b.p));
 }
 /// The scalar `select`: `m ? a : b`.
-template <class Scalar> Scalar select(bool m, const Scalar& a, const Scalar& b) { return m ? a : b; }
+template <class Scalar> PCE_HOST_DEVICE Scalar select(bool m, const Scalar& a, const Scalar& b) { return m ? a : b; }
 
 namespace detail {
 /// The lanes of a mask as bits, lane i in bit i.
-template <class Scalar> unsigned mask_bits(const LaneMask<Scalar>& m) {
+template <class Scalar> PCE_HOST_DEVICE unsigned mask_bits(const LaneMask<Scalar>& m) {
   constexpr int n = lanes_width<Scalar>;
   alignas(64) Scalar v[n];
   Eigen::internal::pstore(v, m.p);
@@ -152,7 +152,7 @@ template <class Scalar> unsigned mask_bits(const LaneMask<Scalar>& m) {
 /// Transposing store: `W = lanes_width<Scalar>` packets `v[k]` (entry k of W pairs, one per
 /// lane) written as W rows, `dst[p][k] = lane p of v[k]` (through Eigen's in-register
 /// `ptranspose`).
-template <class Scalar> void store_transposed(const Lanes<Scalar>* v, Scalar* const* dst) {
+template <class Scalar> PCE_HOST_DEVICE void store_transposed(const Lanes<Scalar>* v, Scalar* const* dst) {
   constexpr int n = lanes_width<Scalar>;
   Eigen::internal::PacketBlock<typename Lanes<Scalar>::Packet, n> block;
   for (int k = 0; k < n; ++k) block.packet[k] = v[k].p;
@@ -162,15 +162,15 @@ template <class Scalar> void store_transposed(const Lanes<Scalar>* v, Scalar* co
 
 ///@{
 /// Whether `m` holds in some lane / in every lane.
-template <class Scalar> bool any(const LaneMask<Scalar>& m) { return detail::mask_bits(m) != 0; }
-template <class Scalar> bool all(const LaneMask<Scalar>& m) {
+template <class Scalar> PCE_HOST_DEVICE bool any(const LaneMask<Scalar>& m) { return detail::mask_bits(m) != 0; }
+template <class Scalar> PCE_HOST_DEVICE bool all(const LaneMask<Scalar>& m) {
   return detail::mask_bits(m) == (1u << lanes_width<Scalar>)-1u;
 }
 ///@}
 ///@{
 /// The scalar `any` and `all`: `m`.
-inline bool any(bool m) { return m; }
-inline bool all(bool m) { return m; }
+PCE_HOST_DEVICE inline bool any(bool m) { return m; }
+PCE_HOST_DEVICE inline bool all(bool m) { return m; }
 ///@}
 
 }  // namespace pce

@@ -13,7 +13,7 @@ namespace pce {
 
 /// A unit vector orthogonal to the unit vector `u`: `u × e_k` normalised, with e_k the axis of
 /// u's smallest component (the first such), so that the cross product is far from zero.
-template <class Scalar> Vec3<Scalar> any_orthogonal(const Vec3<Scalar>& u) {
+template <class Scalar> PCE_HOST_DEVICE Vec3<Scalar> any_orthogonal(const Vec3<Scalar>& u) {
   Eigen::Index k;
   u.cwiseAbs().minCoeff(&k);
   return u.cross(Vec3<Scalar>::Unit(k)).normalized();

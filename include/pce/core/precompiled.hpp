@@ -19,7 +19,9 @@
   M(EXTERN, long double)
 
 /// Declares (`PCE_PRECOMPILED` defined) the instantiations `M` lists as compiled elsewhere.
-#if defined(PCE_PRECOMPILED)
+/// A CUDA translation unit declares none: its device code needs the bodies, and `pce::precompiled`
+/// is host code.
+#if defined(PCE_PRECOMPILED) && !defined(__CUDACC__)
 #define PCE_DECLARE_PRECOMPILED(M) PCE_PRECOMPILED_SCALARS(M, extern)
 #else
 #define PCE_DECLARE_PRECOMPILED(M)

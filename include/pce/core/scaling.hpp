@@ -25,7 +25,7 @@ namespace pce::detail {
 /// (more than 64 from either end of the exponent range); false otherwise (subnormal, ∞, NaN,
 /// or another type), and the caller uses `frexp`. The same as `frexp`/`ldexp`, without the
 /// library calls.
-template <class Scalar> bool moderate_exponent(const Scalar& big, int& ex, Scalar& down, Scalar& up) {
+template <class Scalar> PCE_HOST_DEVICE bool moderate_exponent(const Scalar& big, int& ex, Scalar& down, Scalar& up) {
   using Limits = std::numeric_limits<Scalar>;
   if constexpr (std::is_same_v<Scalar, double> || std::is_same_v<Scalar, float>) {
     using Bits = std::conditional_t<std::is_same_v<Scalar, double>, std::uint64_t, std::uint32_t>;
@@ -51,7 +51,7 @@ template <class Scalar> struct PowerOfTwoScale {
   bool moderate;
   Scalar factor;   ///< 2^-ex when moderate, else 1
   Scalar inverse;  ///< 2^ex when moderate, else 1
-  explicit PowerOfTwoScale(const Scalar& big) {
+  PCE_HOST_DEVICE explicit PowerOfTwoScale(const Scalar& big) {
     using std::frexp;
     using std::ldexp;
     moderate = moderate_exponent(big, ex, factor, inverse);
@@ -63,19 +63,19 @@ template <class Scalar> struct PowerOfTwoScale {
     inverse = moderate ? Scalar(ldexp(Scalar(1), ex)) : Scalar(1);
   }
   /// v · 2^-ex, for any fixed-size Eigen vector or matrix
-  template <class Derived> typename Derived::PlainObject down(const Eigen::MatrixBase<Derived>& v) const {
+  template <class Derived> PCE_HOST_DEVICE typename Derived::PlainObject down(const Eigen::MatrixBase<Derived>& v) const {
     using std::ldexp;
     if (moderate) return v * factor;
     const int e = ex;
     return v.unaryExpr([e](const Scalar& c) { return Scalar(ldexp(c, -e)); });
   }
   /// s · 2^-ex
-  Scalar down(const Scalar& s) const {
+  PCE_HOST_DEVICE Scalar down(const Scalar& s) const {
     using std::ldexp;
     return moderate ? Scalar(s * factor) : Scalar(ldexp(s, -ex));
   }
   /// v · 2^ex
-  Scalar up(const Scalar& v) const {
+  PCE_HOST_DEVICE Scalar up(const Scalar& v) const {
     using std::ldexp;
     return moderate ? Scalar(v * inverse) : Scalar(ldexp(v, ex));
   }

@@ -23,7 +23,7 @@ template <class Scalar, int N> struct Tridiagonalization {
   Scalar beta[R];
 
   /// Reduces `A` (entries of order one: callers rescale first, `core/scaling.hpp`).
-  explicit Tridiagonalization(MatN<Scalar, N> A) {
+  PCE_HOST_DEVICE explicit Tridiagonalization(MatN<Scalar, N> A) {
     using std::sqrt;
     const Scalar eps = Constants<Scalar>::epsilon();
     for (int k = 0; k + 2 < N; ++k) {
@@ -49,7 +49,7 @@ template <class Scalar, int N> struct Tridiagonalization {
   }
 
   /// `H` as a matrix.
-  MatN<Scalar, N> matrix() const {
+  PCE_HOST_DEVICE MatN<Scalar, N> matrix() const {
     MatN<Scalar, N> H = MatN<Scalar, N>::Identity();
     for (int k = 0; k + 2 < N; ++k)
       if (beta[k] != Scalar(0)) H.noalias() -= (beta[k] * (H * v[k])) * v[k].transpose();

@@ -21,6 +21,15 @@
 #define PCE_ALWAYS_INLINE inline
 #endif
 
+/// Marks a function callable from both host and device code when the including file is
+/// compiled by a CUDA compiler (`__host__ __device__`), and nothing otherwise: every per-pair
+/// function of the core carries it (`docs/cuda.md` lists the few that stay host-only).
+#if defined(__CUDACC__)
+#define PCE_HOST_DEVICE __host__ __device__
+#else
+#define PCE_HOST_DEVICE
+#endif
+
 namespace pce {
 
 /// Column vector of N scalars.
@@ -58,7 +67,7 @@ enum class Status {
 };
 
 /// Machine-readable name of a status, as `pce-probe` prints it.
-inline const char* to_string(Status s) {
+PCE_HOST_DEVICE inline const char* to_string(Status s) {
   switch (s) {
     case Status::ok:
       return "ok";
@@ -77,10 +86,10 @@ inline const char* to_string(Status s) {
 /// Per-scalar constants. Specialise for a custom scalar if the defaults do not fit.
 template <class Scalar> struct Constants {
   /// Unit roundoff-sized epsilon of the type.
-  static Scalar epsilon() { return std::numeric_limits<Scalar>::epsilon(); }
+  PCE_HOST_DEVICE static Scalar epsilon() { return std::numeric_limits<Scalar>::epsilon(); }
   /// Largest accepted |coordinate|: inputs beyond it are `invalid_input` ("absurd
   /// magnitude"). Chosen so that squared differences of coordinates stay finite.
-  static Scalar max_coordinate() {
+  PCE_HOST_DEVICE static Scalar max_coordinate() {
     using std::sqrt;
     return sqrt((std::numeric_limits<Scalar>::max)()) / Scalar(16);
   }
@@ -88,14 +97,14 @@ template <class Scalar> struct Constants {
 
 namespace detail {
 
-template <class Scalar> inline bool is_finite(const Scalar& v) {
+template <class Scalar> PCE_HOST_DEVICE inline bool is_finite(const Scalar& v) {
   using std::isfinite;
   return isfinite(v);
 }
 
 /// Whether every argument is finite: for the built-in floating types one sum `Σ 0·vᵢ`, which is
 /// 0 exactly when each vᵢ is finite (0·±∞ and 0·NaN are NaN), without a branch per value.
-template <class Scalar, class... More> PCE_ALWAYS_INLINE bool finite_all(const Scalar& v, const More&... more) {
+template <class Scalar, class... More> PCE_HOST_DEVICE PCE_ALWAYS_INLINE bool finite_all(const Scalar& v, const More&... more) {
   if constexpr (std::is_floating_point_v<Scalar>)
     return ((Scalar(0) * v) + ... + (Scalar(0) * Scalar(more))) == Scalar(0);
   else
@@ -103,7 +112,7 @@ template <class Scalar, class... More> PCE_ALWAYS_INLINE bool finite_all(const S
 }
 
 /// `invalid_input` unless every coordinate is finite and within `max_coordinate`.
-template <class Derived> PCE_ALWAYS_INLINE bool coordinates_valid(const Eigen::MatrixBase<Derived>& x) {
+template <class Derived> PCE_HOST_DEVICE PCE_ALWAYS_INLINE bool coordinates_valid(const Eigen::MatrixBase<Derived>& x) {
   using std::abs;
   using Scalar = typename Derived::Scalar;
   const Scalar lim = Constants<Scalar>::max_coordinate();
@@ -118,7 +127,7 @@ template <class Derived> PCE_ALWAYS_INLINE bool coordinates_valid(const Eigen::M
   }
 }
 
-template <class Derived> inline bool all_finite(const Eigen::MatrixBase<Derived>& m) {
+template <class Derived> PCE_HOST_DEVICE inline bool all_finite(const Eigen::MatrixBase<Derived>& m) {
   for (Eigen::Index j = 0; j < m.cols(); ++j)
     for (Eigen::Index i = 0; i < m.rows(); ++i)
       if (!is_finite(m(i, j))) return false;
@@ -126,7 +135,7 @@ template <class Derived> inline bool all_finite(const Eigen::MatrixBase<Derived>
 }
 
 /// +1 for v >= 0 (including +0 and -0), -1 otherwise: the side convention at l = 0.
-template <class Scalar> inline Scalar sign_nonneg(const Scalar& v) { return v < Scalar(0) ? Scalar(-1) : Scalar(1); }
+template <class Scalar> PCE_HOST_DEVICE inline Scalar sign_nonneg(const Scalar& v) { return v < Scalar(0) ? Scalar(-1) : Scalar(1); }
 
 }  // namespace detail
 }  // namespace pce

@@ -50,7 +50,7 @@ template <class Scalar> struct BatchOutput {
 namespace detail {
 
 /// NaN in row `i` of every float output (a row that is not ok).
-template <class Scalar> void batch_nan_row(const BatchOutput<Scalar>& out, std::size_t i, int dofs, int frame_dofs) {
+template <class Scalar> PCE_HOST_DEVICE void batch_nan_row(const BatchOutput<Scalar>& out, std::size_t i, int dofs, int frame_dofs) {
   const Scalar nan = std::numeric_limits<Scalar>::quiet_NaN();
   const auto fill = [&](Scalar* p, std::size_t width) {
     if (p)
@@ -68,7 +68,7 @@ template <class Scalar> void batch_nan_row(const BatchOutput<Scalar>& out, std::
 /// Whether every entry of `m` is finite. For the built-in floating types as one vectorised
 /// sum, Σ 0·mᵢⱼ, which is 0 exactly when every entry is finite (0·±∞ and 0·NaN are NaN); it
 /// costs about half of Eigen's `allFinite` per pair. Entry by entry for the other types.
-template <class Derived> bool batch_finite(const Eigen::MatrixBase<Derived>& m) {
+template <class Derived> PCE_HOST_DEVICE bool batch_finite(const Eigen::MatrixBase<Derived>& m) {
   using Scalar = typename Derived::Scalar;
   if constexpr (std::is_floating_point_v<Scalar>)
     return (m.array() * Scalar(0)).sum() == Scalar(0);
@@ -81,7 +81,7 @@ template <class Derived> bool batch_finite(const Eigen::MatrixBase<Derived>& m) 
 /// with the `energy_gradient` / `energy_hessian` / `projected_hessian` overloads;
 /// `eigenvalues(e, v)` fills the first `FrameDofs` entries of `v` and returns how many are real.
 template <int Dofs, int FrameDofs, class Scalar, class Energy, class Eigenvalues>
-Status batch_store(const Energy& e, const Scalar& length, const Scalar& value, Projection strategy,
+PCE_HOST_DEVICE Status batch_store(const Energy& e, const Scalar& length, const Scalar& value, Projection strategy,
                    const BatchOutput<Scalar>& out, std::size_t i, Eigenvalues eigenvalues) {
   using RowMajor = Eigen::Matrix<Scalar, Dofs, Dofs, Eigen::RowMajor>;
   VecN<Scalar, Dofs> g = VecN<Scalar, Dofs>::Zero();  // (zeroed: GCC cannot tell it is stored only if computed)
@@ -117,7 +117,7 @@ Status batch_store(const Energy& e, const Scalar& length, const Scalar& value, P
 
 /// Row `i` of `evaluate_batch` by the single-pair functions.
 template <class Pair, class Scalar, class Length, class Penalty>
-void batch_row(const Scalar* x, std::size_t i, const Length& length, const Penalty& penalty, Projection strategy,
+PCE_HOST_DEVICE void batch_row(const Scalar* x, std::size_t i, const Length& length, const Penalty& penalty, Projection strategy,
                const BatchOutput<Scalar>& out) {
   constexpr int D = Pair::dofs, F = Pair::frame_dofs;
   const auto eigenvalues = [](const auto& e, VecN<Scalar, Pair::frame_dofs>& v) {
@@ -136,7 +136,7 @@ void batch_row(const Scalar* x, std::size_t i, const Length& length, const Penal
 /// kinds, a scalar Eigen vectorises, valid penalty parameters, and outputs the lanes compute (not
 /// the eigenvalues; a projection only by `analytic`, `abs` or `none`).
 template <class Pair, class Scalar, class Penalty>
-bool batch_vectorises(const Penalty& penalty, Projection strategy, const BatchOutput<Scalar>& out) {
+PCE_HOST_DEVICE bool batch_vectorises(const Penalty& penalty, Projection strategy, const BatchOutput<Scalar>& out) {
   if constexpr (!(std::is_same_v<Pair, VertexFace> || std::is_same_v<Pair, EdgeEdge>) ||
                 !std::is_floating_point_v<Scalar> || lanes_width<Scalar> < 2) {
     (void)penalty, (void)strategy, (void)out;
@@ -149,7 +149,7 @@ bool batch_vectorises(const Penalty& penalty, Projection strategy, const BatchOu
 }
 
 /// Index of entry (r, c) of a symmetric 12×12 matrix in `UpperTriangle12`.
-constexpr int upper_index(int r, int c) {
+PCE_HOST_DEVICE constexpr int upper_index(int r, int c) {
   const int lo = r < c ? r : c, hi = r < c ? c : r;
   return lo * 12 - lo * (lo - 1) / 2 + (hi - lo);
 }
@@ -162,7 +162,7 @@ constexpr int upper_index(int r, int c) {
 /// finite, finite outputs. Returns the bits of the lanes it left for the scalar path.
 /// Without `Basis` (no Hessian asked for) the frame's orthonormal basis is not built.
 template <class Pair, bool Basis, class Scalar, class Length, class Penalty>
-unsigned evaluate_lanes(const Scalar* x, std::size_t first, const Length& length, const Penalty& penalty,
+PCE_HOST_DEVICE unsigned evaluate_lanes(const Scalar* x, std::size_t first, const Length& length, const Penalty& penalty,
                         Projection strategy, const BatchOutput<Scalar>& out) {
   using T = Lanes<Scalar>;
   constexpr int W = lanes_width<Scalar>;
@@ -308,7 +308,7 @@ unsigned evaluate_lanes(const Scalar* x, std::size_t first, const Length& length
 /// status is not ok. A pair whose requested outputs are not all finite (ψ included) is
 /// `overflow`.
 template <class Pair, class Scalar, class Length, class Penalty>
-void evaluate_batch(const Scalar* x, std::size_t count, const Length& length, const Penalty& penalty,
+PCE_HOST_DEVICE void evaluate_batch(const Scalar* x, std::size_t count, const Length& length, const Penalty& penalty,
                     Projection strategy, const BatchOutput<Scalar>& out) {
   std::size_t i = 0;
   if constexpr (std::is_same_v<Pair, VertexFace> || std::is_same_v<Pair, EdgeEdge>) {
@@ -330,7 +330,7 @@ void evaluate_batch(const Scalar* x, std::size_t count, const Length& length, co
 /// in `out.feature` and the eigenvalues of that kind (9, 6 or 3, then NaN) in
 /// `out.eigenvalues` (width 9).
 template <class Pair, class Scalar, class Penalty>
-void closest_feature_batch(const Scalar* x, std::size_t count, const Penalty& penalty, Projection strategy,
+PCE_HOST_DEVICE void closest_feature_batch(const Scalar* x, std::size_t count, const Penalty& penalty, Projection strategy,
                            const BatchOutput<Scalar>& out) {
   const auto eigenvalues = [](const ClosestFeatureEnergy<Scalar>& e, Vec9<Scalar>& v) {
     const FeatureEigenvalues<Scalar> r = feature_eigenvalues(e);

@@ -31,7 +31,7 @@ namespace pce::detail {
 
 /// Rows: an orthonormal basis of the vectors in R^n orthogonal to (1, …, 1) (the Helmert
 /// basis: `h_i = (1, …, 1, −(i+1), 0, …)/√((i+1)(i+2))` with i+1 ones).
-template <class Scalar, int n> Eigen::Matrix<Scalar, n - 1, n> helmert_basis() {
+template <class Scalar, int n> PCE_HOST_DEVICE Eigen::Matrix<Scalar, n - 1, n> helmert_basis() {
   using std::sqrt;
   Eigen::Matrix<Scalar, n - 1, n> h = Eigen::Matrix<Scalar, n - 1, n>::Zero();
   for (int i = 0; i < n - 1; ++i) {
@@ -47,18 +47,18 @@ template <class Scalar, int n> Eigen::Matrix<Scalar, n - 1, n> helmert_basis() {
 template <class Scalar, int N> struct SymmetricSum {
   MatN<Scalar, N> half = MatN<Scalar, N>::Zero();
   /// adds `μ v vᵀ`
-  void rank_one(const Scalar& mu, const VecN<Scalar, N>& v) {
+  PCE_HOST_DEVICE void rank_one(const Scalar& mu, const VecN<Scalar, N>& v) {
     half.noalias() += (Scalar(mu / Scalar(2)) * v) * v.transpose();
   }
   /// adds `a bᵀ + b aᵀ`
-  void rank_two(const VecN<Scalar, N>& a, const VecN<Scalar, N>& b) { half.noalias() += a * b.transpose(); }
-  MatN<Scalar, N> matrix() const { return half + half.transpose(); }
+  PCE_HOST_DEVICE void rank_two(const VecN<Scalar, N>& a, const VecN<Scalar, N>& b) { half.noalias() += a * b.transpose(); }
+  PCE_HOST_DEVICE MatN<Scalar, N> matrix() const { return half + half.transpose(); }
 };
 
 /// `Q proj(S) Qᵀ` for orthonormal columns `Q`: diagonalise `S` (tridiagonalisation and
 /// implicit QR, `core/jacobi.hpp`) and sum `λ (Q v)(Q v)ᵀ` over its positive eigenpairs.
 template <class Scalar, int Dofs, int K>
-MatN<Scalar, Dofs> projected_in_basis(const Eigen::Matrix<Scalar, Dofs, K>& Q, const MatN<Scalar, K>& S) {
+PCE_HOST_DEVICE MatN<Scalar, Dofs> projected_in_basis(const Eigen::Matrix<Scalar, Dofs, K>& Q, const MatN<Scalar, K>& S) {
   VecN<Scalar, K> lambda;
   MatN<Scalar, K> V;
   symmetric_qr_eigen(S, lambda, V);
@@ -68,6 +68,15 @@ MatN<Scalar, Dofs> projected_in_basis(const Eigen::Matrix<Scalar, Dofs, K>& Q, c
   return sum.matrix();
 }
 
+/// `const Eigen::Matrix<Scalar, 3, 4> NAME = helmert_basis<Scalar, 4>()`, built once per
+/// program on the host (a function-scope static) and per call in device code, which has no
+/// dynamically initialised statics; the same values either way.
+#if defined(__CUDA_ARCH__)
+#define PCE_HELMERT_4(NAME) const Eigen::Matrix<Scalar, 3, 4> NAME = helmert_basis<Scalar, 4>()
+#else
+#define PCE_HELMERT_4(NAME) static const Eigen::Matrix<Scalar, 3, 4> NAME = helmert_basis<Scalar, 4>()
+#endif
+
 /// The plane kinds' reduced problem `S = R M Rᵀ` (5×5) for `Jᵀ(c2 ggᵀ + c1 H_l)J`
 /// (c1 = σψ′, c2 = ψ″) in the orthonormal basis `h_i ⊗ n̂` (i = 0, 1, 2), `p̂_2 ⊗ ê_k`
 /// (k = 0, 1): with `r_k = R₃ e_k` (R₃ = h Pᵀ), `S = [[Σ d_k r_k r_kᵀ, [e₀r₀, e₁r₁]], [·ᵀ, 0]]`,
@@ -76,16 +85,16 @@ template <class Scalar> struct PlaneReducedProblem {
   Mat3<Scalar> R;     ///< R₃ = h Pᵀ, columns r_k (p_k = Σ_i R₃(i, k) h_i)
   Scalar d[3], e[2];  ///< the weights above
   Scalar p2_norm;     ///< |p_2|
-  PlaneReducedProblem(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2) {
+  PCE_HOST_DEVICE PlaneReducedProblem(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2) {
     using std::sqrt;
-    static const Eigen::Matrix<Scalar, 3, 4> h = helmert_basis<Scalar, 4>();
+    PCE_HELMERT_4(h);
     R = h * f.P.transpose();
     p2_norm = sqrt(f.P.row(2).squaredNorm());
     d[0] = -c1 * ((f.l / f.a0) / f.a0), d[1] = -c1 * ((f.l / f.a1) / f.a1), d[2] = c2;
     e[0] = (-c1 / f.a0) * p2_norm, e[1] = (-c1 / f.a1) * p2_norm;
   }
   /// S itself
-  MatN<Scalar, 5> matrix() const {
+  PCE_HOST_DEVICE MatN<Scalar, 5> matrix() const {
     MatN<Scalar, 5> S;
     S.template topLeftCorner<3, 3>() = R * Vec3<Scalar>(d[0], d[1], d[2]).asDiagonal() * R.transpose();
     S.template block<3, 1>(0, 3) = e[0] * R.col(0);
@@ -103,10 +112,10 @@ template <class Scalar> struct PlaneReducedProblem {
 /// eigenvalues (§9.3) and the result is `∇²E − Σ λ_k (Q q_k)(Q q_k)ᵀ` from
 /// `plane_negative_eigenpairs`; otherwise, or if that cannot prove its answer,
 /// `Q proj(S) Qᵀ` by the QR algorithm.
-template <class Scalar, class HessianTerms> void exact_projection(const Frame<Scalar>& f, const Scalar& c1,
+template <class Scalar, class HessianTerms> PCE_HOST_DEVICE void exact_projection(const Frame<Scalar>& f, const Scalar& c1,
                                                                   const Scalar& c2, const HessianTerms& hessian_terms,
                                                                   Mat12<Scalar>& out) {
-  static const Eigen::Matrix<Scalar, 3, 4> h = helmert_basis<Scalar, 4>();
+  PCE_HELMERT_4(h);
   const PlaneReducedProblem<Scalar> pr(f, c1, c2);
   const Eigen::Matrix<Scalar, 1, 4> p2 = f.P.row(2) / pr.p2_norm;
   // Q g = Σ_i g_i h_i ⊗ n̂ + p̂_2 ⊗ (g_3 ê_0 + g_4 ê_1), vertex by vertex
@@ -136,7 +145,7 @@ template <class Scalar, class HessianTerms> void exact_projection(const Frame<Sc
 /// Exact projection of `Jᵀ Hc J` for a dense frame Hessian `Hc` (the mollified energy,
 /// whose frame Hessian can have rank 9): the reduced problem is 9×9 in the basis
 /// `h_i ⊗ e_a`, since `Jᵀ = Pᵀ ⊗ I3 = (hᵀ ⊗ I3)(h Pᵀ ⊗ I3)`.
-template <class Scalar> Mat12<Scalar> exact_projection(const Frame<Scalar>& f, const Mat9<Scalar>& Hc) {
+template <class Scalar> PCE_HOST_DEVICE Mat12<Scalar> exact_projection(const Frame<Scalar>& f, const Mat9<Scalar>& Hc) {
   const Eigen::Matrix<Scalar, 3, 4> h = helmert_basis<Scalar, 4>();
   const Mat3<Scalar> R3 = h * f.P.transpose();
   Mat9<Scalar> R = Mat9<Scalar>::Zero();

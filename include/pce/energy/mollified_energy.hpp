@@ -41,11 +41,11 @@ struct Mollifier {
   double threshold = 0;  ///< X̂ > 0, in length⁴ (same units as |e0 × e1|²)
 
   /// Whether X̂ is finite and positive (else evaluation reports `invalid_input`).
-  bool valid() const { return std::isfinite(threshold) && threshold > 0; }
+  PCE_HOST_DEVICE bool valid() const { return std::isfinite(threshold) && threshold > 0; }
 };
 
 /// X̂ = `factor` |e0|²|e1|² of a pair's rest configuration (IPC uses factor 1e-3).
-template <class Pair, class Scalar> Scalar mollifier_threshold(const Vec12<Scalar>& rest, double factor = 1e-3) {
+template <class Pair, class Scalar> PCE_HOST_DEVICE Scalar mollifier_threshold(const Vec12<Scalar>& rest, double factor = 1e-3) {
   Vec3<Scalar> e0, e1;
   if constexpr (std::is_same_v<Pair, VertexFace>) {
     e0 = rest.template segment<3>(6) - rest.template segment<3>(3);
@@ -73,7 +73,7 @@ template <class Scalar> struct MollifiedEnergy {
 /// vanishing `e0 × e1` (parallel edges, zero-area triangle, zero-length edge) is `ok`
 /// with `mollifier = 0`; `invalid_input` also for an invalid `Mollifier`.
 template <class Pair, class Scalar, class Length, class Penalty>
-Status mollified_pair_energy(const Vec12<Scalar>& x, const Length& length, const Penalty& penalty,
+PCE_HOST_DEVICE Status mollified_pair_energy(const Vec12<Scalar>& x, const Length& length, const Penalty& penalty,
                              const Mollifier& mollifier, MollifiedEnergy<Scalar>& out) {
   if (!mollifier.valid() || !penalty_valid(penalty)) return Status::invalid_input;
   MollifiedEnergy<Scalar> r;
@@ -109,7 +109,7 @@ namespace detail {
 /// Coefficients of H_F (docs/math.md §8): A = ψm″, B = ψm′, C = σψ′m′, D = mσψ′, E = mψ″.
 template <class Scalar> struct MollifiedCoefficients { Scalar A, B, C, D, E, s; };
 
-template <class Scalar> MollifiedCoefficients<Scalar> mollified_coefficients(const MollifiedEnergy<Scalar>& e) {
+template <class Scalar> PCE_HOST_DEVICE MollifiedCoefficients<Scalar> mollified_coefficients(const MollifiedEnergy<Scalar>& e) {
   const PairEnergy<Scalar>& b = e.base;
   return {b.psi.value * e.d2m,          b.psi.value * e.dm,
           b.sigma * b.psi.first * e.dm, e.mollifier * b.sigma * b.psi.first,
@@ -117,7 +117,7 @@ template <class Scalar> MollifiedCoefficients<Scalar> mollified_coefficients(con
 }
 
 /// X ≥ X̂: the mollified energy is the plain one, evaluated by the plain (faster) code.
-template <class Scalar> bool unmollified(const MollifiedEnergy<Scalar>& e) {
+template <class Scalar> PCE_HOST_DEVICE bool unmollified(const MollifiedEnergy<Scalar>& e) {
   return e.mollifier == Scalar(1) && e.dm == Scalar(0);
 }
 
@@ -126,10 +126,10 @@ template <class Scalar> bool unmollified(const MollifiedEnergy<Scalar>& e) {
 /// small eigenvalues of graded matrices accurate to their own size (Demmel & Veselić 1992),
 /// which matters here: the {x0, y1, z2} block has entries O(1), O(s), O(s²) near parallel
 /// edges and its pullback multiplies the z2 part by |J|² ~ 1/s².
-template <class Scalar> void jacobi3(Mat3<Scalar>& A, Mat3<Scalar>& V) { jacobi_eigen<Scalar, 3>(A, V, Scalar(0)); }
+template <class Scalar> PCE_HOST_DEVICE void jacobi3(Mat3<Scalar>& A, Mat3<Scalar>& V) { jacobi_eigen<Scalar, 3>(A, V, Scalar(0)); }
 
 /// Unit 9-vector with direction `d` in frame slot `k`.
-template <class Scalar> Vec9<Scalar> slot(int k, const Vec3<Scalar>& d) {
+template <class Scalar> PCE_HOST_DEVICE Vec9<Scalar> slot(int k, const Vec3<Scalar>& d) {
   Vec9<Scalar> v = Vec9<Scalar>::Zero();
   v.template segment<3>(3 * k) = d;
   return v;
@@ -138,7 +138,7 @@ template <class Scalar> Vec9<Scalar> slot(int k, const Vec3<Scalar>& d) {
 }  // namespace detail
 
 /// ∇E_m = mσψ′ Jᵀg + ψ m′ Jᵀ∇X, ∇X = 2s (a1 ê0, a0 ê1, 0) in frame space.
-template <class Scalar> Vec12<Scalar> energy_gradient(const MollifiedEnergy<Scalar>& e) {
+template <class Scalar> PCE_HOST_DEVICE Vec12<Scalar> energy_gradient(const MollifiedEnergy<Scalar>& e) {
   if (!e.has_frame) return Vec12<Scalar>::Zero();
   if (detail::unmollified(e)) return energy_gradient(e.base);
   const Frame<Scalar>& f = e.base.frame;
@@ -149,7 +149,7 @@ template <class Scalar> Vec12<Scalar> energy_gradient(const MollifiedEnergy<Scal
 }
 
 /// Frame Hessian H_F of the mollified energy (dense 9×9, docs/math.md §8).
-template <class Scalar> Mat9<Scalar> energy_frame_hessian(const MollifiedEnergy<Scalar>& e) {
+template <class Scalar> PCE_HOST_DEVICE Mat9<Scalar> energy_frame_hessian(const MollifiedEnergy<Scalar>& e) {
   if (!e.has_frame) return Mat9<Scalar>::Zero();
   const Frame<Scalar>& f = e.base.frame;
   const auto c = detail::mollified_coefficients(e);
@@ -167,7 +167,7 @@ template <class Scalar> Mat9<Scalar> energy_frame_hessian(const MollifiedEnergy<
 }
 
 /// Exact Hessian ∇²E_m = Jᵀ H_F J (0 where X = 0: the limit depends on the direction of approach).
-template <class Scalar> Mat12<Scalar> energy_hessian(const MollifiedEnergy<Scalar>& e) {
+template <class Scalar> PCE_HOST_DEVICE Mat12<Scalar> energy_hessian(const MollifiedEnergy<Scalar>& e) {
   if (!e.has_frame) return Mat12<Scalar>::Zero();
   if (detail::unmollified(e)) return energy_hessian(e.base);
   const Eigen::Matrix<Scalar, 9, 12> J = frame_jacobian(e.base.frame);
@@ -178,7 +178,7 @@ template <class Scalar> Mat12<Scalar> energy_hessian(const MollifiedEnergy<Scala
 /// {x0, y1, z2} (3×3, Jacobi rotations), {y0, x1} (±2ψm′s), {z0, x2} and
 /// {z1, y2} (2×2 with a zero corner), where x_k, y_k, z_k are ê0, ê1, n̂ in slot k.
 /// Where X = 0: all zero, with the identity as eigenvectors.
-template <class Scalar> FrameEigensystem<Scalar> energy_eigensystem(const MollifiedEnergy<Scalar>& e) {
+template <class Scalar> PCE_HOST_DEVICE FrameEigensystem<Scalar> energy_eigensystem(const MollifiedEnergy<Scalar>& e) {
   FrameEigensystem<Scalar> out;
   if (!e.has_frame) {
     out.values.setZero();
@@ -243,7 +243,7 @@ template <class Scalar> FrameEigensystem<Scalar> energy_eigensystem(const Mollif
   }
   std::array<int, 9> order{0, 1, 2, 3, 4, 5, 6, 7, 8};
   for (int i = 1; i < 9; ++i)
-    for (int j = i; j > 0 && val[order[j]] < val[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
+    for (int j = i; j > 0 && val[order[j]] < val[order[j - 1]]; --j) Eigen::numext::swap(order[j], order[j - 1]);
   for (int i = 0; i < 9; ++i) {
     out.values[i] = val[order[i]];
     out.vectors.col(i) = vec[order[i]];
@@ -255,7 +255,7 @@ template <class Scalar> FrameEigensystem<Scalar> energy_eigensystem(const Mollif
 /// `analytic`/`abs` clamp/flip the closed-form frame eigenvalues and pull back;
 /// `gauss_newton` is max(mψ″, 0) ∇L∇Lᵀ; `numerical` and `none` as for the plain energy;
 /// `exact` the nearest PSD matrix through a 9×9 reduced problem.
-template <Projection P, class Scalar> Mat12<Scalar> projected_hessian(const MollifiedEnergy<Scalar>& e) {
+template <Projection P, class Scalar> PCE_HOST_DEVICE Mat12<Scalar> projected_hessian(const MollifiedEnergy<Scalar>& e) {
   if (!e.has_frame) return Mat12<Scalar>::Zero();
   if (detail::unmollified(e)) return projected_hessian<P>(e.base);
   if constexpr (P == Projection::none) {
@@ -287,7 +287,7 @@ template <Projection P, class Scalar> Mat12<Scalar> projected_hessian(const Moll
 
 /// PSD Hessian of the mollified energy by the strategy chosen at run time (compiles every
 /// strategy: `energy/projection.hpp`).
-template <class Scalar> Mat12<Scalar> projected_hessian(const MollifiedEnergy<Scalar>& e, Projection strategy) {
+template <class Scalar> PCE_HOST_DEVICE Mat12<Scalar> projected_hessian(const MollifiedEnergy<Scalar>& e, Projection strategy) {
   return with_projection(strategy, [&e](auto p) { return projected_hessian<decltype(p)::value>(e); });
 }
 

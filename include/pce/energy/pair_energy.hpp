@@ -29,7 +29,7 @@ namespace pce {
 
 /// Whether `Length` is the signed length (meaningless for the point kinds and for
 /// closest-feature evaluation, which report `invalid_input` for it).
-template <class Length> constexpr bool is_signed_length() { return std::is_same_v<Length, SignedLength>; }
+template <class Length> PCE_HOST_DEVICE constexpr bool is_signed_length() { return std::is_same_v<Length, SignedLength>; }
 
 /// Everything one pair needs, evaluated once: the frame, σ = dL/dl, L and ψ, ψ′, ψ″.
 template <class Scalar> struct PairEnergy {
@@ -44,7 +44,7 @@ template <class Scalar> struct PairEnergy {
 namespace detail {
 /// `c Jᵀ(0,0,m̂)`: vertex j gets `(c P(2,j)) m̂`.
 template <class Scalar, class Row>
-PCE_ALWAYS_INLINE Vec12<Scalar> plane_gradient(const Scalar& c, const Row& p2, const Vec3<Scalar>& m) {
+PCE_HOST_DEVICE PCE_ALWAYS_INLINE Vec12<Scalar> plane_gradient(const Scalar& c, const Row& p2, const Vec3<Scalar>& m) {
   Vec12<Scalar> g;
   for (int j = 0; j < 4; ++j) g.template segment<3>(3 * j) = (c * p2[j]) * m;
   return g;
@@ -53,7 +53,7 @@ PCE_ALWAYS_INLINE Vec12<Scalar> plane_gradient(const Scalar& c, const Row& p2, c
 /// `invalid_input` for a `SignedLength` or invalid penalty parameters, then the frame's
 /// status, then the penalty's; `out` is written only on `ok`.
 template <class Pair, class Energy, class X, class Length, class Penalty>
-Status distance_pair_energy(const X& x, const Penalty& penalty, Energy& out) {
+PCE_HOST_DEVICE Status distance_pair_energy(const X& x, const Penalty& penalty, Energy& out) {
   if (is_signed_length<Length>() || !penalty_valid(penalty)) return Status::invalid_input;
   Energy e;
   const Status s = Pair::frame(x, e.frame);
@@ -71,7 +71,7 @@ Status distance_pair_energy(const X& x, const Penalty& penalty, Energy& out) {
 /// `degenerate` when the frame does not exist, `out_of_domain` when ψ is undefined at L,
 /// `overflow` when ψ is not finite; `out` is written only on `ok`.
 template <class Pair, class Scalar, class Length, class Penalty>
-Status pair_energy(const Vec12<Scalar>& x, const Length& length, const Penalty& penalty, PairEnergy<Scalar>& out) {
+PCE_HOST_DEVICE Status pair_energy(const Vec12<Scalar>& x, const Length& length, const Penalty& penalty, PairEnergy<Scalar>& out) {
   if (!penalty_valid(penalty)) return Status::invalid_input;
   PairEnergy<Scalar> e;
   const Status s = Pair::frame(x, e.frame);
@@ -86,23 +86,23 @@ Status pair_energy(const Vec12<Scalar>& x, const Length& length, const Penalty& 
 
 /// ∇E = σψ′ Jᵀ(0,0,n̂): vertex j gets σψ′ P(2,j) n̂ (with n̂ = `Frame::m_hat`, the normal l is
 /// computed with; `value_gradient` gives the same bits without the rest of the frame).
-template <class Scalar> Vec12<Scalar> energy_gradient(const PairEnergy<Scalar>& e) {
+template <class Scalar> PCE_HOST_DEVICE Vec12<Scalar> energy_gradient(const PairEnergy<Scalar>& e) {
   return detail::plane_gradient(Scalar(e.sigma * e.psi.first), e.frame.P.row(2), e.frame.m_hat);
 }
 
 /// Frame-space Hessian `ψ″ggᵀ + σψ′H_l` (blocks with exact zeros).
-template <class Scalar> FrameBlocks<Scalar> energy_frame_hessian(const PairEnergy<Scalar>& e) {
+template <class Scalar> PCE_HOST_DEVICE FrameBlocks<Scalar> energy_frame_hessian(const PairEnergy<Scalar>& e) {
   return detail::frame_hessian_blocks(e.frame, Scalar(e.sigma * e.psi.first), e.psi.second);
 }
 
 namespace detail {
 /// The terms of `energy_hessian(e)`, summed entry by entry (`energy/plane_assembly.hpp`);
 /// `Projection::exact` adds two more.
-template <class Scalar> void hessian_terms(const PairEnergy<Scalar>& e, DenseSymmetric12<Scalar>& H) {
+template <class Scalar> PCE_HOST_DEVICE void hessian_terms(const PairEnergy<Scalar>& e, DenseSymmetric12<Scalar>& H) {
   plane_exact_hessian(PlaneValues<Scalar>(e.frame), Scalar(e.sigma * e.psi.first), e.psi.second, H);
 }
 /// 1/√ε, beyond which √(1+t²) rounds to t (`length_family`).
-template <class Scalar> Scalar family_big_t() {
+template <class Scalar> PCE_HOST_DEVICE Scalar family_big_t() {
   using std::sqrt;
   return Scalar(1) / sqrt(Constants<Scalar>::epsilon());
 }
@@ -111,7 +111,7 @@ template <class Scalar> Scalar family_big_t() {
 /// Exact Hessian ∇²E = Jᵀ(ψ″ggᵀ + σψ′H_l)J, written as the rank-one and rank-two terms it
 /// is (`docs/math.md` §6): `ψ″ w₂w₂ᵀ + Σ_k [m_k w_k w_kᵀ + μ_k (w_k u_kᵀ + u_k w_kᵀ)]` with
 /// `m_k = −σψ′ l/a_k²`, `μ_k = −σψ′/a_k` (the families of (M14); exact zeros stay zero).
-template <class Scalar> Mat12<Scalar> energy_hessian(const PairEnergy<Scalar>& e) {
+template <class Scalar> PCE_HOST_DEVICE Mat12<Scalar> energy_hessian(const PairEnergy<Scalar>& e) {
   Mat12<Scalar> M;
   detail::DenseSymmetric12<Scalar> H{M};
   detail::hessian_terms(e, H);
@@ -121,13 +121,13 @@ template <class Scalar> Mat12<Scalar> energy_hessian(const PairEnergy<Scalar>& e
 
 /// Closed-form eigensystem of the frame Hessian `ψ″ggᵀ + σψ′H_l` (9×9, frame space),
 /// ascending. The eigenvalues of ∇²E itself differ (J is not orthogonal).
-template <class Scalar> FrameEigensystem<Scalar> energy_eigensystem(const PairEnergy<Scalar>& e) {
+template <class Scalar> PCE_HOST_DEVICE FrameEigensystem<Scalar> energy_eigensystem(const PairEnergy<Scalar>& e) {
   return detail::frame_eigensystem(e.frame, Scalar(e.sigma * e.psi.first), e.psi.second);
 }
 
 /// PSD (except for `none`) Hessian of the pair by the strategy `P`, chosen at compile time
 /// (only that strategy is compiled); see `Projection`.
-template <Projection P, class Scalar> Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>& e) {
+template <Projection P, class Scalar> PCE_HOST_DEVICE Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>& e) {
   Mat12<Scalar> M;  // the one object returned, so that it is built in the caller's (no copy)
   detail::DenseSymmetric12<Scalar> H{M};
   const Scalar c1 = e.sigma * e.psi.first;
@@ -156,7 +156,7 @@ template <Projection P, class Scalar> Mat12<Scalar> projected_hessian(const Pair
 
 /// PSD (except for `none`) Hessian of the pair by the strategy chosen at run time (compiles
 /// every strategy: `energy/projection.hpp`); the same bits as `projected_hessian<P>(e)`.
-template <class Scalar> Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>& e, Projection strategy) {
+template <class Scalar> PCE_HOST_DEVICE Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>& e, Projection strategy) {
   return with_projection(strategy, [&e](auto p) { return projected_hessian<decltype(p)::value>(e); });
 }
 
@@ -175,7 +175,7 @@ template <class Scalar, int Dofs = 12, int FrameDofs = 9> struct PairResult {
 /// `PointPoint`). On any non-ok status `out` is not written; a result that is not finite
 /// gives `overflow`.
 template <class Pair, class Scalar, class Length, class Penalty>
-Status evaluate(const VecN<Scalar, Pair::dofs>& x, const Length& length, const Penalty& penalty, Projection strategy,
+PCE_HOST_DEVICE Status evaluate(const VecN<Scalar, Pair::dofs>& x, const Length& length, const Penalty& penalty, Projection strategy,
                 PairResult<Scalar, Pair::dofs, Pair::frame_dofs>& out) {
   typename Pair::template Energy<Scalar> e;
   const Status s = pair_energy<Pair>(x, length, penalty, e);

@@ -34,7 +34,7 @@ template <class T> struct PlaneValues {
 
   PlaneValues() = default;
   /// From a scalar frame.
-  template <class Scalar> explicit PlaneValues(const Frame<Scalar>& f) {
+  template <class Scalar> PCE_HOST_DEVICE explicit PlaneValues(const Frame<Scalar>& f) {
     for (int k = 0; k < 3; ++k)
       for (int j = 0; j < 4; ++j) P[k][j] = f.P(k, j);
     for (int i = 0; i < 3; ++i) n[i] = f.n[i], t[0][i] = f.t0[i], t[1][i] = f.t1[i];
@@ -43,12 +43,12 @@ template <class T> struct PlaneValues {
     a[1] = f.a1;
   }
   /// `w_k = P.row(k) ⊗ n̂`
-  PCE_ALWAYS_INLINE void w(int k, T (&v)[12]) const {
+  PCE_HOST_DEVICE PCE_ALWAYS_INLINE void w(int k, T (&v)[12]) const {
     for (int j = 0; j < 4; ++j)
       for (int i = 0; i < 3; ++i) v[3 * j + i] = P[k][j] * n[i];
   }
   /// `u_k = P.row(2) ⊗ ê_k`
-  PCE_ALWAYS_INLINE void u(int k, T (&v)[12]) const {
+  PCE_HOST_DEVICE PCE_ALWAYS_INLINE void u(int k, T (&v)[12]) const {
     for (int j = 0; j < 4; ++j)
       for (int i = 0; i < 3; ++i) v[3 * j + i] = P[2][j] * t[k][i];
   }
@@ -59,7 +59,7 @@ template <class T> struct PlaneValues {
 template <class T> struct UpperTriangle12 {
   T h[78];
   /// sets `c v vᵀ` (entry (a, b): `(c v_a) v_b`) where `on` holds, 0 elsewhere
-  template <class Mask> PCE_ALWAYS_INLINE void first_rank_one(const T& c, const T (&v)[12], const Mask& on) {
+  template <class Mask> PCE_HOST_DEVICE PCE_ALWAYS_INLINE void first_rank_one(const T& c, const T (&v)[12], const Mask& on) {
     T cv[12];
     for (int a = 0; a < 12; ++a) cv[a] = c * v[a];
     int idx = 0;
@@ -67,7 +67,7 @@ template <class T> struct UpperTriangle12 {
       for (int b = a; b < 12; ++b, ++idx) h[idx] = select(on, T(cv[a] * v[b]), T(0));
   }
   /// adds `c v vᵀ` (entry (a, b): `(c v_a) v_b`), in the lanes where `on` holds
-  template <class Mask> PCE_ALWAYS_INLINE void rank_one(const T& c, const T (&v)[12], const Mask& on) {
+  template <class Mask> PCE_HOST_DEVICE PCE_ALWAYS_INLINE void rank_one(const T& c, const T (&v)[12], const Mask& on) {
     if (!any(on)) return;
     T cv[12];
     for (int a = 0; a < 12; ++a) cv[a] = c * v[a];
@@ -81,7 +81,7 @@ template <class T> struct UpperTriangle12 {
     }
   }
   /// adds `x yᵀ + y xᵀ` (entry (a, b): `x_a y_b + y_a x_b`, symmetric as written)
-  PCE_ALWAYS_INLINE void rank_two(const T (&x)[12], const T (&y)[12]) {
+  PCE_HOST_DEVICE PCE_ALWAYS_INLINE void rank_two(const T (&x)[12], const T (&y)[12]) {
     int idx = 0;
     for (int a = 0; a < 12; ++a)
       for (int b = a; b < 12; ++b, ++idx) h[idx] = h[idx] + (x[a] * y[b] + y[a] * x[b]);
@@ -97,13 +97,13 @@ template <class Scalar> struct DenseSymmetric12 {
   Mat12<Scalar>& M;
   /// `op(rows, b)` for every column b with the fixed-size row count `rows` (3, 6, 9 or 12) of
   /// its block column
-  template <class Op> PCE_ALWAYS_INLINE static void columns(Op op) {
+  template <class Op> PCE_HOST_DEVICE PCE_ALWAYS_INLINE static void columns(Op op) {
     for (int b = 0; b < 3; ++b) op(std::integral_constant<int, 3>(), b);
     for (int b = 3; b < 6; ++b) op(std::integral_constant<int, 6>(), b);
     for (int b = 6; b < 9; ++b) op(std::integral_constant<int, 9>(), b);
     for (int b = 9; b < 12; ++b) op(std::integral_constant<int, 12>(), b);
   }
-  PCE_ALWAYS_INLINE void first_rank_one(const Scalar& c, const Scalar (&v)[12], bool on) {
+  PCE_HOST_DEVICE PCE_ALWAYS_INLINE void first_rank_one(const Scalar& c, const Scalar (&v)[12], bool on) {
     if (!on) {
       M.setZero();
       return;
@@ -114,7 +114,7 @@ template <class Scalar> struct DenseSymmetric12 {
       M.col(b).template head<r>() = cv.template head<r>() * v[b];
     });
   }
-  PCE_ALWAYS_INLINE void rank_one(const Scalar& c, const Scalar (&v)[12], bool on) {
+  PCE_HOST_DEVICE PCE_ALWAYS_INLINE void rank_one(const Scalar& c, const Scalar (&v)[12], bool on) {
     if (!on) return;
     const Vec12<Scalar> cv = c * Eigen::Map<const Vec12<Scalar>>(v);
     columns([&](auto rows, int b) {
@@ -122,7 +122,7 @@ template <class Scalar> struct DenseSymmetric12 {
       M.col(b).template head<r>() += cv.template head<r>() * v[b];
     });
   }
-  PCE_ALWAYS_INLINE void rank_two(const Scalar (&x)[12], const Scalar (&y)[12]) {
+  PCE_HOST_DEVICE PCE_ALWAYS_INLINE void rank_two(const Scalar (&x)[12], const Scalar (&y)[12]) {
     const Eigen::Map<const Vec12<Scalar>> X(x), Y(y);
     columns([&](auto rows, int b) {
       constexpr int r = decltype(rows)::value;
@@ -130,13 +130,13 @@ template <class Scalar> struct DenseSymmetric12 {
     });
   }
   /// adds `c v vᵀ` for an Eigen vector (`energy/exact_projection.hpp`)
-  void rank_one(const Scalar& c, const Vec12<Scalar>& v) {
+  PCE_HOST_DEVICE void rank_one(const Scalar& c, const Vec12<Scalar>& v) {
     Scalar a[12];
     for (int i = 0; i < 12; ++i) a[i] = v[i];
     rank_one(c, a, true);
   }
   /// Copies the upper triangle into the lower.
-  PCE_ALWAYS_INLINE void mirror() {
+  PCE_HOST_DEVICE PCE_ALWAYS_INLINE void mirror() {
     for (int b = 0; b < 12; ++b)
       for (int a = b + 1; a < 12; ++a) M(a, b) = M(b, a);
   }
@@ -146,7 +146,7 @@ template <class Scalar> struct DenseSymmetric12 {
 /// n₂ = 1/(1+w²), λ_big = −sρ/a, λ_small = sw/a, with ρ = t + √(1+t²), t = |l/a|/2.
 template <class T> struct FamilyValues {
   T s, w, n2, lambda_big, lambda_small;
-  PCE_ALWAYS_INLINE FamilyValues(const T& l, const T& a, const T& big_t) {
+  PCE_HOST_DEVICE PCE_ALWAYS_INLINE FamilyValues(const T& l, const T& a, const T& big_t) {
     using std::abs;
     using std::sqrt;
     s = select(l < T(0), T(-1), T(1));
@@ -163,7 +163,7 @@ template <class T> struct FamilyValues {
 /// `∇²E` of a plane kind (see the file comment) into `H` (`UpperTriangle12<T>`, or
 /// `DenseSymmetric12` for a scalar); c1 = σψ′, c2 = ψ″.
 template <class T, class Acc>
-PCE_ALWAYS_INLINE void plane_exact_hessian(const PlaneValues<T>& f, const T& c1, const T& c2, Acc& H) {
+PCE_HOST_DEVICE PCE_ALWAYS_INLINE void plane_exact_hessian(const PlaneValues<T>& f, const T& c1, const T& c2, Acc& H) {
   T w2[12];
   f.w(2, w2);
   H.first_rank_one(c2, w2, true);
@@ -182,7 +182,7 @@ PCE_ALWAYS_INLINE void plane_exact_hessian(const PlaneValues<T>& f, const T& c1,
 
 /// The clamped (`flip` false: f = max(·, 0)) or flipped (`flip` true: f = |·|) closed-form
 /// Hessian of a plane kind into `H`; c1 = σψ′, c2 = ψ″. `big_t` = 1/√ε of the scalar.
-template <class T, class Acc> PCE_ALWAYS_INLINE void plane_filtered_hessian(const PlaneValues<T>& f, const T& c1,
+template <class T, class Acc> PCE_HOST_DEVICE PCE_ALWAYS_INLINE void plane_filtered_hessian(const PlaneValues<T>& f, const T& c1,
                                                                             const T& c2, bool flip, const T& big_t,
                                                                             Acc& H) {
   using std::abs;

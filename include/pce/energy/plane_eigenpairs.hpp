@@ -35,7 +35,7 @@ namespace pce::detail {
 /// both negative. Written for the contact regime (`d₂ = ψ″ > 0` dominant, `e_k ≠ 0`, as the
 /// Sylvester argument of §9.3 requires for exactly two negative eigenvalues); elsewhere it
 /// may return false, never an unproven answer.
-template <class Scalar> bool plane_negative_eigenpairs(const Mat3<Scalar>& R, const Scalar (&d_in)[3],
+template <class Scalar> PCE_HOST_DEVICE bool plane_negative_eigenpairs(const Mat3<Scalar>& R, const Scalar (&d_in)[3],
                                                        const Scalar (&e_in)[2], Scalar (&lambda)[2],
                                                        VecN<Scalar, 5> (&q)[2]) {
   using std::abs;
@@ -72,7 +72,7 @@ template <class Scalar> bool plane_negative_eigenpairs(const Mat3<Scalar>& R, co
     const Scalar c0 = P00 * f0 + P01 * f1, c1 = P01 * f0 + P11 * f1;
     x[k] = -sqrt(s2[k]) + (d[0] * c0 * c0 + d[1] * c1 * c1) / (Scalar(2) * s2[k] * yy);
   }
-  if (x[1] < x[0]) std::swap(x[0], x[1]);
+  if (x[1] < x[0]) Eigen::numext::swap(x[0], x[1]);
   if (!(x[1] < Scalar(0)) || !(x[0] > Scalar(-16))) return false;  // also NaN
   // (M31) Newton on F(λ) = λm − d₂(ρm + h), m = det M, h = wᵀ D adj(M) w, M = λ²I − G D,
   // D = diag(λd₀ + e₀², λd₁ + e₁²), until a step is small enough that the next error, of

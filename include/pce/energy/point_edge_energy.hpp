@@ -38,7 +38,7 @@ template <class Scalar> struct PointEdgeEnergy {
 /// no side). Other statuses as `PointEdge::frame` and `pair_energy` of the plane kinds;
 /// `out` is written only on `ok`.
 template <class Pair, class Scalar, class Length, class Penalty>
-Status pair_energy(const Vec9<Scalar>& x, const Length&, const Penalty& penalty, PointEdgeEnergy<Scalar>& out) {
+PCE_HOST_DEVICE Status pair_energy(const Vec9<Scalar>& x, const Length&, const Penalty& penalty, PointEdgeEnergy<Scalar>& out) {
   static_assert(std::is_same_v<Pair, PointEdge>, "a 9-coordinate pair is a PointEdge");
   return detail::distance_pair_energy<PointEdge, PointEdgeEnergy<Scalar>, Vec9<Scalar>, Length>(x, penalty, out);
 }
@@ -50,7 +50,7 @@ template <class Scalar> struct PointEdgeVectors {
   Vec9<Scalar> wg;  ///< p1 ⊗ û = ∇d
   Vec9<Scalar> u1;  ///< p1 ⊗ t̂ (family, slot 1)
   Vec9<Scalar> wn;  ///< p1 ⊗ n̂ (curvature of the line distance)
-  explicit PointEdgeVectors(const PointEdgeFrame<Scalar>& f)
+  PCE_HOST_DEVICE explicit PointEdgeVectors(const PointEdgeFrame<Scalar>& f)
       : w0(kron<Scalar>(f.P.row(0), f.u)),
         wg(kron<Scalar>(f.P.row(1), f.u)),
         u1(kron<Scalar>(f.P.row(1), f.t)),
@@ -59,12 +59,12 @@ template <class Scalar> struct PointEdgeVectors {
 }  // namespace detail
 
 /// ∇E = ψ′ Jᵀ(0, û): point j gets ψ′ P(1,j) û.
-template <class Scalar> Vec9<Scalar> energy_gradient(const PointEdgeEnergy<Scalar>& e) {
+template <class Scalar> PCE_HOST_DEVICE Vec9<Scalar> energy_gradient(const PointEdgeEnergy<Scalar>& e) {
   return detail::kron<Scalar>(e.frame.P.row(1), Vec3<Scalar>(e.psi.first * e.frame.u));
 }
 
 /// Exact Hessian `ψ″ wg wgᵀ + ψ′[−(d/a²) w0w0ᵀ − (w0u1ᵀ + u1w0ᵀ)/a + wn wnᵀ/d]`.
-template <class Scalar> Mat9<Scalar> energy_hessian(const PointEdgeEnergy<Scalar>& e) {
+template <class Scalar> PCE_HOST_DEVICE Mat9<Scalar> energy_hessian(const PointEdgeEnergy<Scalar>& e) {
   const PointEdgeFrame<Scalar>& f = e.frame;
   const detail::PointEdgeVectors<Scalar> v(f);
   const Scalar c1 = e.psi.first;
@@ -78,7 +78,7 @@ template <class Scalar> Mat9<Scalar> energy_hessian(const PointEdgeEnergy<Scalar
 
 /// Closed-form eigensystem of the frame Hessian `ψ″ggᵀ + ψ′H_d` (6×6, frame space c =
 /// (e, r⊥)), ascending.
-template <class Scalar> FrameEigensystem<Scalar, 6> energy_eigensystem(const PointEdgeEnergy<Scalar>& e) {
+template <class Scalar> PCE_HOST_DEVICE FrameEigensystem<Scalar, 6> energy_eigensystem(const PointEdgeEnergy<Scalar>& e) {
   const PointEdgeFrame<Scalar>& f = e.frame;
   const LengthFamily<Scalar> fam = length_family(f.d, f.a);
   const Scalar c1 = e.psi.first;
@@ -104,7 +104,7 @@ template <class Scalar> FrameEigensystem<Scalar, 6> energy_eigensystem(const Poi
 
 namespace detail {
 /// `Jᵀ[f(ψ″)ggᵀ + Σ f(μ)qqᵀ]J` from rank-one terms (f = clamp or |·|).
-template <class Scalar, class F> Mat9<Scalar> filtered_hessian(const PointEdgeEnergy<Scalar>& e, F f) {
+template <class Scalar, class F> PCE_HOST_DEVICE Mat9<Scalar> filtered_hessian(const PointEdgeEnergy<Scalar>& e, F f) {
   const PointEdgeFrame<Scalar>& fr = e.frame;
   const PointEdgeVectors<Scalar> v(fr);
   SymmetricSum<Scalar, 9> sum;
@@ -122,7 +122,7 @@ template <class Scalar, class F> Mat9<Scalar> filtered_hessian(const PointEdgeEn
 
 /// Exact projection (`energy/exact_projection.hpp`): range basis `h_i ⊗ û` (i = 0, 1) for
 /// {w0, wg}, `p̂1 ⊗ t̂` and `p̂1 ⊗ n̂`; the n̂ direction is an x-space eigenvector by itself.
-template <class Scalar> Mat9<Scalar> exact_projection(const PointEdgeEnergy<Scalar>& e) {
+template <class Scalar> PCE_HOST_DEVICE Mat9<Scalar> exact_projection(const PointEdgeEnergy<Scalar>& e) {
   using std::sqrt;
   const PointEdgeFrame<Scalar>& f = e.frame;
   const Eigen::Matrix<Scalar, 2, 3> h = helmert_basis<Scalar, 3>();
@@ -153,7 +153,7 @@ template <class Scalar> Mat9<Scalar> exact_projection(const PointEdgeEnergy<Scal
 
 /// PSD (except for `none`) Hessian of the pair by the strategy `P`, chosen at compile time
 /// (`Projection`; only that strategy is compiled).
-template <Projection P, class Scalar> Mat9<Scalar> projected_hessian(const PointEdgeEnergy<Scalar>& e) {
+template <Projection P, class Scalar> PCE_HOST_DEVICE Mat9<Scalar> projected_hessian(const PointEdgeEnergy<Scalar>& e) {
   using std::abs;
   const auto clamp = [](const Scalar& v) { return v > Scalar(0) ? v : Scalar(0); };
   if constexpr (P == Projection::numerical) {
@@ -175,7 +175,7 @@ template <Projection P, class Scalar> Mat9<Scalar> projected_hessian(const Point
 
 /// PSD (except for `none`) Hessian of the pair by the strategy chosen at run time (compiles
 /// every strategy: `energy/projection.hpp`).
-template <class Scalar> Mat9<Scalar> projected_hessian(const PointEdgeEnergy<Scalar>& e, Projection strategy) {
+template <class Scalar> PCE_HOST_DEVICE Mat9<Scalar> projected_hessian(const PointEdgeEnergy<Scalar>& e, Projection strategy) {
   return with_projection(strategy, [&e](auto p) { return projected_hessian<decltype(p)::value>(e); });
 }
 

@@ -32,7 +32,7 @@ template <class Scalar> struct PointPointEnergy {
 /// `UnsignedLength`; a `SignedLength` gives `invalid_input`. `degenerate` for p = q.
 /// `out` is written only on `ok`.
 template <class Pair, class Scalar, class Length, class Penalty>
-Status pair_energy(const Vec6<Scalar>& x, const Length&, const Penalty& penalty, PointPointEnergy<Scalar>& out) {
+PCE_HOST_DEVICE Status pair_energy(const Vec6<Scalar>& x, const Length&, const Penalty& penalty, PointPointEnergy<Scalar>& out) {
   static_assert(std::is_same_v<Pair, PointPoint>, "a 6-coordinate pair is a PointPoint");
   return detail::distance_pair_energy<PointPoint, PointPointEnergy<Scalar>, Vec6<Scalar>, Length>(x, penalty, out);
 }
@@ -40,7 +40,7 @@ Status pair_energy(const Vec6<Scalar>& x, const Length&, const Penalty& penalty,
 namespace detail {
 /// `[[Hc, −Hc], [−Hc, Hc]]` with `Hc = a ûûᵀ + b (I − ûûᵀ)`.
 template <class Scalar>
-Mat6<Scalar> point_point_hessian(const PointPointFrame<Scalar>& f, const Scalar& a, const Scalar& b) {
+PCE_HOST_DEVICE Mat6<Scalar> point_point_hessian(const PointPointFrame<Scalar>& f, const Scalar& a, const Scalar& b) {
   const Mat3<Scalar> Hc = b * Mat3<Scalar>::Identity() + (a - b) * (f.u * f.u.transpose());
   Mat6<Scalar> H;
   H << Hc, -Hc, -Hc, Hc;
@@ -49,20 +49,20 @@ Mat6<Scalar> point_point_hessian(const PointPointFrame<Scalar>& f, const Scalar&
 }  // namespace detail
 
 /// ∇E = ψ′ (û, −û).
-template <class Scalar> Vec6<Scalar> energy_gradient(const PointPointEnergy<Scalar>& e) {
+template <class Scalar> PCE_HOST_DEVICE Vec6<Scalar> energy_gradient(const PointPointEnergy<Scalar>& e) {
   Vec6<Scalar> g;
   g << e.psi.first * e.frame.u, -e.psi.first * e.frame.u;
   return g;
 }
 
 /// Exact Hessian `Jᵀ[ψ″ûûᵀ + (ψ′/d)(I − ûûᵀ)]J`.
-template <class Scalar> Mat6<Scalar> energy_hessian(const PointPointEnergy<Scalar>& e) {
+template <class Scalar> PCE_HOST_DEVICE Mat6<Scalar> energy_hessian(const PointPointEnergy<Scalar>& e) {
   return detail::point_point_hessian(e.frame, e.psi.second, Scalar(e.psi.first / e.frame.d));
 }
 
 /// Closed-form eigensystem of the frame Hessian (3×3, frame space c = p − q), ascending:
 /// (ψ″, û) and (ψ′/d, v̂), (ψ′/d, ŵ).
-template <class Scalar> FrameEigensystem<Scalar, 3> energy_eigensystem(const PointPointEnergy<Scalar>& e) {
+template <class Scalar> PCE_HOST_DEVICE FrameEigensystem<Scalar, 3> energy_eigensystem(const PointPointEnergy<Scalar>& e) {
   const Scalar c = e.psi.first / e.frame.d;
   return detail::sorted_eigensystem<Scalar, 3>({e.psi.second, c, c}, {e.frame.u, e.frame.v, e.frame.w});
 }
@@ -70,7 +70,7 @@ template <class Scalar> FrameEigensystem<Scalar, 3> energy_eigensystem(const Poi
 /// PSD (except for `none`) Hessian by the strategy `P`, chosen at compile time (only that
 /// strategy is compiled); `analytic` and `exact` are the same matrix for this kind (see the
 /// file comment).
-template <Projection P, class Scalar> Mat6<Scalar> projected_hessian(const PointPointEnergy<Scalar>& e) {
+template <Projection P, class Scalar> PCE_HOST_DEVICE Mat6<Scalar> projected_hessian(const PointPointEnergy<Scalar>& e) {
   using std::abs;
   const auto clamp = [](const Scalar& v) { return v > Scalar(0) ? v : Scalar(0); };
   const Scalar c = e.psi.first / e.frame.d;
@@ -90,7 +90,7 @@ template <Projection P, class Scalar> Mat6<Scalar> projected_hessian(const Point
 
 /// PSD (except for `none`) Hessian by the strategy chosen at run time (compiles every
 /// strategy: `energy/projection.hpp`).
-template <class Scalar> Mat6<Scalar> projected_hessian(const PointPointEnergy<Scalar>& e, Projection strategy) {
+template <class Scalar> PCE_HOST_DEVICE Mat6<Scalar> projected_hessian(const PointPointEnergy<Scalar>& e, Projection strategy) {
   return with_projection(strategy, [&e](auto p) { return projected_hessian<decltype(p)::value>(e); });
 }
 

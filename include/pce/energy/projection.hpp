@@ -12,6 +12,7 @@
 #pragma once
 
 #include <pce/core/enum_names.hpp>
+#include <pce/core/types.hpp>
 
 #include <type_traits>
 
@@ -53,12 +54,19 @@ template <Projection P> using ProjectionConstant = std::integral_constant<Projec
 
 /// Calls `f(ProjectionConstant<strategy>{})` and returns its result: the one switch from a
 /// run-time strategy to the compile-time forms (a value outside the enumeration is `none`).
-template <class F> decltype(auto) with_projection(Projection strategy, F&& f) {
+/// In device code `numerical`, whose 12×12 eigensolver is Eigen's host-only one, runs as
+/// `exact`: the same matrix, the nearest PSD one, through the Hessian's rank ≤ 5 structure
+/// (they agree to rounding, `docs/cuda.md`).
+template <class F> PCE_HOST_DEVICE decltype(auto) with_projection(Projection strategy, F&& f) {
   switch (strategy) {
     case Projection::analytic:
       return f(ProjectionConstant<Projection::analytic>{});
     case Projection::numerical:
+#if defined(__CUDA_ARCH__)
+      return f(ProjectionConstant<Projection::exact>{});
+#else
       return f(ProjectionConstant<Projection::numerical>{});
+#endif
     case Projection::gauss_newton:
       return f(ProjectionConstant<Projection::gauss_newton>{});
     case Projection::abs:

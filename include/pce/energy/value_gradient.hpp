@@ -22,7 +22,7 @@ namespace pce {
 
 namespace detail {
 /// σ = dL/dl of the two lengths, from l alone (what `Length::sigma(frame)` returns).
-template <class Length, class Scalar> Scalar length_sigma(const Length& length, const Scalar& l) {
+template <class Length, class Scalar> PCE_HOST_DEVICE Scalar length_sigma(const Length& length, const Scalar& l) {
   if constexpr (std::is_same_v<Length, SignedLength>)
     return length.side == Side::negative ? Scalar(-1) : Scalar(1);
   else {
@@ -34,7 +34,7 @@ template <class Length, class Scalar> Scalar length_sigma(const Length& length, 
 /// The plane kinds' lean evaluation: the status, L, ψ (ψ′, ψ″) and the part of the frame the
 /// gradient needs, in the order and with the checks of `pair_energy`.
 template <class Pair, class Scalar, class Length, class Penalty>
-PCE_ALWAYS_INLINE Status lean_plane_energy(const Vec12<Scalar>& x, const Length& length, const Penalty& penalty,
+PCE_HOST_DEVICE PCE_ALWAYS_INLINE Status lean_plane_energy(const Vec12<Scalar>& x, const Length& length, const Penalty& penalty,
                                            GradientFrame<Scalar>& f, Scalar& sigma, PenaltyDerivatives<Scalar>& psi) {
   if (!penalty_valid(penalty)) return Status::invalid_input;
   const Status s = Pair::frame(x, f);
@@ -47,7 +47,7 @@ PCE_ALWAYS_INLINE Status lean_plane_energy(const Vec12<Scalar>& x, const Length&
 /// `E = ψ(L)` of pair `x`: the status and value of `pair_energy` (bit for bit), computing only
 /// what the value needs. `value` is written only on `ok`.
 template <class Pair, class Scalar, class Length, class Penalty>
-Status value_only(const VecN<Scalar, Pair::dofs>& x, const Length& length, const Penalty& penalty, Scalar& value) {
+PCE_HOST_DEVICE Status value_only(const VecN<Scalar, Pair::dofs>& x, const Length& length, const Penalty& penalty, Scalar& value) {
   if constexpr (Pair::dofs == 12) {
     detail::GradientFrame<Scalar> f;
     Scalar sigma;
@@ -68,7 +68,7 @@ Status value_only(const VecN<Scalar, Pair::dofs>& x, const Length& length, const
 /// `pair_energy`'s, or `overflow` when the gradient is not finite (as `evaluate`); `value` and
 /// `gradient` are written only on `ok`.
 template <class Pair, class Scalar, class Length, class Penalty>
-Status value_gradient(const VecN<Scalar, Pair::dofs>& x, const Length& length, const Penalty& penalty, Scalar& value,
+PCE_HOST_DEVICE Status value_gradient(const VecN<Scalar, Pair::dofs>& x, const Length& length, const Penalty& penalty, Scalar& value,
                       VecN<Scalar, Pair::dofs>& gradient) {
   if constexpr (Pair::dofs == 12) {
     detail::GradientFrame<Scalar> f;

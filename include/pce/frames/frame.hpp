@@ -53,7 +53,7 @@ template <class Scalar> struct FrameBlocks {
   ///@}
 
   /// All five blocks zero.
-  static FrameBlocks Zero() {
+  PCE_HOST_DEVICE static FrameBlocks Zero() {
     FrameBlocks b;
     b.h00.setZero();
     b.h11.setZero();
@@ -63,7 +63,7 @@ template <class Scalar> struct FrameBlocks {
     return b;
   }
   /// The dense 9×9 matrix.
-  Mat9<Scalar> dense() const {
+  PCE_HOST_DEVICE Mat9<Scalar> dense() const {
     Mat9<Scalar> m = Mat9<Scalar>::Zero();
     m.template block<3, 3>(0, 0) = h00;
     m.template block<3, 3>(3, 3) = h11;
@@ -77,7 +77,7 @@ template <class Scalar> struct FrameBlocks {
 };
 
 /// The frame Jacobian `J = ∂c/∂x` (9×12) with α, β, γ held fixed: `J = P ⊗ I3`.
-template <class Scalar> Eigen::Matrix<Scalar, 9, 12> frame_jacobian(const Frame<Scalar>& f) {
+template <class Scalar> PCE_HOST_DEVICE Eigen::Matrix<Scalar, 9, 12> frame_jacobian(const Frame<Scalar>& f) {
   Eigen::Matrix<Scalar, 9, 12> J = Eigen::Matrix<Scalar, 9, 12>::Zero();
   for (int k = 0; k < 3; ++k)
     for (int j = 0; j < 4; ++j) J.template block<3, 3>(3 * k, 3 * j).diagonal().setConstant(f.P(k, j));
@@ -87,7 +87,7 @@ template <class Scalar> Eigen::Matrix<Scalar, 9, 12> frame_jacobian(const Frame<
 namespace detail {
 /// `r ⊗ d`: point `j` gets `r[j] d` (a frame direction `d` in slot k pulled back to the
 /// coordinates is `P.row(k) ⊗ d`, i.e. `Jᵀ` of that slot vector).
-template <class Scalar, class Row> VecN<Scalar, 3 * Row::SizeAtCompileTime> kron(const Row& r, const Vec3<Scalar>& d) {
+template <class Scalar, class Row> PCE_HOST_DEVICE VecN<Scalar, 3 * Row::SizeAtCompileTime> kron(const Row& r, const Vec3<Scalar>& d) {
   constexpr int n = Row::SizeAtCompileTime;
   VecN<Scalar, 3 * n> v;
   for (int j = 0; j < n; ++j) v.template segment<3>(3 * j) = r[j] * d;
@@ -97,7 +97,7 @@ template <class Scalar, class Row> VecN<Scalar, 3 * Row::SizeAtCompileTime> kron
 }  // namespace detail
 
 /// Pull a frame-space gradient `gc` (9) back to the 12 coordinates: `Jᵀ gc`.
-template <class Scalar> Vec12<Scalar> pullback(const Frame<Scalar>& f, const Vec9<Scalar>& gc) {
+template <class Scalar> PCE_HOST_DEVICE Vec12<Scalar> pullback(const Frame<Scalar>& f, const Vec9<Scalar>& gc) {
   Vec12<Scalar> g;
   for (int j = 0; j < 4; ++j)
     g.template segment<3>(3 * j) = f.P(0, j) * gc.template segment<3>(0) + f.P(1, j) * gc.template segment<3>(3) +
@@ -107,7 +107,7 @@ template <class Scalar> Vec12<Scalar> pullback(const Frame<Scalar>& f, const Vec
 
 /// Pull a frame-space Hessian back to the 12 coordinates: `H = Jᵀ Hc J`, block (i, j):
 /// `Σ_ab P(a,i) P(b,j) Hc(a,b)` over the five nonzero blocks. Symmetric by construction.
-template <class Scalar> Mat12<Scalar> pullback(const Frame<Scalar>& f, const FrameBlocks<Scalar>& hc) {
+template <class Scalar> PCE_HOST_DEVICE Mat12<Scalar> pullback(const Frame<Scalar>& f, const FrameBlocks<Scalar>& hc) {
   Mat12<Scalar> H;
   for (int i = 0; i < 4; ++i) {
     const Scalar p0i = f.P(0, i), p1i = f.P(1, i), p2i = f.P(2, i);
@@ -126,12 +126,12 @@ namespace detail {
 
 /// `a × b` and `a·b` on three plain values (`T` is a scalar or `Lanes<Scalar>`), in one
 /// fixed order of operations, so that a pair evaluated alone and in a batch give the same bits.
-template <class T> PCE_ALWAYS_INLINE void cross3(const T* a, const T* b, T* c) {
+template <class T> PCE_HOST_DEVICE PCE_ALWAYS_INLINE void cross3(const T* a, const T* b, T* c) {
   c[0] = a[1] * b[2] - a[2] * b[1];
   c[1] = a[2] * b[0] - a[0] * b[2];
   c[2] = a[0] * b[1] - a[1] * b[0];
 }
-template <class T> PCE_ALWAYS_INLINE T dot3(const T* a, const T* b) {
+template <class T> PCE_HOST_DEVICE PCE_ALWAYS_INLINE T dot3(const T* a, const T* b) {
   return (a[0] * b[0] + a[1] * b[1]) + a[2] * b[2];
 }
 
@@ -160,7 +160,7 @@ template <class T> struct FrameArithmetic {
 /// lengths `a0s`, `a1s` are left unset and their square roots untaken (what `value_gradient`
 /// needs); everything else is the same arithmetic, bit for bit.
 template <bool Basis = true, class T>
-PCE_ALWAYS_INLINE void frame_arithmetic(const T (&E)[3][3], FrameArithmetic<T>& f) {
+PCE_HOST_DEVICE PCE_ALWAYS_INLINE void frame_arithmetic(const T (&E)[3][3], FrameArithmetic<T>& f) {
   using std::sqrt;
   T m[3], c21[3], c02[3];
   cross3(E[0], E[1], m);
@@ -199,7 +199,7 @@ PCE_ALWAYS_INLINE void frame_arithmetic(const T (&E)[3][3], FrameArithmetic<T>& 
 /// Row `k` of the frame coefficients `P` from the edge map `D` (entries 0, ±1): `P.row(0) = D.row(0)`,
 /// `P.row(1) = D.row(1) − α D.row(0)`, `P.row(2) = D.row(2) − β D.row(0) − γ D.row(1)`.
 template <class T, class Dmat>
-T frame_coefficient(const Dmat& D, int k, int j, const T& alpha, const T& beta, const T& gamma) {
+PCE_HOST_DEVICE T frame_coefficient(const Dmat& D, int k, int j, const T& alpha, const T& beta, const T& gamma) {
   using S = typename Dmat::Scalar;
   const T d0 = T(S(D(0, j))), d1 = T(S(D(1, j))), d2 = T(S(D(2, j)));
   if (k == 0) return d0;
@@ -213,7 +213,7 @@ T frame_coefficient(const Dmat& D, int k, int j, const T& alpha, const T& beta, 
 /// overflow nor underflow for any triangle or edge pair less degenerate than sin θ ≈ 2^-250
 /// (double), 2^-30 (float); rescaling would not change their bits. Skipping it takes a
 /// multiplication and the exponent's extraction off every pair's critical path.
-template <class Scalar> PCE_ALWAYS_INLINE Scalar unit_scale_bound() {
+template <class Scalar> PCE_HOST_DEVICE PCE_ALWAYS_INLINE Scalar unit_scale_bound() {
   if constexpr (std::is_same_v<Scalar, double>)
     return 0x1p128;
   else if constexpr (std::is_same_v<Scalar, float>)
@@ -223,7 +223,7 @@ template <class Scalar> PCE_ALWAYS_INLINE Scalar unit_scale_bound() {
     return ldexp(Scalar(1), std::numeric_limits<Scalar>::max_exponent / 8);
   }
 }
-template <class Scalar> PCE_ALWAYS_INLINE bool unit_scale(const Scalar& big) {
+template <class Scalar> PCE_HOST_DEVICE PCE_ALWAYS_INLINE bool unit_scale(const Scalar& big) {
   const Scalar hi = unit_scale_bound<Scalar>();
   return big >= Scalar(1) / hi && big <= hi;
 }
@@ -246,7 +246,7 @@ template <class Scalar> struct GradientFrame {
 /// (`frame_arithmetic<false>`), and builds the full frame only for the rare pair whose normal
 /// needs a second Gram–Schmidt pass, whose outcome decides the status.
 template <class Scalar, class Out>
-PCE_ALWAYS_INLINE Status make_frame(const Scalar (&e)[3][3], const Mat34<Scalar>& D, Out& f) {
+PCE_HOST_DEVICE PCE_ALWAYS_INLINE Status make_frame(const Scalar (&e)[3][3], const Mat34<Scalar>& D, Out& f) {
   using std::abs;
   using std::sqrt;
   constexpr bool full = std::is_same_v<Out, Frame<Scalar>>;
@@ -332,7 +332,7 @@ PCE_ALWAYS_INLINE Status make_frame(const Scalar (&e)[3][3], const Mat34<Scalar>
 /// The edge vectors `e[k] = x_head(k) − x_tail(k)` of the rows of `D` (entries 0, ±1), from the
 /// coordinates `coordinate(c)`, c = 0 … 11 (scalars, or `Lanes` of several pairs).
 template <class Scalar, class Coordinate, class T>
-PCE_ALWAYS_INLINE void edge_vectors(const Mat34<Scalar>& D, Coordinate coordinate, T (&e)[3][3]) {
+PCE_HOST_DEVICE PCE_ALWAYS_INLINE void edge_vectors(const Mat34<Scalar>& D, Coordinate coordinate, T (&e)[3][3]) {
   for (int k = 0; k < 3; ++k) {
     int head = 0, tail = 0;
     for (int j = 0; j < 4; ++j) {
@@ -344,7 +344,7 @@ PCE_ALWAYS_INLINE void edge_vectors(const Mat34<Scalar>& D, Coordinate coordinat
 }
 
 /// `invalid_input` unless every coordinate is finite and within `max_coordinate`.
-template <class Scalar> Status check_coordinates(const Vec12<Scalar>& x) {
+template <class Scalar> PCE_HOST_DEVICE Status check_coordinates(const Vec12<Scalar>& x) {
   return coordinates_valid(x) ? Status::ok : Status::invalid_input;
 }
 
@@ -352,7 +352,7 @@ template <class Scalar> Status check_coordinates(const Vec12<Scalar>& x) {
 /// (entries 0, ±1: each e_k is one exact-rounding difference of two vertices): checks the
 /// coordinates, then `make_frame`. `f` is written only on `ok`.
 template <class Scalar, class Out>
-PCE_ALWAYS_INLINE Status frame_from_vertices(const Vec12<Scalar>& x, const Mat34<Scalar>& D, Out& f) {
+PCE_HOST_DEVICE PCE_ALWAYS_INLINE Status frame_from_vertices(const Vec12<Scalar>& x, const Mat34<Scalar>& D, Out& f) {
   const Status s = check_coordinates(x);
   if (s != Status::ok) return s;
   Scalar e[3][3];

@@ -42,7 +42,7 @@ struct PointEdge {
   /// absurd coordinates, `degenerate` for a zero-length edge or a point on the line
   /// (d = 0 — exactly, or after underflow — where the distance has no direction), `overflow` when the point is beyond
   /// the scalar's range relative to the edge. On failure `f` is untouched.
-  template <class Scalar> static Status frame(const Vec9<Scalar>& x, PointEdgeFrame<Scalar>& f) {
+  template <class Scalar> PCE_HOST_DEVICE static Status frame(const Vec9<Scalar>& x, PointEdgeFrame<Scalar>& f) {
     using std::sqrt;
     if (!detail::coordinates_valid(x)) return Status::invalid_input;
     const Vec3<Scalar> e = x.template segment<3>(6) - x.template segment<3>(3);

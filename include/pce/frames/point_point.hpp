@@ -35,7 +35,7 @@ struct PointPoint {
   /// Builds the frame of `x = (p, q)`: `invalid_input` for non-finite or absurd
   /// coordinates, `degenerate` for coincident points (d = 0: no direction). On failure
   /// `f` is untouched.
-  template <class Scalar> static Status frame(const Vec6<Scalar>& x, PointPointFrame<Scalar>& f) {
+  template <class Scalar> PCE_HOST_DEVICE static Status frame(const Vec6<Scalar>& x, PointPointFrame<Scalar>& f) {
     using std::abs;
     using std::sqrt;
     if (!detail::coordinates_valid(x)) return Status::invalid_input;

@@ -23,7 +23,7 @@ struct VertexFace {
   template <class Scalar> using Energy = PairEnergy<Scalar>;
 
   /// The edge map `D`: rows e0, e1, e2 as combinations of the four vertices.
-  template <class Scalar> static Mat34<Scalar> edge_map() {
+  template <class Scalar> PCE_HOST_DEVICE static Mat34<Scalar> edge_map() {
     Mat34<Scalar> D;
     D << Scalar(0), Scalar(-1), Scalar(1), Scalar(0),  //
         Scalar(0), Scalar(-1), Scalar(0), Scalar(1),   //
@@ -34,13 +34,13 @@ struct VertexFace {
   /// Builds the reduced frame of `x = (p, t0, t1, t2)`; `invalid_input` for non-finite or
   /// absurd coordinates, `degenerate` for a zero-area triangle; on failure `f` is untouched.
   /// `Out` may also be `detail::GradientFrame`, the part of the frame `value_gradient` needs.
-  template <class Scalar, class Out> PCE_ALWAYS_INLINE static Status frame(const Vec12<Scalar>& x, Out& f) {
+  template <class Scalar, class Out> PCE_HOST_DEVICE PCE_ALWAYS_INLINE static Status frame(const Vec12<Scalar>& x, Out& f) {
     return detail::frame_from_vertices(x, edge_map<Scalar>(), f);
   }
 };
 
 /// Reduced frame of a vertex-face pair; see `VertexFace::frame`.
-template <class Scalar> Status vertex_face_frame(const Vec12<Scalar>& x, Frame<Scalar>& f) {
+template <class Scalar> PCE_HOST_DEVICE Status vertex_face_frame(const Vec12<Scalar>& x, Frame<Scalar>& f) {
   return VertexFace::frame(x, f);
 }
 

@@ -43,13 +43,13 @@ template <class Scalar> struct LengthFamily {
   Scalar n2;  ///< 1/(1 + w²), the squared normalisation of both vectors
 
   /// `q_big = (s, w)/√(1+w²)`, the unit eigenvector of λ_big.
-  Eigen::Matrix<Scalar, 2, 1> big() const {
+  PCE_HOST_DEVICE Eigen::Matrix<Scalar, 2, 1> big() const {
     using std::sqrt;
     const Scalar c = sqrt(n2);
     return {s * c, w * c};
   }
   /// `q_small = (w, −s)/√(1+w²)`, the unit eigenvector of λ_small.
-  Eigen::Matrix<Scalar, 2, 1> small() const {
+  PCE_HOST_DEVICE Eigen::Matrix<Scalar, 2, 1> small() const {
     using std::sqrt;
     const Scalar c = sqrt(n2);
     return {w * c, -s * c};
@@ -58,7 +58,7 @@ template <class Scalar> struct LengthFamily {
 
 /// Closed-form eigenpairs of `B = [[−l/a², −1/a], [−1/a, 0]]` (supplement Sec. 2, in the
 /// stable form of `docs/math.md` (M16)–(M17)). Requires a > 0.
-template <class Scalar> LengthFamily<Scalar> length_family(const Scalar& l, const Scalar& a) {
+template <class Scalar> PCE_HOST_DEVICE LengthFamily<Scalar> length_family(const Scalar& l, const Scalar& a) {
   using std::abs;
   using std::sqrt;
   const Scalar s = detail::sign_nonneg(l);
@@ -88,12 +88,12 @@ template <class Scalar, int N = 9> struct FrameEigensystem {
 namespace detail {
 /// Sorts `n` eigenpairs ascending (insertion sort: stable, no allocation).
 template <class Scalar, int N>
-FrameEigensystem<Scalar, N> sorted_eigensystem(const std::array<Scalar, N>& val,
+PCE_HOST_DEVICE FrameEigensystem<Scalar, N> sorted_eigensystem(const std::array<Scalar, N>& val,
                                                const std::array<VecN<Scalar, N>, N>& vec) {
   std::array<int, N> order;
   for (int i = 0; i < N; ++i) order[i] = i;
   for (int i = 1; i < N; ++i)
-    for (int j = i; j > 0 && val[order[j]] < val[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
+    for (int j = i; j > 0 && val[order[j]] < val[order[j - 1]]; --j) Eigen::numext::swap(order[j], order[j - 1]);
   FrameEigensystem<Scalar, N> out;
   for (int i = 0; i < N; ++i) {
     out.values[i] = val[order[i]];
@@ -109,7 +109,7 @@ namespace detail {
 /// (c2, g), the four pairs (c1 λ, q) of the families, and four zeros (in-plane directions
 /// of slots 0 and 1). `c1 = σψ′`, `c2 = ψ″` for an energy; `c1 = σ`, `c2 = 0` for a length.
 template <class Scalar>
-FrameEigensystem<Scalar> frame_eigensystem(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2) {
+PCE_HOST_DEVICE FrameEigensystem<Scalar> frame_eigensystem(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2) {
   const LengthFamily<Scalar> F[2] = {length_family(f.l, f.a0), length_family(f.l, f.a1)};
   const Vec3<Scalar>* tk[2] = {&f.t0, &f.t1};
   std::array<Scalar, 9> val;
@@ -137,7 +137,7 @@ FrameEigensystem<Scalar> frame_eigensystem(const Frame<Scalar>& f, const Scalar&
 
 /// Blocks of `c2 ggᵀ + c1 H_l` with exact zeros where H_l has them (`docs/stability.md`).
 template <class Scalar>
-FrameBlocks<Scalar> frame_hessian_blocks(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2) {
+PCE_HOST_DEVICE FrameBlocks<Scalar> frame_hessian_blocks(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2) {
   FrameBlocks<Scalar> b;
   const Mat3<Scalar> nn = f.n * f.n.transpose();
   b.h00 = (-c1 * ((f.l / f.a0) / f.a0)) * nn;

@@ -23,12 +23,12 @@ struct CubicPenalty {
   double delta = 0.0;      ///< smoothing δ ≥ 0 (a squared length)
 
   /// Whether the parameters are admissible (finite, k ≥ 0, …); else `invalid_input`.
-  bool valid() const {
+  PCE_HOST_DEVICE bool valid() const {
     return std::isfinite(stiffness) && stiffness >= 0 && std::isfinite(eps) && std::isfinite(delta) && delta >= 0;
   }
 
   /// ψ(L), ψ′(L), ψ″(L).
-  template <class Scalar> PenaltyDerivatives<Scalar> evaluate(const Scalar& L) const {
+  template <class Scalar> PCE_HOST_DEVICE PenaltyDerivatives<Scalar> evaluate(const Scalar& L) const {
     using std::abs;
     using std::sqrt;
     const Scalar e = Scalar(eps);

@@ -22,13 +22,13 @@ struct LogBarrierPenalty {
   double dhat = 1.0;       ///< barrier activation distance d̂ > 0
 
   /// Whether the parameters are admissible (finite, k ≥ 0, …); else `invalid_input`.
-  bool valid() const { return std::isfinite(stiffness) && stiffness >= 0 && std::isfinite(dhat) && dhat > 0; }
+  PCE_HOST_DEVICE bool valid() const { return std::isfinite(stiffness) && stiffness >= 0 && std::isfinite(dhat) && dhat > 0; }
 
   /// The barrier is defined for L > 0 only (`out_of_domain` otherwise).
-  template <class Scalar> bool in_domain(const Scalar& L) const { return L > Scalar(0); }
+  template <class Scalar> PCE_HOST_DEVICE bool in_domain(const Scalar& L) const { return L > Scalar(0); }
 
   /// ψ(L), ψ′(L), ψ″(L).
-  template <class Scalar> PenaltyDerivatives<Scalar> evaluate(const Scalar& L) const {
+  template <class Scalar> PCE_HOST_DEVICE PenaltyDerivatives<Scalar> evaluate(const Scalar& L) const {
     using std::log;
     using std::log1p;
     const Scalar h = Scalar(dhat);

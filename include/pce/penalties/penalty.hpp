@@ -40,7 +40,7 @@ template <class P> struct has_valid<P, std::void_t<decltype(std::declval<const P
 }  // namespace detail
 
 /// Whether `penalty` is defined at `L` (calls `in_domain` when the type has it).
-template <class Penalty, class Scalar> bool penalty_in_domain(const Penalty& penalty, const Scalar& L) {
+template <class Penalty, class Scalar> PCE_HOST_DEVICE bool penalty_in_domain(const Penalty& penalty, const Scalar& L) {
   if constexpr (detail::has_in_domain<Penalty, Scalar>::value)
     return penalty.in_domain(L);
   else
@@ -48,7 +48,7 @@ template <class Penalty, class Scalar> bool penalty_in_domain(const Penalty& pen
 }
 
 /// Whether the penalty's parameters are acceptable (calls `valid` when the type has it).
-template <class Penalty> bool penalty_valid(const Penalty& penalty) {
+template <class Penalty> PCE_HOST_DEVICE bool penalty_valid(const Penalty& penalty) {
   if constexpr (detail::has_valid<Penalty>::value)
     return penalty.valid();
   else
@@ -60,7 +60,7 @@ template <class Penalty> bool penalty_valid(const Penalty& penalty) {
 /// finite, else `Status::ok`; `psi` is written only on `ok`. The one evaluation every pair
 /// energy makes (paper Sec. 3: the energy is ψ of the pair's length).
 template <class Penalty, class Scalar>
-PCE_ALWAYS_INLINE Status evaluate_penalty(const Penalty& penalty, const Scalar& L, PenaltyDerivatives<Scalar>& psi) {
+PCE_HOST_DEVICE PCE_ALWAYS_INLINE Status evaluate_penalty(const Penalty& penalty, const Scalar& L, PenaltyDerivatives<Scalar>& psi) {
   if (!penalty_in_domain(penalty, L)) return Status::out_of_domain;
   const PenaltyDerivatives<Scalar> v = penalty.template evaluate<Scalar>(L);
   if (!detail::finite_all(v.value, v.first, v.second)) return Status::overflow;

@@ -18,10 +18,10 @@ struct QuadraticPenalty {
   double eps = 0.0;        ///< activation length ε
 
   /// Whether the parameters are admissible (finite, k ≥ 0, …); else `invalid_input`.
-  bool valid() const { return std::isfinite(stiffness) && stiffness >= 0 && std::isfinite(eps); }
+  PCE_HOST_DEVICE bool valid() const { return std::isfinite(stiffness) && stiffness >= 0 && std::isfinite(eps); }
 
   /// ψ(L), ψ′(L), ψ″(L).
-  template <class Scalar> PenaltyDerivatives<Scalar> evaluate(const Scalar& L) const {
+  template <class Scalar> PCE_HOST_DEVICE PenaltyDerivatives<Scalar> evaluate(const Scalar& L) const {
     const Scalar e = Scalar(eps);
     if (!(L < e)) return {Scalar(0), Scalar(0), Scalar(0)};
     const Scalar k = Scalar(stiffness), d = L - e;
