@@ -23,7 +23,8 @@ namespace pce::detail {
 /// off-diagonal entry is treated as zero when it is below `ε/4·√|a_pp a_qq|` (relative
 /// accuracy) or not above `floor` (an absolute threshold, so that a zero diagonal entry
 /// cannot keep it sweeping; 0 keeps full relative accuracy for graded matrices).
-template <class Scalar, int N> PCE_HOST_DEVICE void jacobi_eigen(MatN<Scalar, N>& A, MatN<Scalar, N>& V, const Scalar& floor) {
+template <class Scalar, int N>
+PCE_HOST_DEVICE void jacobi_eigen(MatN<Scalar, N>& A, MatN<Scalar, N>& V, const Scalar& floor) {
   using std::abs;
   using std::sqrt;
   V.setIdentity();
@@ -80,7 +81,8 @@ template <class Scalar, int N> PCE_HOST_DEVICE void jacobi_eigen(MatN<Scalar, N>
 /// exactly by a power of two to max|A_ij| in [½, 1), so that no square or product of its
 /// entries overflows or underflows whatever its magnitude. A zero `A` gives d = 0, V = I;
 /// a non-finite one gives NaN eigenvalues.
-template <class Scalar, int N> PCE_HOST_DEVICE void symmetric_qr_eigen(MatN<Scalar, N> A, VecN<Scalar, N>& d, MatN<Scalar, N>& V) {
+template <class Scalar, int N>
+PCE_HOST_DEVICE void symmetric_qr_eigen(MatN<Scalar, N> A, VecN<Scalar, N>& d, MatN<Scalar, N>& V) {
   using std::abs;
   using std::sqrt;
   V.setIdentity();

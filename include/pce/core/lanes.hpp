@@ -68,10 +68,18 @@ template <class Scalar> struct Lanes {
 
   ///@{
   /// Lane-wise arithmetic, as the scalar operators (Eigen's `padd`, `psub`, `pmul`, `pdiv`).
-  PCE_HOST_DEVICE friend Lanes operator+(const Lanes& a, const Lanes& b) { return Lanes(Eigen::internal::padd(a.p, b.p)); }
-  PCE_HOST_DEVICE friend Lanes operator-(const Lanes& a, const Lanes& b) { return Lanes(Eigen::internal::psub(a.p, b.p)); }
-  PCE_HOST_DEVICE friend Lanes operator*(const Lanes& a, const Lanes& b) { return Lanes(Eigen::internal::pmul(a.p, b.p)); }
-  PCE_HOST_DEVICE friend Lanes operator/(const Lanes& a, const Lanes& b) { return Lanes(Eigen::internal::pdiv(a.p, b.p)); }
+  PCE_HOST_DEVICE friend Lanes operator+(const Lanes& a, const Lanes& b) {
+    return Lanes(Eigen::internal::padd(a.p, b.p));
+  }
+  PCE_HOST_DEVICE friend Lanes operator-(const Lanes& a, const Lanes& b) {
+    return Lanes(Eigen::internal::psub(a.p, b.p));
+  }
+  PCE_HOST_DEVICE friend Lanes operator*(const Lanes& a, const Lanes& b) {
+    return Lanes(Eigen::internal::pmul(a.p, b.p));
+  }
+  PCE_HOST_DEVICE friend Lanes operator/(const Lanes& a, const Lanes& b) {
+    return Lanes(Eigen::internal::pdiv(a.p, b.p));
+  }
   /// −a per lane, the sign bit flipped as the scalar minus does (Eigen's AVX `pnegate` is
   /// `0 − a`, which gives +0 for +0)
   PCE_HOST_DEVICE friend Lanes operator-(const Lanes& a) {
@@ -102,11 +110,21 @@ template <class Scalar> struct Lanes {
 
   ///@{
   /// Lane-wise comparison into a `LaneMask` (false in a lane where either is NaN, but `!=`).
-  PCE_HOST_DEVICE friend LaneMask<Scalar> operator<(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_lt(a.p, b.p)}; }
-  PCE_HOST_DEVICE friend LaneMask<Scalar> operator<=(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_le(a.p, b.p)}; }
-  PCE_HOST_DEVICE friend LaneMask<Scalar> operator>(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_lt(b.p, a.p)}; }
-  PCE_HOST_DEVICE friend LaneMask<Scalar> operator>=(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_le(b.p, a.p)}; }
-  PCE_HOST_DEVICE friend LaneMask<Scalar> operator==(const Lanes& a, const Lanes& b) { return {Eigen::internal::pcmp_eq(a.p, b.p)}; }
+  PCE_HOST_DEVICE friend LaneMask<Scalar> operator<(const Lanes& a, const Lanes& b) {
+    return {Eigen::internal::pcmp_lt(a.p, b.p)};
+  }
+  PCE_HOST_DEVICE friend LaneMask<Scalar> operator<=(const Lanes& a, const Lanes& b) {
+    return {Eigen::internal::pcmp_le(a.p, b.p)};
+  }
+  PCE_HOST_DEVICE friend LaneMask<Scalar> operator>(const Lanes& a, const Lanes& b) {
+    return {Eigen::internal::pcmp_lt(b.p, a.p)};
+  }
+  PCE_HOST_DEVICE friend LaneMask<Scalar> operator>=(const Lanes& a, const Lanes& b) {
+    return {Eigen::internal::pcmp_le(b.p, a.p)};
+  }
+  PCE_HOST_DEVICE friend LaneMask<Scalar> operator==(const Lanes& a, const Lanes& b) {
+    return {Eigen::internal::pcmp_eq(a.p, b.p)};
+  }
   PCE_HOST_DEVICE friend LaneMask<Scalar> operator!=(const Lanes& a, const Lanes& b) { return !(a == b); }
   ///@}
 };
@@ -117,10 +135,12 @@ template <class Scalar> PCE_HOST_DEVICE LaneMask<Scalar> operator!(const LaneMas
   using P = typename LaneMask<Scalar>::Packet;
   return {Eigen::internal::pandnot(Eigen::internal::ptrue(P()), m.p)};
 }
-template <class Scalar> PCE_HOST_DEVICE LaneMask<Scalar> operator&&(const LaneMask<Scalar>& a, const LaneMask<Scalar>& b) {
+template <class Scalar>
+PCE_HOST_DEVICE LaneMask<Scalar> operator&&(const LaneMask<Scalar>& a, const LaneMask<Scalar>& b) {
   return {Eigen::internal::pand(a.p, b.p)};
 }
-template <class Scalar> PCE_HOST_DEVICE LaneMask<Scalar> operator||(const LaneMask<Scalar>& a, const LaneMask<Scalar>& b) {
+template <class Scalar>
+PCE_HOST_DEVICE LaneMask<Scalar> operator||(const LaneMask<Scalar>& a, const LaneMask<Scalar>& b) {
   return {Eigen::internal::por(a.p, b.p)};
 }
 ///@}

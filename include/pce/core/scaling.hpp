@@ -63,7 +63,8 @@ template <class Scalar> struct PowerOfTwoScale {
     inverse = moderate ? Scalar(ldexp(Scalar(1), ex)) : Scalar(1);
   }
   /// v · 2^-ex, for any fixed-size Eigen vector or matrix
-  template <class Derived> PCE_HOST_DEVICE typename Derived::PlainObject down(const Eigen::MatrixBase<Derived>& v) const {
+  template <class Derived>
+  PCE_HOST_DEVICE typename Derived::PlainObject down(const Eigen::MatrixBase<Derived>& v) const {
     using std::ldexp;
     if (moderate) return v * factor;
     const int e = ex;

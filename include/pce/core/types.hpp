@@ -104,7 +104,8 @@ template <class Scalar> PCE_HOST_DEVICE inline bool is_finite(const Scalar& v) {
 
 /// Whether every argument is finite: for the built-in floating types one sum `Σ 0·vᵢ`, which is
 /// 0 exactly when each vᵢ is finite (0·±∞ and 0·NaN are NaN), without a branch per value.
-template <class Scalar, class... More> PCE_HOST_DEVICE PCE_ALWAYS_INLINE bool finite_all(const Scalar& v, const More&... more) {
+template <class Scalar, class... More>
+PCE_HOST_DEVICE PCE_ALWAYS_INLINE bool finite_all(const Scalar& v, const More&... more) {
   if constexpr (std::is_floating_point_v<Scalar>)
     return ((Scalar(0) * v) + ... + (Scalar(0) * Scalar(more))) == Scalar(0);
   else
@@ -135,7 +136,9 @@ template <class Derived> PCE_HOST_DEVICE inline bool all_finite(const Eigen::Mat
 }
 
 /// +1 for v >= 0 (including +0 and -0), -1 otherwise: the side convention at l = 0.
-template <class Scalar> PCE_HOST_DEVICE inline Scalar sign_nonneg(const Scalar& v) { return v < Scalar(0) ? Scalar(-1) : Scalar(1); }
+template <class Scalar> PCE_HOST_DEVICE inline Scalar sign_nonneg(const Scalar& v) {
+  return v < Scalar(0) ? Scalar(-1) : Scalar(1);
+}
 
 }  // namespace detail
 }  // namespace pce

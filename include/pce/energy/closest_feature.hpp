@@ -74,8 +74,9 @@ namespace detail {
 
 /// Closest feature of point `p` to segment (a, b), all relative and rescaled: sets the
 /// feature and its points and returns the squared distance.
-template <class Scalar> PCE_HOST_DEVICE Scalar point_segment(const Vec3<Scalar>& p, const Vec3<Scalar>& a, const Vec3<Scalar>& b,
-                                             int ip, int ia, int ib, Feature& feature, std::array<int, 3>& points) {
+template <class Scalar> PCE_HOST_DEVICE Scalar point_segment(const Vec3<Scalar>& p, const Vec3<Scalar>& a,
+                                                             const Vec3<Scalar>& b, int ip, int ia, int ib,
+                                                             Feature& feature, std::array<int, 3>& points) {
   const Vec3<Scalar> e = b - a, r = p - a;
   const Scalar ee = e.squaredNorm();
   const Scalar re = r.dot(e);
@@ -101,8 +102,9 @@ template <class Scalar> PCE_HOST_DEVICE Scalar point_segment(const Vec3<Scalar>&
 /// foot inside, |l| is the smallest of them exactly, so the rule changes nothing where the
 /// frame is accurate, and where it is not (a triangle or an edge pair at an angle below the
 /// scalar's rounding, whose normal is noise) a wrong |l| cannot win over the segments.
-template <class Pair, class Scalar> PCE_HOST_DEVICE void classify(const Vec12<Scalar>& x, bool plane_inside, const Scalar& plane_l,
-                                                  Feature& feature, std::array<int, 3>& points) {
+template <class Pair, class Scalar> PCE_HOST_DEVICE void classify(const Vec12<Scalar>& x, bool plane_inside,
+                                                                  const Scalar& plane_l, Feature& feature,
+                                                                  std::array<int, 3>& points) {
   constexpr bool vf = std::is_same_v<Pair, VertexFace>;
   // Points relative to point 0, exactly rescaled so squared distances cannot overflow.
   Vec3<Scalar> y[4];
@@ -143,14 +145,16 @@ template <class Pair, class Scalar> PCE_HOST_DEVICE void classify(const Vec12<Sc
 }
 
 /// The sub-vector of the points `idx` of `x`.
-template <int N, class Scalar> PCE_HOST_DEVICE VecN<Scalar, 3 * N> gather(const Vec12<Scalar>& x, const std::array<int, 3>& idx) {
+template <int N, class Scalar>
+PCE_HOST_DEVICE VecN<Scalar, 3 * N> gather(const Vec12<Scalar>& x, const std::array<int, 3>& idx) {
   VecN<Scalar, 3 * N> y;
   for (int j = 0; j < N; ++j) y.template segment<3>(3 * j) = x.template segment<3>(3 * idx[j]);
   return y;
 }
 
 /// Embeds a gradient on the points `idx` into the 12 coordinates (zeros elsewhere).
-template <int N, class Scalar> PCE_HOST_DEVICE Vec12<Scalar> scatter(const VecN<Scalar, 3 * N>& g, const std::array<int, 3>& idx) {
+template <int N, class Scalar>
+PCE_HOST_DEVICE Vec12<Scalar> scatter(const VecN<Scalar, 3 * N>& g, const std::array<int, 3>& idx) {
   Vec12<Scalar> out = Vec12<Scalar>::Zero();
   for (int j = 0; j < N; ++j) out.template segment<3>(3 * idx[j]) = g.template segment<3>(3 * j);
   return out;
@@ -158,7 +162,8 @@ template <int N, class Scalar> PCE_HOST_DEVICE Vec12<Scalar> scatter(const VecN<
 
 /// Embeds a Hessian on the points `idx` into the 12 coordinates (zeros elsewhere). The
 /// embedding is a coordinate selection, so it commutes with every PSD projection.
-template <int N, class Scalar> PCE_HOST_DEVICE Mat12<Scalar> scatter(const MatN<Scalar, 3 * N>& H, const std::array<int, 3>& idx) {
+template <int N, class Scalar>
+PCE_HOST_DEVICE Mat12<Scalar> scatter(const MatN<Scalar, 3 * N>& H, const std::array<int, 3>& idx) {
   Mat12<Scalar> out = Mat12<Scalar>::Zero();
   for (int i = 0; i < N; ++i)
     for (int j = 0; j < N; ++j) out.template block<3, 3>(3 * idx[i], 3 * idx[j]) = H.template block<3, 3>(3 * i, 3 * j);
@@ -174,7 +179,8 @@ template <int N, class Scalar> PCE_HOST_DEVICE Mat12<Scalar> scatter(const MatN<
 /// noise too and can claim "inside" for two collinear disjoint edges whose line distance l
 /// is ~0 while the edges are far apart. Such a claim is refused, and the point-segment
 /// distances, which are well conditioned, decide.
-template <class Pair, class Scalar> PCE_HOST_DEVICE bool foot_consistent(const Vec12<Scalar>& x, const Frame<Scalar>& f) {
+template <class Pair, class Scalar>
+PCE_HOST_DEVICE bool foot_consistent(const Vec12<Scalar>& x, const Frame<Scalar>& f) {
   using std::abs;
   using std::sqrt;
   const Vec3<Scalar> p0 = x.template segment<3>(0), p1 = x.template segment<3>(3), p2 = x.template segment<3>(6),
@@ -197,7 +203,7 @@ template <class Pair, class Scalar> PCE_HOST_DEVICE bool foot_consistent(const V
 /// `out_of_domain`, `overflow` as for every kind. `out` is written only on `ok`.
 template <class Pair, class Scalar, class Length, class Penalty>
 PCE_HOST_DEVICE Status closest_feature_energy(const Vec12<Scalar>& x, const Length&, const Penalty& penalty,
-                              ClosestFeatureEnergy<Scalar>& out) {
+                                              ClosestFeatureEnergy<Scalar>& out) {
   static_assert(std::is_same_v<Pair, VertexFace> || std::is_same_v<Pair, EdgeEdge>,
                 "closest-feature evaluation is for vertex-face and edge-edge candidates");
   if (is_signed_length<Length>() || !penalty_valid(penalty) || !detail::coordinates_valid(x))
@@ -265,7 +271,8 @@ template <class Scalar> PCE_HOST_DEVICE Mat12<Scalar> energy_hessian(const Close
 
 /// PSD Hessian by the strategy `P`, chosen at compile time (only that strategy is
 /// compiled), on all 12 coordinates.
-template <Projection P, class Scalar> PCE_HOST_DEVICE Mat12<Scalar> projected_hessian(const ClosestFeatureEnergy<Scalar>& e) {
+template <Projection P, class Scalar>
+PCE_HOST_DEVICE Mat12<Scalar> projected_hessian(const ClosestFeatureEnergy<Scalar>& e) {
   switch (e.feature) {
     case Feature::point_edge:
       return detail::scatter<3>(projected_hessian<P>(e.edge), e.points);
@@ -278,7 +285,8 @@ template <Projection P, class Scalar> PCE_HOST_DEVICE Mat12<Scalar> projected_he
 
 /// PSD Hessian by the strategy chosen at run time (compiles every strategy:
 /// `energy/projection.hpp`), on all 12 coordinates.
-template <class Scalar> PCE_HOST_DEVICE Mat12<Scalar> projected_hessian(const ClosestFeatureEnergy<Scalar>& e, Projection strategy) {
+template <class Scalar>
+PCE_HOST_DEVICE Mat12<Scalar> projected_hessian(const ClosestFeatureEnergy<Scalar>& e, Projection strategy) {
   return with_projection(strategy, [&e](auto p) { return projected_hessian<decltype(p)::value>(e); });
 }
 
@@ -291,7 +299,8 @@ template <class Scalar> struct FeatureEigenvalues {
   int count;
 };
 /// The frame-space eigenvalues of `e.feature`'s kind, from that kind's `energy_eigensystem`.
-template <class Scalar> PCE_HOST_DEVICE FeatureEigenvalues<Scalar> feature_eigenvalues(const ClosestFeatureEnergy<Scalar>& e) {
+template <class Scalar>
+PCE_HOST_DEVICE FeatureEigenvalues<Scalar> feature_eigenvalues(const ClosestFeatureEnergy<Scalar>& e) {
   FeatureEigenvalues<Scalar> r;
   r.values.setZero();
   switch (e.feature) {

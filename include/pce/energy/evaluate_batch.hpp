@@ -50,7 +50,8 @@ template <class Scalar> struct BatchOutput {
 namespace detail {
 
 /// NaN in row `i` of every float output (a row that is not ok).
-template <class Scalar> PCE_HOST_DEVICE void batch_nan_row(const BatchOutput<Scalar>& out, std::size_t i, int dofs, int frame_dofs) {
+template <class Scalar>
+PCE_HOST_DEVICE void batch_nan_row(const BatchOutput<Scalar>& out, std::size_t i, int dofs, int frame_dofs) {
   const Scalar nan = std::numeric_limits<Scalar>::quiet_NaN();
   const auto fill = [&](Scalar* p, std::size_t width) {
     if (p)
@@ -82,7 +83,7 @@ template <class Derived> PCE_HOST_DEVICE bool batch_finite(const Eigen::MatrixBa
 /// `eigenvalues(e, v)` fills the first `FrameDofs` entries of `v` and returns how many are real.
 template <int Dofs, int FrameDofs, class Scalar, class Energy, class Eigenvalues>
 PCE_HOST_DEVICE Status batch_store(const Energy& e, const Scalar& length, const Scalar& value, Projection strategy,
-                   const BatchOutput<Scalar>& out, std::size_t i, Eigenvalues eigenvalues) {
+                                   const BatchOutput<Scalar>& out, std::size_t i, Eigenvalues eigenvalues) {
   using RowMajor = Eigen::Matrix<Scalar, Dofs, Dofs, Eigen::RowMajor>;
   VecN<Scalar, Dofs> g = VecN<Scalar, Dofs>::Zero();  // (zeroed: GCC cannot tell it is stored only if computed)
   MatN<Scalar, Dofs> H, P;
@@ -117,8 +118,8 @@ PCE_HOST_DEVICE Status batch_store(const Energy& e, const Scalar& length, const 
 
 /// Row `i` of `evaluate_batch` by the single-pair functions.
 template <class Pair, class Scalar, class Length, class Penalty>
-PCE_HOST_DEVICE void batch_row(const Scalar* x, std::size_t i, const Length& length, const Penalty& penalty, Projection strategy,
-               const BatchOutput<Scalar>& out) {
+PCE_HOST_DEVICE void batch_row(const Scalar* x, std::size_t i, const Length& length, const Penalty& penalty,
+                               Projection strategy, const BatchOutput<Scalar>& out) {
   constexpr int D = Pair::dofs, F = Pair::frame_dofs;
   const auto eigenvalues = [](const auto& e, VecN<Scalar, Pair::frame_dofs>& v) {
     v = energy_eigensystem(e).values;
@@ -162,8 +163,8 @@ PCE_HOST_DEVICE constexpr int upper_index(int r, int c) {
 /// finite, finite outputs. Returns the bits of the lanes it left for the scalar path.
 /// Without `Basis` (no Hessian asked for) the frame's orthonormal basis is not built.
 template <class Pair, bool Basis, class Scalar, class Length, class Penalty>
-PCE_HOST_DEVICE unsigned evaluate_lanes(const Scalar* x, std::size_t first, const Length& length, const Penalty& penalty,
-                        Projection strategy, const BatchOutput<Scalar>& out) {
+PCE_HOST_DEVICE unsigned evaluate_lanes(const Scalar* x, std::size_t first, const Length& length,
+                                        const Penalty& penalty, Projection strategy, const BatchOutput<Scalar>& out) {
   using T = Lanes<Scalar>;
   constexpr int W = lanes_width<Scalar>;
   constexpr unsigned every = (1u << W) - 1u;
@@ -309,7 +310,7 @@ PCE_HOST_DEVICE unsigned evaluate_lanes(const Scalar* x, std::size_t first, cons
 /// `overflow`.
 template <class Pair, class Scalar, class Length, class Penalty>
 PCE_HOST_DEVICE void evaluate_batch(const Scalar* x, std::size_t count, const Length& length, const Penalty& penalty,
-                    Projection strategy, const BatchOutput<Scalar>& out) {
+                                    Projection strategy, const BatchOutput<Scalar>& out) {
   std::size_t i = 0;
   if constexpr (std::is_same_v<Pair, VertexFace> || std::is_same_v<Pair, EdgeEdge>) {
     constexpr std::size_t W = static_cast<std::size_t>(lanes_width<Scalar>);
@@ -330,8 +331,8 @@ PCE_HOST_DEVICE void evaluate_batch(const Scalar* x, std::size_t count, const Le
 /// in `out.feature` and the eigenvalues of that kind (9, 6 or 3, then NaN) in
 /// `out.eigenvalues` (width 9).
 template <class Pair, class Scalar, class Penalty>
-PCE_HOST_DEVICE void closest_feature_batch(const Scalar* x, std::size_t count, const Penalty& penalty, Projection strategy,
-                           const BatchOutput<Scalar>& out) {
+PCE_HOST_DEVICE void closest_feature_batch(const Scalar* x, std::size_t count, const Penalty& penalty,
+                                           Projection strategy, const BatchOutput<Scalar>& out) {
   const auto eigenvalues = [](const ClosestFeatureEnergy<Scalar>& e, Vec9<Scalar>& v) {
     const FeatureEigenvalues<Scalar> r = feature_eigenvalues(e);
     v = r.values;

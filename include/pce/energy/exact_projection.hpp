@@ -51,14 +51,17 @@ template <class Scalar, int N> struct SymmetricSum {
     half.noalias() += (Scalar(mu / Scalar(2)) * v) * v.transpose();
   }
   /// adds `a bᵀ + b aᵀ`
-  PCE_HOST_DEVICE void rank_two(const VecN<Scalar, N>& a, const VecN<Scalar, N>& b) { half.noalias() += a * b.transpose(); }
+  PCE_HOST_DEVICE void rank_two(const VecN<Scalar, N>& a, const VecN<Scalar, N>& b) {
+    half.noalias() += a * b.transpose();
+  }
   PCE_HOST_DEVICE MatN<Scalar, N> matrix() const { return half + half.transpose(); }
 };
 
 /// `Q proj(S) Qᵀ` for orthonormal columns `Q`: diagonalise `S` (tridiagonalisation and
 /// implicit QR, `core/jacobi.hpp`) and sum `λ (Q v)(Q v)ᵀ` over its positive eigenpairs.
 template <class Scalar, int Dofs, int K>
-PCE_HOST_DEVICE MatN<Scalar, Dofs> projected_in_basis(const Eigen::Matrix<Scalar, Dofs, K>& Q, const MatN<Scalar, K>& S) {
+PCE_HOST_DEVICE MatN<Scalar, Dofs> projected_in_basis(const Eigen::Matrix<Scalar, Dofs, K>& Q,
+                                                      const MatN<Scalar, K>& S) {
   VecN<Scalar, K> lambda;
   MatN<Scalar, K> V;
   symmetric_qr_eigen(S, lambda, V);
@@ -112,9 +115,9 @@ template <class Scalar> struct PlaneReducedProblem {
 /// eigenvalues (§9.3) and the result is `∇²E − Σ λ_k (Q q_k)(Q q_k)ᵀ` from
 /// `plane_negative_eigenpairs`; otherwise, or if that cannot prove its answer,
 /// `Q proj(S) Qᵀ` by the QR algorithm.
-template <class Scalar, class HessianTerms> PCE_HOST_DEVICE void exact_projection(const Frame<Scalar>& f, const Scalar& c1,
-                                                                  const Scalar& c2, const HessianTerms& hessian_terms,
-                                                                  Mat12<Scalar>& out) {
+template <class Scalar, class HessianTerms>
+PCE_HOST_DEVICE void exact_projection(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2,
+                                      const HessianTerms& hessian_terms, Mat12<Scalar>& out) {
   PCE_HELMERT_4(h);
   const PlaneReducedProblem<Scalar> pr(f, c1, c2);
   const Eigen::Matrix<Scalar, 1, 4> p2 = f.P.row(2) / pr.p2_norm;

@@ -45,7 +45,8 @@ struct Mollifier {
 };
 
 /// X̂ = `factor` |e0|²|e1|² of a pair's rest configuration (IPC uses factor 1e-3).
-template <class Pair, class Scalar> PCE_HOST_DEVICE Scalar mollifier_threshold(const Vec12<Scalar>& rest, double factor = 1e-3) {
+template <class Pair, class Scalar>
+PCE_HOST_DEVICE Scalar mollifier_threshold(const Vec12<Scalar>& rest, double factor = 1e-3) {
   Vec3<Scalar> e0, e1;
   if constexpr (std::is_same_v<Pair, VertexFace>) {
     e0 = rest.template segment<3>(6) - rest.template segment<3>(3);
@@ -74,7 +75,7 @@ template <class Scalar> struct MollifiedEnergy {
 /// with `mollifier = 0`; `invalid_input` also for an invalid `Mollifier`.
 template <class Pair, class Scalar, class Length, class Penalty>
 PCE_HOST_DEVICE Status mollified_pair_energy(const Vec12<Scalar>& x, const Length& length, const Penalty& penalty,
-                             const Mollifier& mollifier, MollifiedEnergy<Scalar>& out) {
+                                             const Mollifier& mollifier, MollifiedEnergy<Scalar>& out) {
   if (!mollifier.valid() || !penalty_valid(penalty)) return Status::invalid_input;
   MollifiedEnergy<Scalar> r;
   const Status s = pair_energy<Pair>(x, length, penalty, r.base);
@@ -109,7 +110,8 @@ namespace detail {
 /// Coefficients of H_F (docs/math.md §8): A = ψm″, B = ψm′, C = σψ′m′, D = mσψ′, E = mψ″.
 template <class Scalar> struct MollifiedCoefficients { Scalar A, B, C, D, E, s; };
 
-template <class Scalar> PCE_HOST_DEVICE MollifiedCoefficients<Scalar> mollified_coefficients(const MollifiedEnergy<Scalar>& e) {
+template <class Scalar>
+PCE_HOST_DEVICE MollifiedCoefficients<Scalar> mollified_coefficients(const MollifiedEnergy<Scalar>& e) {
   const PairEnergy<Scalar>& b = e.base;
   return {b.psi.value * e.d2m,          b.psi.value * e.dm,
           b.sigma * b.psi.first * e.dm, e.mollifier * b.sigma * b.psi.first,
@@ -126,7 +128,9 @@ template <class Scalar> PCE_HOST_DEVICE bool unmollified(const MollifiedEnergy<S
 /// small eigenvalues of graded matrices accurate to their own size (Demmel & Veselić 1992),
 /// which matters here: the {x0, y1, z2} block has entries O(1), O(s), O(s²) near parallel
 /// edges and its pullback multiplies the z2 part by |J|² ~ 1/s².
-template <class Scalar> PCE_HOST_DEVICE void jacobi3(Mat3<Scalar>& A, Mat3<Scalar>& V) { jacobi_eigen<Scalar, 3>(A, V, Scalar(0)); }
+template <class Scalar> PCE_HOST_DEVICE void jacobi3(Mat3<Scalar>& A, Mat3<Scalar>& V) {
+  jacobi_eigen<Scalar, 3>(A, V, Scalar(0));
+}
 
 /// Unit 9-vector with direction `d` in frame slot `k`.
 template <class Scalar> PCE_HOST_DEVICE Vec9<Scalar> slot(int k, const Vec3<Scalar>& d) {
@@ -255,7 +259,8 @@ template <class Scalar> PCE_HOST_DEVICE FrameEigensystem<Scalar> energy_eigensys
 /// `analytic`/`abs` clamp/flip the closed-form frame eigenvalues and pull back;
 /// `gauss_newton` is max(mψ″, 0) ∇L∇Lᵀ; `numerical` and `none` as for the plain energy;
 /// `exact` the nearest PSD matrix through a 9×9 reduced problem.
-template <Projection P, class Scalar> PCE_HOST_DEVICE Mat12<Scalar> projected_hessian(const MollifiedEnergy<Scalar>& e) {
+template <Projection P, class Scalar>
+PCE_HOST_DEVICE Mat12<Scalar> projected_hessian(const MollifiedEnergy<Scalar>& e) {
   if (!e.has_frame) return Mat12<Scalar>::Zero();
   if (detail::unmollified(e)) return projected_hessian<P>(e.base);
   if constexpr (P == Projection::none) {
@@ -287,7 +292,8 @@ template <Projection P, class Scalar> PCE_HOST_DEVICE Mat12<Scalar> projected_he
 
 /// PSD Hessian of the mollified energy by the strategy chosen at run time (compiles every
 /// strategy: `energy/projection.hpp`).
-template <class Scalar> PCE_HOST_DEVICE Mat12<Scalar> projected_hessian(const MollifiedEnergy<Scalar>& e, Projection strategy) {
+template <class Scalar>
+PCE_HOST_DEVICE Mat12<Scalar> projected_hessian(const MollifiedEnergy<Scalar>& e, Projection strategy) {
   return with_projection(strategy, [&e](auto p) { return projected_hessian<decltype(p)::value>(e); });
 }
 

@@ -29,7 +29,9 @@ namespace pce {
 
 /// Whether `Length` is the signed length (meaningless for the point kinds and for
 /// closest-feature evaluation, which report `invalid_input` for it).
-template <class Length> PCE_HOST_DEVICE constexpr bool is_signed_length() { return std::is_same_v<Length, SignedLength>; }
+template <class Length> PCE_HOST_DEVICE constexpr bool is_signed_length() {
+  return std::is_same_v<Length, SignedLength>;
+}
 
 /// Everything one pair needs, evaluated once: the frame, σ = dL/dl, L and ψ, ψ′, ψ″.
 template <class Scalar> struct PairEnergy {
@@ -71,7 +73,8 @@ PCE_HOST_DEVICE Status distance_pair_energy(const X& x, const Penalty& penalty, 
 /// `degenerate` when the frame does not exist, `out_of_domain` when ψ is undefined at L,
 /// `overflow` when ψ is not finite; `out` is written only on `ok`.
 template <class Pair, class Scalar, class Length, class Penalty>
-PCE_HOST_DEVICE Status pair_energy(const Vec12<Scalar>& x, const Length& length, const Penalty& penalty, PairEnergy<Scalar>& out) {
+PCE_HOST_DEVICE Status pair_energy(const Vec12<Scalar>& x, const Length& length, const Penalty& penalty,
+                                   PairEnergy<Scalar>& out) {
   if (!penalty_valid(penalty)) return Status::invalid_input;
   PairEnergy<Scalar> e;
   const Status s = Pair::frame(x, e.frame);
@@ -156,7 +159,8 @@ template <Projection P, class Scalar> PCE_HOST_DEVICE Mat12<Scalar> projected_he
 
 /// PSD (except for `none`) Hessian of the pair by the strategy chosen at run time (compiles
 /// every strategy: `energy/projection.hpp`); the same bits as `projected_hessian<P>(e)`.
-template <class Scalar> PCE_HOST_DEVICE Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>& e, Projection strategy) {
+template <class Scalar>
+PCE_HOST_DEVICE Mat12<Scalar> projected_hessian(const PairEnergy<Scalar>& e, Projection strategy) {
   return with_projection(strategy, [&e](auto p) { return projected_hessian<decltype(p)::value>(e); });
 }
 
@@ -175,8 +179,8 @@ template <class Scalar, int Dofs = 12, int FrameDofs = 9> struct PairResult {
 /// `PointPoint`). On any non-ok status `out` is not written; a result that is not finite
 /// gives `overflow`.
 template <class Pair, class Scalar, class Length, class Penalty>
-PCE_HOST_DEVICE Status evaluate(const VecN<Scalar, Pair::dofs>& x, const Length& length, const Penalty& penalty, Projection strategy,
-                PairResult<Scalar, Pair::dofs, Pair::frame_dofs>& out) {
+PCE_HOST_DEVICE Status evaluate(const VecN<Scalar, Pair::dofs>& x, const Length& length, const Penalty& penalty,
+                                Projection strategy, PairResult<Scalar, Pair::dofs, Pair::frame_dofs>& out) {
   typename Pair::template Energy<Scalar> e;
   const Status s = pair_energy<Pair>(x, length, penalty, e);
   if (s != Status::ok) return s;

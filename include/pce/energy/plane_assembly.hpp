@@ -59,7 +59,8 @@ template <class T> struct PlaneValues {
 template <class T> struct UpperTriangle12 {
   T h[78];
   /// sets `c v vᵀ` (entry (a, b): `(c v_a) v_b`) where `on` holds, 0 elsewhere
-  template <class Mask> PCE_HOST_DEVICE PCE_ALWAYS_INLINE void first_rank_one(const T& c, const T (&v)[12], const Mask& on) {
+  template <class Mask>
+  PCE_HOST_DEVICE PCE_ALWAYS_INLINE void first_rank_one(const T& c, const T (&v)[12], const Mask& on) {
     T cv[12];
     for (int a = 0; a < 12; ++a) cv[a] = c * v[a];
     int idx = 0;
@@ -182,9 +183,9 @@ PCE_HOST_DEVICE PCE_ALWAYS_INLINE void plane_exact_hessian(const PlaneValues<T>&
 
 /// The clamped (`flip` false: f = max(·, 0)) or flipped (`flip` true: f = |·|) closed-form
 /// Hessian of a plane kind into `H`; c1 = σψ′, c2 = ψ″. `big_t` = 1/√ε of the scalar.
-template <class T, class Acc> PCE_HOST_DEVICE PCE_ALWAYS_INLINE void plane_filtered_hessian(const PlaneValues<T>& f, const T& c1,
-                                                                            const T& c2, bool flip, const T& big_t,
-                                                                            Acc& H) {
+template <class T, class Acc>
+PCE_HOST_DEVICE PCE_ALWAYS_INLINE void plane_filtered_hessian(const PlaneValues<T>& f, const T& c1, const T& c2,
+                                                              bool flip, const T& big_t, Acc& H) {
   using std::abs;
   const auto filter = [flip](const T& v) { return flip ? T(abs(v)) : select(v > T(0), v, T(0)); };
   T w2[12];

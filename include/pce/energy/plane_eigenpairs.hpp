@@ -36,8 +36,8 @@ namespace pce::detail {
 /// Sylvester argument of §9.3 requires for exactly two negative eigenvalues); elsewhere it
 /// may return false, never an unproven answer.
 template <class Scalar> PCE_HOST_DEVICE bool plane_negative_eigenpairs(const Mat3<Scalar>& R, const Scalar (&d_in)[3],
-                                                       const Scalar (&e_in)[2], Scalar (&lambda)[2],
-                                                       VecN<Scalar, 5> (&q)[2]) {
+                                                                       const Scalar (&e_in)[2], Scalar (&lambda)[2],
+                                                                       VecN<Scalar, 5> (&q)[2]) {
   using std::abs;
   using std::sqrt;
   const Vec3<Scalar> r0 = R.col(0), r1 = R.col(1), r2 = R.col(2);

@@ -38,7 +38,8 @@ template <class Scalar> struct PointEdgeEnergy {
 /// no side). Other statuses as `PointEdge::frame` and `pair_energy` of the plane kinds;
 /// `out` is written only on `ok`.
 template <class Pair, class Scalar, class Length, class Penalty>
-PCE_HOST_DEVICE Status pair_energy(const Vec9<Scalar>& x, const Length&, const Penalty& penalty, PointEdgeEnergy<Scalar>& out) {
+PCE_HOST_DEVICE Status pair_energy(const Vec9<Scalar>& x, const Length&, const Penalty& penalty,
+                                   PointEdgeEnergy<Scalar>& out) {
   static_assert(std::is_same_v<Pair, PointEdge>, "a 9-coordinate pair is a PointEdge");
   return detail::distance_pair_energy<PointEdge, PointEdgeEnergy<Scalar>, Vec9<Scalar>, Length>(x, penalty, out);
 }
@@ -78,7 +79,8 @@ template <class Scalar> PCE_HOST_DEVICE Mat9<Scalar> energy_hessian(const PointE
 
 /// Closed-form eigensystem of the frame Hessian `ψ″ggᵀ + ψ′H_d` (6×6, frame space c =
 /// (e, r⊥)), ascending.
-template <class Scalar> PCE_HOST_DEVICE FrameEigensystem<Scalar, 6> energy_eigensystem(const PointEdgeEnergy<Scalar>& e) {
+template <class Scalar>
+PCE_HOST_DEVICE FrameEigensystem<Scalar, 6> energy_eigensystem(const PointEdgeEnergy<Scalar>& e) {
   const PointEdgeFrame<Scalar>& f = e.frame;
   const LengthFamily<Scalar> fam = length_family(f.d, f.a);
   const Scalar c1 = e.psi.first;
@@ -175,7 +177,8 @@ template <Projection P, class Scalar> PCE_HOST_DEVICE Mat9<Scalar> projected_hes
 
 /// PSD (except for `none`) Hessian of the pair by the strategy chosen at run time (compiles
 /// every strategy: `energy/projection.hpp`).
-template <class Scalar> PCE_HOST_DEVICE Mat9<Scalar> projected_hessian(const PointEdgeEnergy<Scalar>& e, Projection strategy) {
+template <class Scalar>
+PCE_HOST_DEVICE Mat9<Scalar> projected_hessian(const PointEdgeEnergy<Scalar>& e, Projection strategy) {
   return with_projection(strategy, [&e](auto p) { return projected_hessian<decltype(p)::value>(e); });
 }
 

@@ -32,7 +32,8 @@ template <class Scalar> struct PointPointEnergy {
 /// `UnsignedLength`; a `SignedLength` gives `invalid_input`. `degenerate` for p = q.
 /// `out` is written only on `ok`.
 template <class Pair, class Scalar, class Length, class Penalty>
-PCE_HOST_DEVICE Status pair_energy(const Vec6<Scalar>& x, const Length&, const Penalty& penalty, PointPointEnergy<Scalar>& out) {
+PCE_HOST_DEVICE Status pair_energy(const Vec6<Scalar>& x, const Length&, const Penalty& penalty,
+                                   PointPointEnergy<Scalar>& out) {
   static_assert(std::is_same_v<Pair, PointPoint>, "a 6-coordinate pair is a PointPoint");
   return detail::distance_pair_energy<PointPoint, PointPointEnergy<Scalar>, Vec6<Scalar>, Length>(x, penalty, out);
 }
@@ -62,7 +63,8 @@ template <class Scalar> PCE_HOST_DEVICE Mat6<Scalar> energy_hessian(const PointP
 
 /// Closed-form eigensystem of the frame Hessian (3×3, frame space c = p − q), ascending:
 /// (ψ″, û) and (ψ′/d, v̂), (ψ′/d, ŵ).
-template <class Scalar> PCE_HOST_DEVICE FrameEigensystem<Scalar, 3> energy_eigensystem(const PointPointEnergy<Scalar>& e) {
+template <class Scalar>
+PCE_HOST_DEVICE FrameEigensystem<Scalar, 3> energy_eigensystem(const PointPointEnergy<Scalar>& e) {
   const Scalar c = e.psi.first / e.frame.d;
   return detail::sorted_eigensystem<Scalar, 3>({e.psi.second, c, c}, {e.frame.u, e.frame.v, e.frame.w});
 }
@@ -70,7 +72,8 @@ template <class Scalar> PCE_HOST_DEVICE FrameEigensystem<Scalar, 3> energy_eigen
 /// PSD (except for `none`) Hessian by the strategy `P`, chosen at compile time (only that
 /// strategy is compiled); `analytic` and `exact` are the same matrix for this kind (see the
 /// file comment).
-template <Projection P, class Scalar> PCE_HOST_DEVICE Mat6<Scalar> projected_hessian(const PointPointEnergy<Scalar>& e) {
+template <Projection P, class Scalar>
+PCE_HOST_DEVICE Mat6<Scalar> projected_hessian(const PointPointEnergy<Scalar>& e) {
   using std::abs;
   const auto clamp = [](const Scalar& v) { return v > Scalar(0) ? v : Scalar(0); };
   const Scalar c = e.psi.first / e.frame.d;
@@ -90,7 +93,8 @@ template <Projection P, class Scalar> PCE_HOST_DEVICE Mat6<Scalar> projected_hes
 
 /// PSD (except for `none`) Hessian by the strategy chosen at run time (compiles every
 /// strategy: `energy/projection.hpp`).
-template <class Scalar> PCE_HOST_DEVICE Mat6<Scalar> projected_hessian(const PointPointEnergy<Scalar>& e, Projection strategy) {
+template <class Scalar>
+PCE_HOST_DEVICE Mat6<Scalar> projected_hessian(const PointPointEnergy<Scalar>& e, Projection strategy) {
   return with_projection(strategy, [&e](auto p) { return projected_hessian<decltype(p)::value>(e); });
 }
 

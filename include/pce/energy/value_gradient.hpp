@@ -34,8 +34,9 @@ template <class Length, class Scalar> PCE_HOST_DEVICE Scalar length_sigma(const 
 /// The plane kinds' lean evaluation: the status, L, ψ (ψ′, ψ″) and the part of the frame the
 /// gradient needs, in the order and with the checks of `pair_energy`.
 template <class Pair, class Scalar, class Length, class Penalty>
-PCE_HOST_DEVICE PCE_ALWAYS_INLINE Status lean_plane_energy(const Vec12<Scalar>& x, const Length& length, const Penalty& penalty,
-                                           GradientFrame<Scalar>& f, Scalar& sigma, PenaltyDerivatives<Scalar>& psi) {
+PCE_HOST_DEVICE PCE_ALWAYS_INLINE Status lean_plane_energy(const Vec12<Scalar>& x, const Length& length,
+                                                           const Penalty& penalty, GradientFrame<Scalar>& f,
+                                                           Scalar& sigma, PenaltyDerivatives<Scalar>& psi) {
   if (!penalty_valid(penalty)) return Status::invalid_input;
   const Status s = Pair::frame(x, f);
   if (s != Status::ok) return s;
@@ -47,7 +48,8 @@ PCE_HOST_DEVICE PCE_ALWAYS_INLINE Status lean_plane_energy(const Vec12<Scalar>& 
 /// `E = ψ(L)` of pair `x`: the status and value of `pair_energy` (bit for bit), computing only
 /// what the value needs. `value` is written only on `ok`.
 template <class Pair, class Scalar, class Length, class Penalty>
-PCE_HOST_DEVICE Status value_only(const VecN<Scalar, Pair::dofs>& x, const Length& length, const Penalty& penalty, Scalar& value) {
+PCE_HOST_DEVICE Status value_only(const VecN<Scalar, Pair::dofs>& x, const Length& length, const Penalty& penalty,
+                                  Scalar& value) {
   if constexpr (Pair::dofs == 12) {
     detail::GradientFrame<Scalar> f;
     Scalar sigma;
@@ -68,8 +70,8 @@ PCE_HOST_DEVICE Status value_only(const VecN<Scalar, Pair::dofs>& x, const Lengt
 /// `pair_energy`'s, or `overflow` when the gradient is not finite (as `evaluate`); `value` and
 /// `gradient` are written only on `ok`.
 template <class Pair, class Scalar, class Length, class Penalty>
-PCE_HOST_DEVICE Status value_gradient(const VecN<Scalar, Pair::dofs>& x, const Length& length, const Penalty& penalty, Scalar& value,
-                      VecN<Scalar, Pair::dofs>& gradient) {
+PCE_HOST_DEVICE Status value_gradient(const VecN<Scalar, Pair::dofs>& x, const Length& length, const Penalty& penalty,
+                                      Scalar& value, VecN<Scalar, Pair::dofs>& gradient) {
   if constexpr (Pair::dofs == 12) {
     detail::GradientFrame<Scalar> f;
     Scalar sigma;

@@ -34,7 +34,8 @@ struct EdgeEdge {
   /// non-finite or absurd coordinates, `degenerate` for parallel or zero-length edges; on
   /// failure `f` is untouched.
   /// `Out` may also be `detail::GradientFrame`, the part of the frame `value_gradient` needs.
-  template <class Scalar, class Out> PCE_HOST_DEVICE PCE_ALWAYS_INLINE static Status frame(const Vec12<Scalar>& x, Out& f) {
+  template <class Scalar, class Out>
+  PCE_HOST_DEVICE PCE_ALWAYS_INLINE static Status frame(const Vec12<Scalar>& x, Out& f) {
     return detail::frame_from_vertices(x, edge_map<Scalar>(), f);
   }
 };

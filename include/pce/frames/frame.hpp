@@ -87,7 +87,8 @@ template <class Scalar> PCE_HOST_DEVICE Eigen::Matrix<Scalar, 9, 12> frame_jacob
 namespace detail {
 /// `r ⊗ d`: point `j` gets `r[j] d` (a frame direction `d` in slot k pulled back to the
 /// coordinates is `P.row(k) ⊗ d`, i.e. `Jᵀ` of that slot vector).
-template <class Scalar, class Row> PCE_HOST_DEVICE VecN<Scalar, 3 * Row::SizeAtCompileTime> kron(const Row& r, const Vec3<Scalar>& d) {
+template <class Scalar, class Row>
+PCE_HOST_DEVICE VecN<Scalar, 3 * Row::SizeAtCompileTime> kron(const Row& r, const Vec3<Scalar>& d) {
   constexpr int n = Row::SizeAtCompileTime;
   VecN<Scalar, 3 * n> v;
   for (int j = 0; j < n; ++j) v.template segment<3>(3 * j) = r[j] * d;

@@ -34,7 +34,8 @@ struct VertexFace {
   /// Builds the reduced frame of `x = (p, t0, t1, t2)`; `invalid_input` for non-finite or
   /// absurd coordinates, `degenerate` for a zero-area triangle; on failure `f` is untouched.
   /// `Out` may also be `detail::GradientFrame`, the part of the frame `value_gradient` needs.
-  template <class Scalar, class Out> PCE_HOST_DEVICE PCE_ALWAYS_INLINE static Status frame(const Vec12<Scalar>& x, Out& f) {
+  template <class Scalar, class Out>
+  PCE_HOST_DEVICE PCE_ALWAYS_INLINE static Status frame(const Vec12<Scalar>& x, Out& f) {
     return detail::frame_from_vertices(x, edge_map<Scalar>(), f);
   }
 };

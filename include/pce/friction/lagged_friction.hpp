@@ -53,7 +53,8 @@ template <class Scalar> struct FrictionMollifier {
 };
 
 /// The mollifier at slip y ≥ 0 for ε > 0 (IPC Sec. 5, f₀ with f₀′ = f₁).
-template <class Scalar> PCE_HOST_DEVICE FrictionMollifier<Scalar> friction_mollifier(const Scalar& y, const Scalar& eps) {
+template <class Scalar>
+PCE_HOST_DEVICE FrictionMollifier<Scalar> friction_mollifier(const Scalar& y, const Scalar& eps) {
   FrictionMollifier<Scalar> m;
   if (y >= eps) {
     m.f0 = y;
@@ -96,8 +97,9 @@ template <class Scalar> PCE_HOST_DEVICE Eigen::Matrix<Scalar, 3, 2> tangent_basi
 }
 
 /// The tangential slip u = Tᵀ (Σⱼ wⱼ Δxⱼ − o) of displacements `dx` (3N) since the step's start.
-template <class Scalar, int N> PCE_HOST_DEVICE Eigen::Matrix<Scalar, 2, 1> friction_slip(const LaggedFriction<Scalar, N>& f,
-                                                                         const Eigen::Matrix<Scalar, 3 * N, 1>& dx) {
+template <class Scalar, int N>
+PCE_HOST_DEVICE Eigen::Matrix<Scalar, 2, 1> friction_slip(const LaggedFriction<Scalar, N>& f,
+                                                          const Eigen::Matrix<Scalar, 3 * N, 1>& dx) {
   Vec3<Scalar> r = -f.offset;
   for (int j = 0; j < N; ++j) r += f.weights[j] * dx.template segment<3>(3 * j);
   return f.basis.transpose() * r;
@@ -112,7 +114,7 @@ PCE_HOST_DEVICE Scalar friction_energy(const LaggedFriction<Scalar, N>& f, const
 /// ∇D = μλ (f₁(y)/y) (w ⊗ T) u (3N).
 template <class Scalar, int N>
 PCE_HOST_DEVICE Eigen::Matrix<Scalar, 3 * N, 1> friction_gradient(const LaggedFriction<Scalar, N>& f,
-                                                  const Eigen::Matrix<Scalar, 3 * N, 1>& dx) {
+                                                                  const Eigen::Matrix<Scalar, 3 * N, 1>& dx) {
   const Eigen::Matrix<Scalar, 2, 1> u = friction_slip(f, dx);
   const Vec3<Scalar> t = f.mu_lambda * friction_mollifier(u.norm(), f.static_slip).f1_over_y * (f.basis * u);
   Eigen::Matrix<Scalar, 3 * N, 1> g;
@@ -123,7 +125,8 @@ PCE_HOST_DEVICE Eigen::Matrix<Scalar, 3 * N, 1> friction_gradient(const LaggedFr
 /// The tangent block's PSD matrix μλ T [max(f₁′, 0) ûûᵀ + (f₁/y)(I − ûûᵀ)] Tᵀ (3×3; (2μλ/ε) T Tᵀ
 /// at y = 0); the Hessian is (w wᵀ) ⊗ this.
 template <class Scalar, int N>
-PCE_HOST_DEVICE Mat3<Scalar> friction_tangent_block(const LaggedFriction<Scalar, N>& f, const Eigen::Matrix<Scalar, 3 * N, 1>& dx) {
+PCE_HOST_DEVICE Mat3<Scalar> friction_tangent_block(const LaggedFriction<Scalar, N>& f,
+                                                    const Eigen::Matrix<Scalar, 3 * N, 1>& dx) {
   using std::max;
   const Eigen::Matrix<Scalar, 2, 1> u = friction_slip(f, dx);
   const Scalar y = u.norm();
@@ -146,7 +149,8 @@ PCE_HOST_DEVICE Mat3<Scalar> friction_tangent_block(const LaggedFriction<Scalar,
 /// block, flat along a sliding contact's slip (f₁′ = 0 beyond ε), sends a lone vertex as far
 /// as its other terms let it. At y = 0 it is the Hessian's (2μλ/ε) T Tᵀ.
 template <class Scalar, int N>
-PCE_HOST_DEVICE Mat3<Scalar> friction_majorizer_block(const LaggedFriction<Scalar, N>& f, const Eigen::Matrix<Scalar, 3 * N, 1>& dx) {
+PCE_HOST_DEVICE Mat3<Scalar> friction_majorizer_block(const LaggedFriction<Scalar, N>& f,
+                                                      const Eigen::Matrix<Scalar, 3 * N, 1>& dx) {
   const Scalar y = friction_slip(f, dx).norm();
   return (f.mu_lambda * friction_mollifier(y, f.static_slip).f1_over_y) * (f.basis * f.basis.transpose());
 }
@@ -163,8 +167,8 @@ PCE_HOST_DEVICE Mat3<Scalar> friction_majorizer_block(const LaggedFriction<Scala
 /// contact must slide beyond what the step shows.
 template <class Scalar, int N>
 PCE_HOST_DEVICE Eigen::Matrix<Scalar, 2, 1> friction_model_force(const LaggedFriction<Scalar, N>& f,
-                                                 const Eigen::Matrix<Scalar, 3 * N, 1>& dx,
-                                                 const Eigen::Matrix<Scalar, 3 * N, 1>& ddx) {
+                                                                 const Eigen::Matrix<Scalar, 3 * N, 1>& dx,
+                                                                 const Eigen::Matrix<Scalar, 3 * N, 1>& ddx) {
   using std::max;
   const Eigen::Matrix<Scalar, 2, 1> u = friction_slip(f, dx);
   Vec3<Scalar> dr = Vec3<Scalar>::Zero();
@@ -187,8 +191,9 @@ PCE_HOST_DEVICE Eigen::Matrix<Scalar, 2, 1> friction_model_force(const LaggedFri
 ///
 /// the gradient ∇D = (w ⊗ T) F in the slip coordinates. `friction_model_force(f, dx, ddx)`
 /// minus this at dx + ddx is the error of Newton's quadratic model of D over the step ddx.
-template <class Scalar, int N> PCE_HOST_DEVICE Eigen::Matrix<Scalar, 2, 1> friction_force(const LaggedFriction<Scalar, N>& f,
-                                                                          const Eigen::Matrix<Scalar, 3 * N, 1>& dx) {
+template <class Scalar, int N>
+PCE_HOST_DEVICE Eigen::Matrix<Scalar, 2, 1> friction_force(const LaggedFriction<Scalar, N>& f,
+                                                           const Eigen::Matrix<Scalar, 3 * N, 1>& dx) {
   const Eigen::Matrix<Scalar, 2, 1> u = friction_slip(f, dx);
   return f.mu_lambda * friction_mollifier(u.norm(), f.static_slip).f1_over_y * u;
 }
@@ -196,7 +201,7 @@ template <class Scalar, int N> PCE_HOST_DEVICE Eigen::Matrix<Scalar, 2, 1> frict
 /// ∇²D, positive semidefinite: (w wᵀ) ⊗ `friction_tangent_block` (3N×3N).
 template <class Scalar, int N>
 PCE_HOST_DEVICE Eigen::Matrix<Scalar, 3 * N, 3 * N> friction_hessian(const LaggedFriction<Scalar, N>& f,
-                                                     const Eigen::Matrix<Scalar, 3 * N, 1>& dx) {
+                                                                     const Eigen::Matrix<Scalar, 3 * N, 1>& dx) {
   const Mat3<Scalar> K = friction_tangent_block(f, dx);
   Eigen::Matrix<Scalar, 3 * N, 3 * N> H;
   for (int j = 0; j < N; ++j)
@@ -207,7 +212,8 @@ PCE_HOST_DEVICE Eigen::Matrix<Scalar, 3 * N, 3 * N> friction_hessian(const Lagge
 /// The closest-point weights and unit normal of a plane-mode pair from its frame: w = the
 /// frame's third row P(2,·) (e2⊥ = Σⱼ P(2,j) xⱼ = l n̂ joins the closest points of the plane
 /// or line distance), n = n̂.
-template <class Scalar> PCE_HOST_DEVICE void friction_geometry(const Frame<Scalar>& frame, VecN<Scalar, 4>& w, Vec3<Scalar>& n) {
+template <class Scalar>
+PCE_HOST_DEVICE void friction_geometry(const Frame<Scalar>& frame, VecN<Scalar, 4>& w, Vec3<Scalar>& n) {
   w = frame.P.row(2).transpose();
   n = frame.n;
 }
@@ -217,8 +223,9 @@ template <class Scalar> PCE_HOST_DEVICE void friction_geometry(const Frame<Scala
 /// `x`: the frame's for the plane kinds, (1, −(1 − s), −s) on (p, e0, e1) for point-edge
 /// with s the foot's parameter, (1, −1) on (p, q) for point-point. Returns false when the
 /// closest points coincide (no normal).
-template <class Scalar> PCE_HOST_DEVICE bool friction_geometry(const ClosestFeatureEnergy<Scalar>& ce, const Vec12<Scalar>& x,
-                                               VecN<Scalar, 4>& w, Vec3<Scalar>& n) {
+template <class Scalar> PCE_HOST_DEVICE bool friction_geometry(const ClosestFeatureEnergy<Scalar>& ce,
+                                                               const Vec12<Scalar>& x, VecN<Scalar, 4>& w,
+                                                               Vec3<Scalar>& n) {
   using std::clamp;
   w.setZero();
   switch (ce.feature) {

@@ -89,7 +89,7 @@ namespace detail {
 /// Sorts `n` eigenpairs ascending (insertion sort: stable, no allocation).
 template <class Scalar, int N>
 PCE_HOST_DEVICE FrameEigensystem<Scalar, N> sorted_eigensystem(const std::array<Scalar, N>& val,
-                                               const std::array<VecN<Scalar, N>, N>& vec) {
+                                                               const std::array<VecN<Scalar, N>, N>& vec) {
   std::array<int, N> order;
   for (int i = 0; i < N; ++i) order[i] = i;
   for (int i = 1; i < N; ++i)

@@ -30,14 +30,16 @@ template <class Scalar, class Length> PCE_HOST_DEVICE Scalar length_value(const 
 }
 
 /// Frame gradient `∂L/∂c = σ (0, 0, n̂)` (supplement Eq. 13), n̂ = `Frame::m_hat`.
-template <class Scalar, class Length> PCE_HOST_DEVICE Vec9<Scalar> length_gradient(const Frame<Scalar>& f, const Length& len) {
+template <class Scalar, class Length>
+PCE_HOST_DEVICE Vec9<Scalar> length_gradient(const Frame<Scalar>& f, const Length& len) {
   Vec9<Scalar> g = Vec9<Scalar>::Zero();
   g.template segment<3>(6) = len.sigma(f) * f.m_hat;
   return g;
 }
 
 /// Frame Hessian `∂²L/∂c² = σ H_l` (supplement Eqs. 16–37), dense 9×9.
-template <class Scalar, class Length> PCE_HOST_DEVICE Mat9<Scalar> length_hessian(const Frame<Scalar>& f, const Length& len) {
+template <class Scalar, class Length>
+PCE_HOST_DEVICE Mat9<Scalar> length_hessian(const Frame<Scalar>& f, const Length& len) {
   return detail::frame_hessian_blocks(f, len.sigma(f), Scalar(0)).dense();
 }
 

@@ -17,7 +17,9 @@ namespace pce {
 /// Unsigned length `L = |l|`, with `σ = dL/dl = sgn(l)` (+1 at l = 0).
 struct UnsignedLength {
   /// dL/dl = sgn(l), +1 at l = 0.
-  template <class Scalar> PCE_HOST_DEVICE Scalar sigma(const Frame<Scalar>& f) const { return detail::sign_nonneg(f.l); }
+  template <class Scalar> PCE_HOST_DEVICE Scalar sigma(const Frame<Scalar>& f) const {
+    return detail::sign_nonneg(f.l);
+  }
 };
 
 }  // namespace pce

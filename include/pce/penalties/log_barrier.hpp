@@ -22,7 +22,9 @@ struct LogBarrierPenalty {
   double dhat = 1.0;       ///< barrier activation distance d̂ > 0
 
   /// Whether the parameters are admissible (finite, k ≥ 0, …); else `invalid_input`.
-  PCE_HOST_DEVICE bool valid() const { return std::isfinite(stiffness) && stiffness >= 0 && std::isfinite(dhat) && dhat > 0; }
+  PCE_HOST_DEVICE bool valid() const {
+    return std::isfinite(stiffness) && stiffness >= 0 && std::isfinite(dhat) && dhat > 0;
+  }
 
   /// The barrier is defined for L > 0 only (`out_of_domain` otherwise).
   template <class Scalar> PCE_HOST_DEVICE bool in_domain(const Scalar& L) const { return L > Scalar(0); }

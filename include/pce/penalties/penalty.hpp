@@ -60,7 +60,8 @@ template <class Penalty> PCE_HOST_DEVICE bool penalty_valid(const Penalty& penal
 /// finite, else `Status::ok`; `psi` is written only on `ok`. The one evaluation every pair
 /// energy makes (paper Sec. 3: the energy is ψ of the pair's length).
 template <class Penalty, class Scalar>
-PCE_HOST_DEVICE PCE_ALWAYS_INLINE Status evaluate_penalty(const Penalty& penalty, const Scalar& L, PenaltyDerivatives<Scalar>& psi) {
+PCE_HOST_DEVICE PCE_ALWAYS_INLINE Status evaluate_penalty(const Penalty& penalty, const Scalar& L,
+                                                          PenaltyDerivatives<Scalar>& psi) {
   if (!penalty_in_domain(penalty, L)) return Status::out_of_domain;
   const PenaltyDerivatives<Scalar> v = penalty.template evaluate<Scalar>(L);
   if (!detail::finite_all(v.value, v.first, v.second)) return Status::overflow;
