@@ -326,6 +326,15 @@ PCE_HOST_DEVICE void evaluate_batch(const Scalar* x, std::size_t count, const Le
   for (; i < count; ++i) detail::batch_row<Pair>(x, i, length, penalty, strategy, out);
 }
 
+/// Row `i` of `evaluate_batch<Pair>`, alone: what one thread of a device kernel evaluates
+/// (`docs/cuda.md`). On the host the same bits as the row of `evaluate_batch`; in device code
+/// `Projection::numerical` runs as `exact` (`with_projection`).
+template <class Pair, class Scalar, class Length, class Penalty>
+PCE_HOST_DEVICE void evaluate_batch_row(const Scalar* x, std::size_t i, const Length& length, const Penalty& penalty,
+                                        Projection strategy, const BatchOutput<Scalar>& out) {
+  detail::batch_row<Pair>(x, i, length, penalty, strategy, out);
+}
+
 /// `closest_feature_energy<Pair>` (`VertexFace` or `EdgeEdge`; unsigned length) for `count`
 /// pairs, pair i's 12 coordinates starting at x + 12i, into `out`, with the kind evaluated
 /// in `out.feature` and the eigenvalues of that kind (9, 6 or 3, then NaN) in
