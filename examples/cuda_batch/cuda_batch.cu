@@ -54,7 +54,8 @@ int main() {
   cudaMemcpy(g0, gradient, sizeof(g0), cudaMemcpyDeviceToHost);
   // the same pair on the host
   pce::PairEnergy<double> e;
-  pce::pair_energy<pce::VertexFace>(pce::Vec12<double>(x.data()), pce::SignedLength{}, pce::QuadraticPenalty{1e3, 1e-2}, e);
+  pce::pair_energy<pce::VertexFace>(pce::Vec12<double>(x.data()), pce::SignedLength{}, pce::QuadraticPenalty{1e3, 1e-2},
+                                    e);
   std::printf("pair 0: energy %.12g (host %.12g), dE/dp_z %.12g (host %.12g)\n", e0, e.psi.value, g0[2],
               pce::energy_gradient(e)[2]);
   cudaFree(dx), cudaFree(value), cudaFree(gradient), cudaFree(hessian), cudaFree(status);

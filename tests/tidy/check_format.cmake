@@ -4,7 +4,7 @@
 file(GLOB_RECURSE files RELATIVE ${SOURCE_DIR}
      ${SOURCE_DIR}/include/*.hpp ${SOURCE_DIR}/src/*.hpp ${SOURCE_DIR}/src/*.cpp ${SOURCE_DIR}/tests/*.hpp
      ${SOURCE_DIR}/tests/*.cpp ${SOURCE_DIR}/benchmarks/*.hpp ${SOURCE_DIR}/benchmarks/*.cpp
-     ${SOURCE_DIR}/examples/*.cpp)
+     ${SOURCE_DIR}/examples/*.cpp ${SOURCE_DIR}/tests/*.cu ${SOURCE_DIR}/examples/*.cu)
 list(LENGTH files count)
 set(bad "")
 foreach(f IN LISTS files)
