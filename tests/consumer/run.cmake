@@ -4,9 +4,11 @@
 #   -DMODE=consume  -DBINARY=<dir> -DGENERATOR=... -DCXX=... -DCONFIG=<cfg> [-DSIM=ON]
 #       [-DPREFIX=<dir> | -DPCE_SOURCE=<pce's source tree> | -DPCE_GIT=<pce's git URL>] [-DEXPECT_VERSION=<v>]
 #       [-DEIGEN3_DIR=<dir>] [-DWERROR=ON] [-DPIC=ON|OFF] [-DEXPECT_FAIL=<regex>] [-DCONFIGURE_ONLY=ON]
+#       [-DCUDA=<nvcc>]
 #       configures project/ in a fresh BINARY, builds it and runs its programs; with
 #       EXPECT_FAIL, the configuration must fail with a message matching the regex; with
-#       CONFIGURE_ONLY, it is only configured (its own checks run at configure time).
+#       CONFIGURE_ONLY, it is only configured (its own checks run at configure time); with
+#       CUDA, the CUDA file is built and run too (it exits 0 without a device).
 cmake_minimum_required(VERSION 3.16)
 
 function(run)
@@ -48,6 +50,10 @@ if(DEFINED PIC AND NOT PIC STREQUAL "")
   list(APPEND args -DCMAKE_POSITION_INDEPENDENT_CODE=${PIC})
 endif()
 
+if(CUDA)
+  list(APPEND args -DPCE_CONSUMER_CUDA=ON -DCMAKE_CUDA_COMPILER=${CUDA})
+endif()
+
 if(DEFINED EXPECT_FAIL)
   execute_process(COMMAND ${CMAKE_COMMAND} ${args} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   message("${out}${err}")
@@ -72,6 +78,9 @@ if(PREFIX OR SIM)  # project/CMakeLists.txt: where consumer_precompiled is built
 endif()
 if(SIM)
   list(APPEND programs consumer_sim)
+endif()
+if(CUDA)
+  list(APPEND programs consumer_cuda)
 endif()
 foreach(program IN LISTS programs)
   find_program(path_${program} ${program} PATHS ${BINARY} ${BINARY}/${CONFIG} NO_DEFAULT_PATH REQUIRED)
