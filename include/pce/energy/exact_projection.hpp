@@ -93,8 +93,9 @@ template <class Scalar> struct PlaneReducedProblem {
     PCE_HELMERT_4(h);
     R = h * f.P.transpose();
     p2_norm = sqrt(f.P.row(2).squaredNorm());
-    d[0] = -c1 * ((f.l / f.a0) / f.a0), d[1] = -c1 * ((f.l / f.a1) / f.a1), d[2] = c2;
-    e[0] = (-c1 / f.a0) * p2_norm, e[1] = (-c1 / f.a1) * p2_norm;
+    const Scalar r0 = Scalar(1) / f.a0, r1 = Scalar(1) / f.a1;
+    d[0] = -c1 * ((f.l * r0) * r0), d[1] = -c1 * ((f.l * r1) * r1), d[2] = c2;
+    e[0] = (-c1 * r0) * p2_norm, e[1] = (-c1 * r1) * p2_norm;
   }
   /// S itself
   PCE_HOST_DEVICE MatN<Scalar, 5> matrix() const {
@@ -109,40 +110,88 @@ template <class Scalar> struct PlaneReducedProblem {
   }
 };
 
-/// Exact projection of a plane kind's Hessian `Jᵀ(c2 ggᵀ + c1 H_l)J` (c1 = σψ′, c2 = ψ″) into `out`;
-/// `hessian_terms(H)` adds the terms that Hessian is the sum of (`energy_hessian`) into `H`, and is
-/// called only when they are used: when σψ′ ≠ 0 and ψ″ ≥ 0, S has exactly two negative
-/// eigenvalues (§9.3) and the result is `∇²E − Σ λ_k (Q q_k)(Q q_k)ᵀ` from
-/// `plane_negative_eigenpairs`; otherwise, or if that cannot prove its answer,
-/// `Q proj(S) Qᵀ` by the QR algorithm.
-template <class Scalar, class HessianTerms>
-PCE_HOST_DEVICE void exact_projection(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2,
-                                      const HessianTerms& hessian_terms, Mat12<Scalar>& out) {
+/// `T = proj(S) = S − Σ_k λ_k q_k q_kᵀ` (M29) as the sum `Σ_s δ_s l_s l_sᵀ` of at most three
+/// positive rank-one terms: pivoted LDLᵀ (the largest remaining diagonal entry as pivot, Higham,
+/// *Accuracy and Stability of Numerical Algorithms*, Sec. 10.3), stopped after three steps,
+/// since T is PSD of rank 3 (S has three nonnegative eigenvalues, §9.3), or when no positive
+/// pivot is left. What it drops is T's rounding, of size ε‖S‖. Returns the number of terms.
+template <class Scalar>
+PCE_HOST_DEVICE int rank_three_factor(MatN<Scalar, 5> T, Scalar (&delta)[3], VecN<Scalar, 5> (&l)[3]) {
+  bool used[5] = {false, false, false, false, false};
+  int count = 0;
+  for (; count < 3; ++count) {
+    int p = -1;
+    Scalar best = Scalar(0);
+    for (int i = 0; i < 5; ++i) {
+      const bool better = !used[i] && T(i, i) > best;  // NaN: never a pivot
+      best = better ? T(i, i) : best;
+      p = better ? i : p;
+    }
+    if (p < 0) break;
+    used[p] = true;
+    const Scalar inv = Scalar(1) / best;
+    VecN<Scalar, 5> c;
+    for (int i = 0; i < 5; ++i) c[i] = used[i] ? Scalar(0) : T(i, p) * inv;  // eliminated rows: 0 exactly
+    c[p] = Scalar(1);
+    delta[count] = best;
+    l[count] = c;
+    if (count < 2) T.noalias() -= (best * c) * c.transpose();  // (the last step's update is never read)
+  }
+  return count;
+}
+
+/// Exact projection of a plane kind's Hessian `Jᵀ(c2 ggᵀ + c1 H_l)J` (c1 = σψ′, c2 = ψ″) into
+/// `out`: when σψ′ ≠ 0 and ψ″ ≥ 0, S has exactly two negative eigenvalues (§9.3); with those
+/// from `plane_negative_eigenpairs`, `proj(S) = S − Σ λ_k q_k q_kᵀ` is factored into three
+/// positive rank-one terms (`rank_three_factor`) and the result is `Σ_s δ_s (Q l_s)(Q l_s)ᵀ`,
+/// PSD term by term. Otherwise, or if the eigenpairs cannot be proven, `Q proj(S) Qᵀ` by the
+/// QR algorithm.
+template <class Scalar>
+PCE_HOST_DEVICE void exact_projection(const Frame<Scalar>& f, const Scalar& c1, const Scalar& c2, Mat12<Scalar>& out) {
   PCE_HELMERT_4(h);
   const PlaneReducedProblem<Scalar> pr(f, c1, c2);
-  const Eigen::Matrix<Scalar, 1, 4> p2 = f.P.row(2) / pr.p2_norm;
+  const Eigen::Matrix<Scalar, 1, 4> p2 = f.P.row(2) * (Scalar(1) / pr.p2_norm);
   // Q g = Σ_i g_i h_i ⊗ n̂ + p̂_2 ⊗ (g_3 ê_0 + g_4 ê_1), vertex by vertex
-  const auto to_x = [&](const VecN<Scalar, 5>& g) {
+  const auto to_x = [&](const VecN<Scalar, 5>& g, Scalar(&x)[12]) {
     const Eigen::Matrix<Scalar, 1, 4> a = g.template head<3>().transpose() * h;
     const Vec3<Scalar> b = g[3] * f.t0 + g[4] * f.t1;
-    Vec12<Scalar> x;
-    for (int j = 0; j < 4; ++j) x.template segment<3>(3 * j) = a[j] * f.n + p2[j] * b;
-    return x;
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 3; ++i) x[3 * j + i] = a[j] * f.n[i] + p2[j] * b[i];
   };
+  const MatN<Scalar, 5> S = pr.matrix();
   if (c1 != Scalar(0) && c2 >= Scalar(0)) {
     Scalar lambda[2];
     VecN<Scalar, 5> q[2];
     if (plane_negative_eigenpairs(pr.R, pr.d, pr.e, lambda, q)) {
+      MatN<Scalar, 5> T = S;
+      for (int k = 0; k < 2; ++k) T.noalias() -= (lambda[k] * q[k]) * q[k].transpose();
+      Scalar delta[3];
+      VecN<Scalar, 5> l[3];
+      const int terms = rank_three_factor(T, delta, l);
       DenseSymmetric12<Scalar> hessian{out};
-      hessian_terms(hessian);
-      for (int k = 0; k < 2; ++k) hessian.rank_one(Scalar(-lambda[k]), to_x(q[k]));
+      Scalar v[12];
+      if (terms == 0) {
+        out.setZero();
+        return;
+      }
+      for (int s = 0; s < terms; ++s) {
+        to_x(l[s], v);
+        if (s == 0)
+          hessian.first_rank_one(delta[s], v, true);
+        else
+          hessian.rank_one(delta[s], v, true);
+      }
       hessian.mirror();
       return;
     }
   }
   Eigen::Matrix<Scalar, 12, 5> Q;
-  for (int i = 0; i < 5; ++i) Q.col(i) = to_x(VecN<Scalar, 5>::Unit(i));
-  out = projected_in_basis(Q, pr.matrix());
+  for (int i = 0; i < 5; ++i) {
+    Scalar v[12];
+    to_x(VecN<Scalar, 5>::Unit(i), v);
+    Q.col(i) = Eigen::Map<const Vec12<Scalar>>(v);
+  }
+  out = projected_in_basis(Q, S);
 }
 
 /// Exact projection of `Jᵀ Hc J` for a dense frame Hessian `Hc` (the mollified energy,

@@ -99,8 +99,7 @@ template <class Scalar> PCE_HOST_DEVICE FrameBlocks<Scalar> energy_frame_hessian
 }
 
 namespace detail {
-/// The terms of `energy_hessian(e)`, summed entry by entry (`energy/plane_assembly.hpp`);
-/// `Projection::exact` adds two more.
+/// The terms of `energy_hessian(e)`, summed entry by entry (`energy/plane_assembly.hpp`).
 template <class Scalar> PCE_HOST_DEVICE void hessian_terms(const PairEnergy<Scalar>& e, DenseSymmetric12<Scalar>& H) {
   plane_exact_hessian(PlaneValues<Scalar>(e.frame), Scalar(e.sigma * e.psi.first), e.psi.second, H);
 }
@@ -139,8 +138,7 @@ template <Projection P, class Scalar> PCE_HOST_DEVICE Mat12<Scalar> projected_he
                                    detail::family_big_t<Scalar>(), H);
     H.mirror();
   } else if constexpr (P == Projection::exact) {
-    detail::exact_projection(
-        e.frame, c1, e.psi.second, [&e](detail::DenseSymmetric12<Scalar>& S) { detail::hessian_terms(e, S); }, M);
+    detail::exact_projection(e.frame, c1, e.psi.second, M);
   } else if constexpr (P == Projection::gauss_newton) {  // rank one: max(ψ″,0) ∇L∇Lᵀ, ∇L = σ Jᵀ g
     Vec12<Scalar> gL;
     for (int j = 0; j < 4; ++j) gL.template segment<3>(3 * j) = (e.sigma * e.frame.P(2, j)) * e.frame.n;

@@ -38,8 +38,30 @@ template <class Scalar> __host__ __device__ void both(const Scalar* x, Scalar* o
 template <class Scalar> __global__ void kernel(const Scalar* x, Scalar* out) { both(x, out); }
 
 template <class Scalar> int run(const char* name) {
-  const Scalar x[24] = {Scalar(0.2), Scalar(0.3), Scalar(0.004), 0, 0, 0, 1, 0, 0, 0, 1, 0,
-                        0, 0, 0, 1, 0, 0, Scalar(0.5), Scalar(-0.5), Scalar(0.003), Scalar(0.5), Scalar(0.5), Scalar(0.003)};
+  const Scalar x[24] = {Scalar(0.2),
+                        Scalar(0.3),
+                        Scalar(0.004),
+                        0,
+                        0,
+                        0,
+                        1,
+                        0,
+                        0,
+                        0,
+                        1,
+                        0,
+                        0,
+                        0,
+                        0,
+                        1,
+                        0,
+                        0,
+                        Scalar(0.5),
+                        Scalar(-0.5),
+                        Scalar(0.003),
+                        Scalar(0.5),
+                        Scalar(0.5),
+                        Scalar(0.003)};
   Scalar host[6], device[6];
   both(x, host);
   Scalar *dx, *dout;
