@@ -14,8 +14,9 @@
 ///     ∇²E = Q (R M Rᵀ) Qᵀ,    proj(∇²E) = Q proj(R M Rᵀ) Qᵀ.
 ///
 /// For the plane kinds `S = R M Rᵀ` has exactly two negative eigenvalues in the contact
-/// regime, and `proj(∇²E) = ∇²E − Σ λ_k (Q q_k)(Q q_k)ᵀ` needs only those two eigenpairs,
-/// which `energy/plane_eigenpairs.hpp` finds in closed form up to a scalar Newton iteration.
+/// regime, and `proj(S) = S − Σ λ_k q_k q_kᵀ` needs only those two eigenpairs, which
+/// `energy/plane_eigenpairs.hpp` finds in closed form up to a scalar Newton iteration; its
+/// three positive rank-one terms (a pivoted LDLᵀ) are mapped back by `Q`.
 /// Where that does not apply (or its proof fails) `S` is diagonalised by Householder
 /// tridiagonalisation and implicit QR steps (`core/jacobi.hpp`).
 #pragma once

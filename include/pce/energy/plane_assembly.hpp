@@ -130,12 +130,6 @@ template <class Scalar> struct DenseSymmetric12 {
       M.col(b).template head<r>() += X.template head<r>() * y[b] + Y.template head<r>() * x[b];
     });
   }
-  /// adds `c v vᵀ` for an Eigen vector (`energy/exact_projection.hpp`)
-  PCE_HOST_DEVICE void rank_one(const Scalar& c, const Vec12<Scalar>& v) {
-    Scalar a[12];
-    for (int i = 0; i < 12; ++i) a[i] = v[i];
-    rank_one(c, a, true);
-  }
   /// Copies the upper triangle into the lower.
   PCE_HOST_DEVICE PCE_ALWAYS_INLINE void mirror() {
     for (int b = 0; b < 12; ++b)
