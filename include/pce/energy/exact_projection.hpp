@@ -169,12 +169,12 @@ PCE_HOST_DEVICE void exact_projection(const Frame<Scalar>& f, const Scalar& c1, 
       Scalar delta[3];
       VecN<Scalar, 5> l[3];
       const int terms = rank_three_factor(T, delta, l);
-      DenseSymmetric12<Scalar> hessian{out};
-      Scalar v[12];
       if (terms == 0) {
         out.setZero();
         return;
       }
+      DenseSymmetric12<Scalar> hessian{out};
+      Scalar v[12];
       for (int s = 0; s < terms; ++s) {
         to_x(l[s], v);
         if (s == 0)

@@ -3,7 +3,8 @@
 // energy, its gradient and projected_hessian<analytic> for vertex-face and edge-edge, in float
 // and double. Built by the consumer test `consumer_find_package_cuda` (../CMakeLists.txt); it
 // must compile against the installed package. Run: without a CUDA device it says so and exits
-// 0; with one, each pair's energy and gradient norm must match the host's to 1e-4 relative.
+// 0; with one, each pair's energy, gradient norm and projected Hessian's trace must match the
+// host's to 1e-4 relative.
 #include <pce/pce.hpp>
 
 #include <cuda_runtime.h>
@@ -38,30 +39,11 @@ template <class Scalar> __host__ __device__ void both(const Scalar* x, Scalar* o
 template <class Scalar> __global__ void kernel(const Scalar* x, Scalar* out) { both(x, out); }
 
 template <class Scalar> int run(const char* name) {
-  const Scalar x[24] = {Scalar(0.2),
-                        Scalar(0.3),
-                        Scalar(0.004),
-                        0,
-                        0,
-                        0,
-                        1,
-                        0,
-                        0,
-                        0,
-                        1,
-                        0,
-                        0,
-                        0,
-                        0,
-                        1,
-                        0,
-                        0,
-                        Scalar(0.5),
-                        Scalar(-0.5),
-                        Scalar(0.003),
-                        Scalar(0.5),
-                        Scalar(0.5),
-                        Scalar(0.003)};
+  // clang-format off
+  const Scalar x[24] = {Scalar(0.2), Scalar(0.3), Scalar(0.004), 0, 0, 0, 1, 0, 0, 0, 1, 0,  // vertex, triangle
+                        0, 0, 0, 1, 0, 0,                                                   // edge a
+                        Scalar(0.5), Scalar(-0.5), Scalar(0.003), Scalar(0.5), Scalar(0.5), Scalar(0.003)};  // edge b
+  // clang-format on
   Scalar host[6], device[6];
   both(x, host);
   Scalar *dx, *dout;
